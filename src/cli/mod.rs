@@ -1,0 +1,30 @@
+//! The native command-line interface (`lsw SUBCOMMAND …`). Each subcommand lives in its own file
+//! and returns the JSON it prints, so tests can call it without spawning a process.
+//!
+//! Subcommand names, flags and JSON keys are a public interface: add, never rename.
+
+pub mod mcf;
+
+use clap::{Parser, Subcommand};
+
+/// LSW — Lagrangian Shrink-Wrapping: watertight meshes from point clouds, meshes and volumes.
+#[derive(Parser, Debug)]
+#[command(name = "lsw", version, about)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Mean-curvature flow of an icosphere, checked against r(t) = sqrt(r0² − 4t).
+    Mcf(mcf::McfArgs),
+}
+
+/// Runs a parsed command line; `Ok` holds the JSON text to print.
+pub fn run(cli: Cli) -> Result<String, String> {
+    match cli.command {
+        Command::Mcf(a) => mcf::run(&a),
+    }
+}

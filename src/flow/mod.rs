@@ -1,0 +1,23 @@
+//! Surface evolution: the discrete operators and the semi-implicit time steps.
+
+pub mod laplacian;
+pub mod mcf;
+
+pub use laplacian::{CotanLaplacian, COT_CLAMP};
+pub use mcf::{exact_sphere_radius, mcf_step, McfSettings, McfStepReport};
+
+use crate::solve::SolveError;
+
+/// Why a flow step failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FlowError {
+    /// The time step is not a positive finite number.
+    #[error("time step τ must be positive and finite, got {0}")]
+    BadTimeStep(f64),
+    /// The linear solve failed (the step was not applied).
+    #[error("linear solve failed: {0}")]
+    Solve(#[from] SolveError),
+    /// The new positions contain NaN or infinity (the step was not applied).
+    #[error("the step produced a non-finite position at vertex {vertex}")]
+    NonFinite { vertex: usize },
+}

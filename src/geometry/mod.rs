@@ -1,0 +1,5 @@
+//! Geometric primitives and starting surfaces.
+
+pub mod aabb;
+pub mod icosphere;
+pub mod sphere;

@@ -1,0 +1,25 @@
+//! LSW — Lagrangian Shrink-Wrapping.
+//!
+//! A simple closed surface (an icosphere, or a marching-cubes isosurface) evolves onto a target
+//! (point cloud, triangle soup or voxel volume), driven by a distance field, smoothed by
+//! mean-curvature flow and kept well-shaped by adaptive remeshing. The result is a watertight,
+//! manifold triangle mesh.
+//!
+//! Data flows one way: `io` → [`target::Target`] → `field` → `flow` (with `remesh`) → `io`.
+//! The core knows nothing of the browser; [`wasm`] is a thin facade over it.
+
+pub mod clock;
+pub mod flow;
+pub mod geometry;
+pub mod mesh;
+pub mod solve;
+pub mod target;
+
+#[cfg(not(target_arch = "wasm32"))]
+pub mod cli;
+pub mod wasm;
+
+pub use glam::DVec3;
+
+/// The crate version, recorded in file metadata written by LSW.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");

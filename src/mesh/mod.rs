@@ -1,0 +1,10 @@
+//! Halfedge triangle mesh: connectivity, per-vertex properties, one-ring iteration, validation.
+//!
+//! The halfedge structure (rather than an index list) is what the adaptive remesher needs:
+//! split, collapse and flip are local pointer edits on it.
+
+mod halfedge;
+mod validate;
+
+pub use halfedge::{HalfedgeMesh, MeshBuildError, INVALID};
+pub use validate::{MeshReport, ValidationError};

@@ -1,0 +1,39 @@
+//! Preconditioners.
+
+use super::SolveError;
+use sprs::CsMat;
+
+/// Jacobi (diagonal) preconditioner: cheap, and enough for diagonally dominant LSW systems.
+#[derive(Clone, Debug)]
+pub struct Jacobi {
+    inv_diag: Vec<f64>,
+}
+
+impl Jacobi {
+    /// Inverts the diagonal of a square CSR matrix; fails on a zero or non-finite entry.
+    pub fn new(a: &CsMat<f64>) -> Result<Self, SolveError> {
+        if !a.is_csr() || a.rows() != a.cols() {
+            return Err(SolveError::Dimension {
+                rows: a.rows(),
+                cols: a.cols(),
+                len: a.rows(),
+            });
+        }
+        let mut inv_diag = vec![0.0; a.rows()];
+        for (row, vec) in a.outer_iterator().enumerate() {
+            let d = vec.get(row).copied().unwrap_or(0.0);
+            if d == 0.0 || !d.is_finite() {
+                return Err(SolveError::BadDiagonal { row });
+            }
+            inv_diag[row] = 1.0 / d;
+        }
+        Ok(Self { inv_diag })
+    }
+
+    /// `z = M⁻¹·r`.
+    pub fn apply(&self, r: &[f64], z: &mut [f64]) {
+        for ((zi, ri), di) in z.iter_mut().zip(r).zip(&self.inv_diag) {
+            *zi = ri * di;
+        }
+    }
+}
