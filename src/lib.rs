@@ -11,6 +11,7 @@
 pub mod clock;
 pub mod flow;
 pub mod geometry;
+pub mod io;
 pub mod mesh;
 pub mod solve;
 pub mod target;

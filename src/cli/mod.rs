@@ -3,6 +3,7 @@
 //!
 //! Subcommand names, flags and JSON keys are a public interface: add, never rename.
 
+pub mod info;
 pub mod mcf;
 
 use clap::{Parser, Subcommand};
@@ -20,11 +21,14 @@ pub struct Cli {
 pub enum Command {
     /// Mean-curvature flow of an icosphere, checked against r(t) = sqrt(r0² − 4t).
     Mcf(mcf::McfArgs),
+    /// Reads a geometry file and prints its format, kind, counts, bounding box and topology.
+    Info(info::InfoArgs),
 }
 
 /// Runs a parsed command line; `Ok` holds the JSON text to print.
 pub fn run(cli: Cli) -> Result<String, String> {
     match cli.command {
         Command::Mcf(a) => mcf::run(&a),
+        Command::Info(a) => info::run(&a),
     }
 }

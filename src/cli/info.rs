@@ -1,0 +1,96 @@
+//! `lsw info FILE`: reads a geometry file and prints what it holds, as JSON — the quickest way
+//! to check that a scan or mesh will be accepted, and what kind of target it makes.
+
+use crate::io::{read_path, ReadResult};
+use crate::mesh::HalfedgeMesh;
+use crate::target::TargetKind;
+use serde_json::json;
+use std::path::PathBuf;
+
+/// Arguments of `lsw info`.
+#[derive(clap::Args, Debug)]
+pub struct InfoArgs {
+    /// The file to inspect (PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF, GLB, VTK).
+    pub file: PathBuf,
+}
+
+/// Edge statistics of a triangle list: (edges, boundary edges, edges with > 2 faces).
+fn edge_counts(tris: &[[u32; 3]]) -> (usize, usize, usize) {
+    let mut e: Vec<(u32, u32)> = tris
+        .iter()
+        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+        .map(|(a, b)| (a.min(b), a.max(b)))
+        .collect();
+    e.sort_unstable();
+    let (mut edges, mut boundary, mut over) = (0, 0, 0);
+    for run in e.chunk_by(|a, b| a == b) {
+        edges += 1;
+        match run.len() {
+            1 => boundary += 1,
+            2 => {}
+            _ => over += 1,
+        }
+    }
+    (edges, boundary, over)
+}
+
+/// The JSON `lsw info` prints for a read file. Keys: file, format, encoding, kind, vertices,
+/// faces, bbox {min, max, diagonal}; for meshes also closed, manifold, manifold_problem,
+/// euler_characteristic, edges, boundary_edges, non_manifold_edges, isolated_vertices.
+pub fn info_json(file: &str, r: &ReadResult) -> serde_json::Value {
+    let t = &r.target;
+    let mut v = json!({
+        "file": file,
+        "format": r.format,
+        "encoding": r.encoding,
+        "kind": t.kind(),
+        "vertices": t.points.len(),
+        "faces": t.triangles.len(),
+        "bbox": {
+            "min": t.bbox.min.to_array(),
+            "max": t.bbox.max.to_array(),
+            "diagonal": t.bbox.diagonal(),
+        },
+    });
+    if t.kind() == TargetKind::Mesh {
+        let (edges, boundary, over) = edge_counts(&t.triangles);
+        let mut used = vec![false; t.points.len()];
+        for &i in t.triangles.iter().flatten() {
+            used[i as usize] = true;
+        }
+        let nused = used.iter().filter(|&&u| u).count();
+        let closed = boundary == 0 && over == 0;
+        // Manifold: the halfedge structure can be built (edge-manifold, consistently oriented,
+        // no bow-tie boundary vertex) and, when closed, no vertex has two separate fans.
+        let problem = match HalfedgeMesh::from_triangles(t.points.clone(), &t.triangles) {
+            Err(e) => Some(e.to_string()),
+            Ok(m) if closed => match m.validate() {
+                Err(e @ crate::mesh::ValidationError::NonManifoldVertex { .. }) => {
+                    Some(e.to_string())
+                }
+                _ => None,
+            },
+            Ok(_) => None,
+        };
+        let o = v.as_object_mut().expect("object");
+        o.insert("closed".into(), json!(closed));
+        o.insert("manifold".into(), json!(problem.is_none()));
+        o.insert("manifold_problem".into(), json!(problem));
+        o.insert(
+            "euler_characteristic".into(),
+            json!(nused as i64 - edges as i64 + t.triangles.len() as i64),
+        );
+        o.insert("edges".into(), json!(edges));
+        o.insert("boundary_edges".into(), json!(boundary));
+        o.insert("non_manifold_edges".into(), json!(over));
+        o.insert("isolated_vertices".into(), json!(t.points.len() - nused));
+    }
+    v
+}
+
+/// Reads the file and returns the pretty JSON; the error message names format and position.
+pub fn run(a: &InfoArgs) -> Result<String, String> {
+    let r = read_path(&a.file).map_err(|e| e.to_string())?;
+    let v = info_json(&a.file.display().to_string(), &r);
+    Ok(serde_json::to_string_pretty(&v).expect("JSON of plain values"))
+}

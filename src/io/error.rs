@@ -1,0 +1,220 @@
+//! The one error type of `io`: every reader and writer failure, naming the format, where in the
+//! input it happened (line or byte offset) and what was expected, so a user can fix the file.
+
+use crate::target::TargetError;
+use std::fmt;
+
+/// A file format known to `io` (for reading, writing or both).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Format {
+    /// Stanford PLY (ASCII, binary little- or big-endian).
+    Ply,
+    /// Wavefront OBJ.
+    Obj,
+    /// STL (ASCII or binary).
+    Stl,
+    /// Object File Format (OFF, COFF, NOFF, CNOFF).
+    Off,
+    /// Plain point lists: XYZ, PTS, TXT, CSV.
+    Xyz,
+    /// glTF 2.0 JSON (embedded or data-URI buffers).
+    Gltf,
+    /// glTF 2.0 binary container.
+    Glb,
+    /// Legacy VTK polydata (ASCII).
+    Vtk,
+}
+
+impl Format {
+    /// Short lower-case name, as printed by `lsw info` and used in error messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Ply => "ply",
+            Format::Obj => "obj",
+            Format::Stl => "stl",
+            Format::Off => "off",
+            Format::Xyz => "xyz",
+            Format::Gltf => "gltf",
+            Format::Glb => "glb",
+            Format::Vtk => "vtk",
+        }
+    }
+
+    /// The format a file extension (without dot, any case) usually means, if any.
+    pub fn from_extension(ext: &str) -> Option<Format> {
+        Some(match ext.to_ascii_lowercase().as_str() {
+            "ply" => Format::Ply,
+            "obj" => Format::Obj,
+            "stl" => Format::Stl,
+            "off" => Format::Off,
+            "xyz" | "pts" | "txt" | "csv" | "asc" | "pcd_ascii" => Format::Xyz,
+            "gltf" => Format::Gltf,
+            "glb" => Format::Glb,
+            "vtk" => Format::Vtk,
+            _ => return None,
+        })
+    }
+}
+
+impl fmt::Display for Format {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Where in the input something happened: a 1-based line for text, a 0-based byte offset for
+/// binary data.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Location {
+    /// 1-based line number in a text file.
+    Line(usize),
+    /// 0-based byte offset.
+    Byte(usize),
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Location::Line(l) => write!(f, "line {l}"),
+            Location::Byte(b) => write!(f, "byte {b}"),
+        }
+    }
+}
+
+/// Why a file could not be read or written.
+///
+/// Every variant names the format; the reading ones say where (line or byte) and what was
+/// expected. The messages are meant to be shown to users as they are.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum IoError {
+    /// The input has no bytes at all. Fix: check that the file was saved/copied completely.
+    #[error("{}the file is empty (0 bytes)", fmt_format(.format))]
+    Empty {
+        /// The format suggested by the file name, if any.
+        format: Option<Format>,
+    },
+    /// Neither the content nor the file name identify a supported format.
+    #[error("unrecognised file format: {reason}; supported: PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF, GLB, VTK")]
+    UnknownFormat {
+        /// What was seen instead.
+        reason: String,
+    },
+    /// The content is not what the format requires at this place. Fix: repair or re-export the
+    /// file; the message says what was expected.
+    #[error("{format}: {at}: expected {expected}, found {found}")]
+    Syntax {
+        format: Format,
+        at: Location,
+        expected: String,
+        found: String,
+    },
+    /// The data ends before everything the header or syntax promised was read (a truncated
+    /// download or copy, or a header that overstates its counts).
+    #[error("{format}: unexpected end of data at {at}: expected {expected}")]
+    Truncated {
+        format: Format,
+        at: Location,
+        expected: String,
+    },
+    /// A header declares more elements than the file could possibly hold; refused before
+    /// allocating anything (protects against huge allocations from corrupt headers).
+    #[error("{format}: {at}: header declares {count} {element} but only {available} bytes follow (at least {needed} needed)")]
+    CountTooLarge {
+        format: Format,
+        at: Location,
+        element: String,
+        count: u64,
+        available: usize,
+        needed: u128,
+    },
+    /// A face refers to a vertex that does not exist.
+    #[error(
+        "{format}: {at}: face {face} refers to vertex {index}, but there are {count} vertices"
+    )]
+    IndexOutOfRange {
+        format: Format,
+        at: Location,
+        face: usize,
+        index: i64,
+        count: usize,
+    },
+    /// A coordinate is NaN or infinite. Fix: clean the input; `index` is the first bad vertex.
+    #[error("{format}: {at}: vertex {index} has a non-finite coordinate ({x}, {y}, {z})")]
+    NonFinite {
+        format: Format,
+        at: Location,
+        index: usize,
+        x: f64,
+        y: f64,
+        z: f64,
+    },
+    /// A valid file using a feature LSW does not read (e.g. an external glTF buffer).
+    #[error("{format}: {what} is not supported")]
+    Unsupported { format: Format, what: String },
+    /// The glTF crate rejected the document (JSON, GLB container or validation error).
+    #[error("{format}: invalid glTF: {message}")]
+    Gltf { format: Format, message: String },
+    /// The file parsed but the geometry is unusable as a target (e.g. no points).
+    #[error("{format}: {source}")]
+    Target {
+        format: Format,
+        #[source]
+        source: TargetError,
+    },
+    /// The operating system could not read or write a file (native only).
+    #[error("cannot access {path}: {message}")]
+    Fs { path: String, message: String },
+    /// A writer was given inconsistent input (index out of range, scalar array of the wrong
+    /// length, invalid settings JSON, …).
+    #[error("{format}: cannot write: {what}")]
+    InvalidInput { format: Format, what: String },
+}
+
+fn fmt_format(f: &Option<Format>) -> String {
+    f.map(|f| format!("{f}: ")).unwrap_or_default()
+}
+
+impl IoError {
+    /// Shorthand for [`IoError::Syntax`].
+    pub(crate) fn syntax(
+        format: Format,
+        at: Location,
+        expected: impl Into<String>,
+        found: impl Into<String>,
+    ) -> Self {
+        IoError::Syntax {
+            format,
+            at,
+            expected: expected.into(),
+            found: found.into(),
+        }
+    }
+
+    /// Shorthand for [`IoError::Truncated`].
+    pub(crate) fn truncated(format: Format, at: Location, expected: impl Into<String>) -> Self {
+        IoError::Truncated {
+            format,
+            at,
+            expected: expected.into(),
+        }
+    }
+
+    /// A short stable code for the variant (used by the wasm facade's `{code, message, hint}`).
+    pub fn code(&self) -> &'static str {
+        match self {
+            IoError::Empty { .. } => "io_empty",
+            IoError::UnknownFormat { .. } => "io_unknown_format",
+            IoError::Syntax { .. } => "io_syntax",
+            IoError::Truncated { .. } => "io_truncated",
+            IoError::CountTooLarge { .. } => "io_count_too_large",
+            IoError::IndexOutOfRange { .. } => "io_index_out_of_range",
+            IoError::NonFinite { .. } => "io_non_finite",
+            IoError::Unsupported { .. } => "io_unsupported",
+            IoError::Gltf { .. } => "io_gltf",
+            IoError::Target { .. } => "io_target",
+            IoError::Fs { .. } => "io_fs",
+            IoError::InvalidInput { .. } => "io_invalid_input",
+        }
+    }
+}

@@ -1,0 +1,476 @@
+//! glTF 2.0 (JSON) and GLB: reader via the `gltf` crate, and a GLB writer.
+//!
+//! Reading walks the default scene (or the first, or — without scenes — every root node, or —
+//! without nodes — every mesh) and applies node transforms. Triangle, strip and fan primitives
+//! become triangles; if there are none, POINTS primitives become a point cloud (lines are
+//! skipped). Buffers may be the GLB binary chunk or base64 `data:` URIs; external files are
+//! rejected, since a dropped file arrives alone.
+//!
+//! The `gltf` crate's accessor reader trusts offsets and counts in ways that can overflow on
+//! hostile input, so every accessor used is first checked here against the real buffer length
+//! (`check_accessor`), and the total instanced output is bounded relative to the input size.
+
+use super::error::{Format, IoError, Location};
+use super::{Encoding, RawGeometry, WriteInput};
+use ::gltf::accessor::{DataType, Dimensions};
+use ::gltf::mesh::Mode;
+use glam::{DMat4, DVec3};
+use serde_json::json;
+use std::borrow::Cow;
+
+/// Node hierarchies deeper than this are rejected (they are cycles or corrupt).
+const MAX_DEPTH: usize = 64;
+/// Output vertices may exceed the input's bytes by at most this factor (instancing), which
+/// bounds memory on hostile files whose nodes instance one mesh millions of times.
+const MAX_INSTANCING: usize = 16;
+
+fn gltf_err(format: Format, e: impl std::fmt::Display) -> IoError {
+    IoError::Gltf {
+        format,
+        message: e.to_string(),
+    }
+}
+
+/// Decodes standard base64 (with optional `=` padding); `None` on a bad character.
+fn base64_decode(s: &[u8]) -> Option<Vec<u8>> {
+    let val = |c: u8| -> Option<u32> {
+        Some(match c {
+            b'A'..=b'Z' => c - b'A',
+            b'a'..=b'z' => c - b'a' + 26,
+            b'0'..=b'9' => c - b'0' + 52,
+            b'+' | b'-' => 62,
+            b'/' | b'_' => 63,
+            _ => return None,
+        } as u32)
+    };
+    let s = s
+        .strip_suffix(b"==")
+        .or_else(|| s.strip_suffix(b"="))
+        .unwrap_or(s);
+    let mut out = Vec::with_capacity(s.len() / 4 * 3 + 3);
+    for chunk in s.chunks(4) {
+        let mut acc = 0u32;
+        for (i, &c) in chunk.iter().enumerate() {
+            acc |= val(c)? << (18 - 6 * i);
+        }
+        let bytes = acc.to_be_bytes();
+        match chunk.len() {
+            4 => out.extend_from_slice(&bytes[1..4]),
+            3 => out.extend_from_slice(&bytes[1..3]),
+            2 => out.push(bytes[1]),
+            _ => return None,
+        }
+    }
+    Some(out)
+}
+
+/// Checks that an accessor's bytes lie inside its (available) buffer; returns nothing useful,
+/// only an error naming the accessor when they do not.
+fn check_accessor(
+    format: Format,
+    acc: &::gltf::Accessor,
+    buffers: &[Option<Cow<[u8]>>],
+) -> Result<(), IoError> {
+    let bad = |what: String| IoError::Gltf {
+        format,
+        message: format!("accessor {}: {what}", acc.index()),
+    };
+    if acc.sparse().is_some() {
+        return Err(IoError::Unsupported {
+            format,
+            what: format!("sparse accessor {}", acc.index()),
+        });
+    }
+    let Some(view) = acc.view() else {
+        return Err(bad("has no bufferView".into()));
+    };
+    if acc.count() == 0 {
+        return Err(bad("has count 0".into()));
+    }
+    let data = match buffers.get(view.buffer().index()) {
+        Some(Some(d)) => d,
+        _ => {
+            return Err(IoError::Unsupported {
+                format,
+                what: format!(
+                    "buffer {} (an external file; use GLB or embed the buffer as a data: URI)",
+                    view.buffer().index()
+                ),
+            })
+        }
+    };
+    let size = acc.size();
+    let stride = view.stride().unwrap_or(size);
+    if stride < size {
+        return Err(bad(format!(
+            "byteStride {stride} is smaller than the element size {size}"
+        )));
+    }
+    let view_end = view.offset().checked_add(view.length());
+    let need = (acc.count() as u128 - 1) * stride as u128 + size as u128 + acc.offset() as u128;
+    match view_end {
+        Some(end) if end <= data.len() && need <= view.length() as u128 => Ok(()),
+        _ => Err(bad(format!(
+            "needs {need} bytes of bufferView {} (offset {}, length {}), buffer holds {}",
+            view.index(),
+            view.offset(),
+            view.length(),
+            data.len()
+        ))),
+    }
+}
+
+/// Reads glTF JSON or GLB.
+pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
+    let is_glb = bytes.starts_with(b"glTF");
+    let format = if is_glb { Format::Glb } else { Format::Gltf };
+    let (json, bin): (Cow<[u8]>, Option<Cow<[u8]>>) = if is_glb {
+        let glb = ::gltf::binary::Glb::from_slice(bytes).map_err(|e| gltf_err(format, e))?;
+        (glb.json, glb.bin)
+    } else {
+        (Cow::Borrowed(bytes), None)
+    };
+    let root: ::gltf::json::Root = ::gltf::json::deserialize::from_slice(&json).map_err(|e| {
+        IoError::syntax(
+            format,
+            Location::Line(e.line()),
+            "valid glTF JSON",
+            e.to_string(),
+        )
+    })?;
+    let doc = ::gltf::Document::from_json(root).map_err(|e| gltf_err(format, e))?;
+    let mut bin = bin;
+    let mut buffers: Vec<Option<Cow<[u8]>>> = Vec::new();
+    for b in doc.buffers() {
+        buffers.push(match b.source() {
+            ::gltf::buffer::Source::Bin => bin.take(),
+            ::gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
+                let (_, data) = uri.split_once(";base64,").ok_or_else(|| {
+                    gltf_err(
+                        format,
+                        format!("buffer {}: data URI is not base64", b.index()),
+                    )
+                })?;
+                Some(Cow::Owned(base64_decode(data.as_bytes()).ok_or_else(
+                    || gltf_err(format, format!("buffer {}: invalid base64", b.index())),
+                )?))
+            }
+            ::gltf::buffer::Source::Uri(_) => None,
+        });
+    }
+
+    // (mesh, world matrix) instances to emit.
+    let mut instances: Vec<(::gltf::Mesh, DMat4)> = Vec::new();
+    let roots: Vec<::gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
+        Some(s) => s.nodes().collect(),
+        None => {
+            let mut is_child = vec![false; doc.nodes().len()];
+            for n in doc.nodes() {
+                for c in n.children() {
+                    is_child[c.index()] = true;
+                }
+            }
+            doc.nodes().filter(|n| !is_child[n.index()]).collect()
+        }
+    };
+    if doc.nodes().len() == 0 {
+        instances.extend(doc.meshes().map(|m| (m, DMat4::IDENTITY)));
+    }
+    let mut stack: Vec<(::gltf::Node, DMat4, usize)> =
+        roots.into_iter().map(|n| (n, DMat4::IDENTITY, 0)).collect();
+    let mut visits = 0usize;
+    while let Some((node, parent, depth)) = stack.pop() {
+        visits += 1;
+        if depth > MAX_DEPTH || visits > 1 + bytes.len() {
+            return Err(gltf_err(
+                format,
+                format!(
+                    "node hierarchy too deep or too large at node {} (a cycle?)",
+                    node.index()
+                ),
+            ));
+        }
+        let m = node.transform().matrix().map(|c| c.map(|x| x as f64));
+        let world = parent * DMat4::from_cols_array_2d(&m);
+        if let Some(mesh) = node.mesh() {
+            instances.push((mesh, world));
+        }
+        stack.extend(node.children().map(|c| (c, world, depth + 1)));
+    }
+
+    let get = |b: ::gltf::Buffer| buffers.get(b.index()).and_then(|d| d.as_deref());
+    let max_points = MAX_INSTANCING * (bytes.len() / 12 + 1);
+    let mut tri_points: Vec<DVec3> = Vec::new();
+    let mut tris: Vec<[u32; 3]> = Vec::new();
+    let mut cloud: Vec<DVec3> = Vec::new();
+    for (mesh, world) in &instances {
+        for prim in mesh.primitives() {
+            let mode = prim.mode();
+            let is_tri = matches!(
+                mode,
+                Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+            );
+            if !is_tri && mode != Mode::Points {
+                continue;
+            }
+            let Some(pos) = prim.get(&::gltf::Semantic::Positions) else {
+                return Err(gltf_err(
+                    format,
+                    format!(
+                        "mesh {} primitive {} has no POSITION",
+                        mesh.index(),
+                        prim.index()
+                    ),
+                ));
+            };
+            if pos.data_type() != DataType::F32 || pos.dimensions() != Dimensions::Vec3 {
+                return Err(IoError::Unsupported {
+                    format,
+                    what: format!("POSITION accessor {} that is not float VEC3", pos.index()),
+                });
+            }
+            check_accessor(format, &pos, &buffers)?;
+            let out = if is_tri { &mut tri_points } else { &mut cloud };
+            if out.len() + pos.count() > max_points {
+                return Err(gltf_err(
+                    format,
+                    "instanced geometry is too large for the file size",
+                ));
+            }
+            let base = out.len();
+            let reader = prim.reader(get);
+            let positions = reader
+                .read_positions()
+                .ok_or_else(|| gltf_err(format, "unreadable POSITION data"))?;
+            for p in positions {
+                let q = world.transform_point3(DVec3::from_array(p.map(|c| c as f64)));
+                if !q.is_finite() {
+                    return Err(IoError::NonFinite {
+                        format,
+                        at: Location::Byte(0),
+                        index: out.len(),
+                        x: q.x,
+                        y: q.y,
+                        z: q.z,
+                    });
+                }
+                out.push(q);
+            }
+            if !is_tri {
+                continue;
+            }
+            let n = pos.count();
+            let idx: Vec<u32> = match prim.indices() {
+                Some(acc) => {
+                    if acc.dimensions() != Dimensions::Scalar
+                        || !matches!(
+                            acc.data_type(),
+                            DataType::U8 | DataType::U16 | DataType::U32
+                        )
+                    {
+                        return Err(gltf_err(
+                            format,
+                            format!("index accessor {} is not an unsigned scalar", acc.index()),
+                        ));
+                    }
+                    check_accessor(format, &acc, &buffers)?;
+                    reader
+                        .read_indices()
+                        .ok_or_else(|| gltf_err(format, "unreadable index data"))?
+                        .into_u32()
+                        .collect()
+                }
+                None => (0..n as u32).collect(),
+            };
+            if let Some(&bad) = idx.iter().find(|&&i| i as usize >= n) {
+                return Err(IoError::IndexOutOfRange {
+                    format,
+                    at: Location::Byte(0),
+                    face: tris.len(),
+                    index: bad as i64,
+                    count: n,
+                });
+            }
+            let b = base as u32;
+            match mode {
+                Mode::Triangles => {
+                    if idx.len() % 3 != 0 {
+                        return Err(gltf_err(
+                            format,
+                            format!(
+                                "mesh {} primitive {}: {} indices is not a multiple of 3",
+                                mesh.index(),
+                                prim.index(),
+                                idx.len()
+                            ),
+                        ));
+                    }
+                    tris.extend(idx.chunks_exact(3).map(|t| [b + t[0], b + t[1], b + t[2]]));
+                }
+                Mode::TriangleStrip => {
+                    for k in 0..idx.len().saturating_sub(2) {
+                        let (i, j) = if k % 2 == 0 {
+                            (k + 1, k + 2)
+                        } else {
+                            (k + 2, k + 1)
+                        };
+                        tris.push([b + idx[k], b + idx[i], b + idx[j]]);
+                    }
+                }
+                _ => {
+                    for k in 1..idx.len().saturating_sub(1) {
+                        tris.push([b + idx[0], b + idx[k], b + idx[k + 1]]);
+                    }
+                }
+            }
+        }
+    }
+    let enc = if is_glb {
+        Encoding::BinaryLe
+    } else {
+        Encoding::Ascii
+    };
+    if tris.is_empty() {
+        Ok((cloud, tris, enc))
+    } else {
+        Ok((tri_points, tris, enc))
+    }
+}
+
+/// Area-weighted vertex normals (unit length; +Z where undefined).
+fn vertex_normals(p: &[DVec3], t: &[[u32; 3]]) -> Vec<DVec3> {
+    let mut n = vec![DVec3::ZERO; p.len()];
+    for tri in t {
+        let [a, b, c] = tri.map(|i| p[i as usize]);
+        let fn_ = (b - a).cross(c - a);
+        for &i in tri {
+            n[i as usize] += fn_;
+        }
+    }
+    n.into_iter()
+        .map(|v| v.try_normalize().unwrap_or(DVec3::Z))
+        .collect()
+}
+
+/// Writes GLB: one mesh with POSITION, NORMAL (area-weighted), u32 indices, and one float
+/// `_NAME` attribute per scalar; bare points (no triangles) become a POINTS primitive.
+/// `asset.generator` names the LSW version and `asset.extras.lsw_settings` holds the settings.
+pub fn write_glb(input: &WriteInput) -> Result<Vec<u8>, IoError> {
+    let f = Format::Glb;
+    input.check(f)?;
+    if input.positions.is_empty() {
+        return Err(IoError::InvalidInput {
+            format: f,
+            what: "no vertices".into(),
+        });
+    }
+    let n = input.positions.len();
+    let mut bin: Vec<u8> = Vec::new();
+    let mut views = Vec::new();
+    let mut accessors = Vec::new();
+    let mut push_view = |bin: &mut Vec<u8>, data: &[u8], target: u32| -> usize {
+        let off = bin.len();
+        bin.extend_from_slice(data);
+        while bin.len() % 4 != 0 {
+            bin.push(0);
+        }
+        views.push(
+            json!({"buffer": 0, "byteOffset": off, "byteLength": data.len(), "target": target}),
+        );
+        views.len() - 1
+    };
+    let f32s = |v: &mut Vec<u8>, x: f64| v.extend_from_slice(&(x as f32).to_le_bytes());
+    let vec3 = |vals: &[DVec3]| {
+        let mut d = Vec::with_capacity(12 * vals.len());
+        let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
+        for p in vals {
+            for k in 0..3 {
+                let c = p[k] as f32;
+                lo[k] = lo[k].min(c);
+                hi[k] = hi[k].max(c);
+                f32s(&mut d, p[k]);
+            }
+        }
+        (d, lo, hi)
+    };
+    let (d, lo, hi) = vec3(input.positions);
+    let v = push_view(&mut bin, &d, 34962);
+    accessors.push(json!({"bufferView": v, "componentType": 5126, "count": n, "type": "VEC3", "min": lo, "max": hi}));
+    let mut attributes = serde_json::Map::new();
+    attributes.insert("POSITION".into(), json!(0));
+    if !input.triangles.is_empty() {
+        let (d, _, _) = vec3(&vertex_normals(input.positions, input.triangles));
+        let v = push_view(&mut bin, &d, 34962);
+        accessors.push(json!({"bufferView": v, "componentType": 5126, "count": n, "type": "VEC3"}));
+        attributes.insert("NORMAL".into(), json!(accessors.len() - 1));
+    }
+    for (name, s) in input.scalars {
+        let mut d = Vec::with_capacity(4 * n);
+        for &x in *s {
+            f32s(&mut d, x);
+        }
+        let v = push_view(&mut bin, &d, 34962);
+        accessors
+            .push(json!({"bufferView": v, "componentType": 5126, "count": n, "type": "SCALAR"}));
+        attributes.insert(
+            format!("_{}", super::ply::header_name(name)),
+            json!(accessors.len() - 1),
+        );
+    }
+    let mut prim = json!({"attributes": attributes, "mode": 0});
+    if !input.triangles.is_empty() {
+        let mut d = Vec::with_capacity(12 * input.triangles.len());
+        for t in input.triangles {
+            for &i in t {
+                d.extend_from_slice(&i.to_le_bytes());
+            }
+        }
+        let v = push_view(&mut bin, &d, 34963);
+        accessors.push(json!({"bufferView": v, "componentType": 5125, "count": 3 * input.triangles.len(), "type": "SCALAR"}));
+        prim["indices"] = json!(accessors.len() - 1);
+        prim["mode"] = json!(4);
+    }
+    let mut asset = json!({"version": "2.0", "generator": format!("LSW {}", crate::VERSION)});
+    if let Some(s) = input.settings_value(f)? {
+        asset["extras"] = json!({ "lsw_settings": s });
+    }
+    let doc = json!({
+        "asset": asset,
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [prim]}],
+        "buffers": [{"byteLength": bin.len()}],
+        "bufferViews": views,
+        "accessors": accessors,
+    });
+    let mut js = serde_json::to_vec(&doc).expect("JSON value");
+    while js.len() % 4 != 0 {
+        js.push(b' ');
+    }
+    let total = 12 + 8 + js.len() + 8 + bin.len();
+    let mut out = Vec::with_capacity(total);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(js.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&js);
+    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"BIN\0");
+    out.extend_from_slice(&bin);
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base64() {
+        assert_eq!(base64_decode(b"TWFu").unwrap(), b"Man");
+        assert_eq!(base64_decode(b"TWE=").unwrap(), b"Ma");
+        assert_eq!(base64_decode(b"TQ==").unwrap(), b"M");
+        assert!(base64_decode(b"T!==").is_none());
+    }
+}

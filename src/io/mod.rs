@@ -1,0 +1,231 @@
+//! Reading and writing geometry files: PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF/GLB (read and
+//! write) and legacy VTK polydata (write, with a reader for round-trips).
+//!
+//! One file per format; [`detect`] sniffs the format from the content (the file name is only a
+//! hint). Reading gives a [`Target`] (points, or triangles indexing points). Readers never panic
+//! and never allocate more than the input size justifies: header counts are checked against the
+//! bytes that follow before any buffer is reserved. Every failure is an [`IoError`] naming the
+//! format, the line or byte offset, and what was expected.
+//!
+//! Readers take `&[u8]` so the browser path can hand over the dropped file's bytes once, with no
+//! intermediate copy; [`read_path`] (native only) reads a file and calls [`read_bytes`].
+
+pub mod detect;
+pub mod error;
+pub mod gltf;
+pub mod obj;
+pub mod off;
+pub mod ply;
+pub mod stl;
+pub(crate) mod text;
+pub mod vtk;
+pub mod xyz;
+
+pub use detect::detect;
+pub use error::{Format, IoError, Location};
+
+use crate::target::{Target, TargetError};
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+/// How the data of a file was encoded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Encoding {
+    /// Text (ASCII / UTF-8), including glTF JSON.
+    Ascii,
+    /// Binary, little-endian (binary PLY/STL, GLB).
+    BinaryLe,
+    /// Binary, big-endian (binary PLY only).
+    BinaryBe,
+}
+
+/// Points and triangles as a reader produced them (before [`Target::new`] checks them).
+pub type RawMesh = (Vec<DVec3>, Vec<[u32; 3]>);
+
+/// A reader's output: points, triangles and how the file was encoded.
+pub type RawGeometry = (Vec<DVec3>, Vec<[u32; 3]>, Encoding);
+
+/// What [`read_bytes`] returns: the target and how it was stored.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReadResult {
+    /// The points or mesh read, with its bounding box.
+    pub target: Target,
+    /// The format detected from the content (and, where ambiguous, the file name).
+    pub format: Format,
+    /// Text or binary (and byte order).
+    pub encoding: Encoding,
+}
+
+/// Reads a geometry file from memory. `file_name` (optional, any path form) only breaks ties
+/// where the content is ambiguous (e.g. a point list vs. an OBJ without keywords).
+pub fn read_bytes(bytes: &[u8], file_name: Option<&str>) -> Result<ReadResult, IoError> {
+    let format = detect(bytes, file_name)?;
+    read_as(bytes, format)
+}
+
+/// Reads `bytes` as the given format, skipping detection.
+pub fn read_as(bytes: &[u8], format: Format) -> Result<ReadResult, IoError> {
+    if bytes.is_empty() {
+        return Err(IoError::Empty {
+            format: Some(format),
+        });
+    }
+    let (points, triangles, encoding) = match format {
+        Format::Ply => ply::read(bytes)?,
+        Format::Obj => obj::read(bytes)?,
+        Format::Stl => stl::read(bytes)?,
+        Format::Off => off::read(bytes)?,
+        Format::Xyz => xyz::read(bytes)?,
+        Format::Gltf | Format::Glb => gltf::read(bytes)?,
+        Format::Vtk => {
+            let ((p, t), _) = vtk::read(bytes)?;
+            (p, t, Encoding::Ascii)
+        }
+    };
+    let format = match (format, encoding) {
+        (Format::Gltf | Format::Glb, Encoding::Ascii) => Format::Gltf,
+        (Format::Gltf | Format::Glb, _) => Format::Glb,
+        (f, _) => f,
+    };
+    let target = Target::new(points, triangles).map_err(|e| match e {
+        TargetError::NonFinite { index, x, y, z } => IoError::NonFinite {
+            format,
+            at: Location::Byte(0),
+            index,
+            x,
+            y,
+            z,
+        },
+        source => IoError::Target { format, source },
+    })?;
+    Ok(ReadResult {
+        target,
+        format,
+        encoding,
+    })
+}
+
+/// Reads a geometry file from disk (native only).
+#[cfg(not(target_arch = "wasm32"))]
+pub fn read_path(path: impl AsRef<std::path::Path>) -> Result<ReadResult, IoError> {
+    let path = path.as_ref();
+    let bytes = std::fs::read(path).map_err(|e| IoError::Fs {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    read_bytes(&bytes, path.to_str())
+}
+
+/// The input of every writer: a triangle mesh (or, for formats that allow it, bare points when
+/// `triangles` is empty), optional named per-vertex scalars, and the settings used to make it.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct WriteInput<'a> {
+    /// Vertex positions.
+    pub positions: &'a [DVec3],
+    /// Triangles indexing `positions`, counter-clockwise seen from outside.
+    pub triangles: &'a [[u32; 3]],
+    /// Named per-vertex scalars, each as long as `positions` (PLY and VTK store them; GLB
+    /// stores them as `_NAME` attributes; OBJ and STL cannot and ignore them).
+    pub scalars: &'a [(&'a str, &'a [f64])],
+    /// The settings that produced the mesh, as JSON, recorded where the format has room for it
+    /// (PLY/OBJ comments, GLB `asset.extras`, VTK title when short enough; STL has no room).
+    pub settings_json: Option<&'a str>,
+}
+
+impl<'a> WriteInput<'a> {
+    /// A mesh without scalars or settings.
+    pub fn new(positions: &'a [DVec3], triangles: &'a [[u32; 3]]) -> Self {
+        Self {
+            positions,
+            triangles,
+            ..Default::default()
+        }
+    }
+
+    /// Checks indices, scalar lengths and finiteness.
+    pub(crate) fn check(&self, format: Format) -> Result<(), IoError> {
+        let bad = |what: String| Err(IoError::InvalidInput { format, what });
+        let n = self.positions.len();
+        if n > i32::MAX as usize {
+            return bad(format!("{n} vertices exceed the 2^31 index limit"));
+        }
+        if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
+            return bad(format!("vertex {i} has a non-finite coordinate"));
+        }
+        for (t, tri) in self.triangles.iter().enumerate() {
+            if let Some(v) = tri.iter().find(|&&v| v as usize >= n) {
+                return bad(format!(
+                    "triangle {t} refers to vertex {v}, but there are {n} vertices"
+                ));
+            }
+        }
+        for (name, s) in self.scalars {
+            if s.len() != n {
+                return bad(format!(
+                    "scalar \"{name}\" has {} values for {n} vertices",
+                    s.len()
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The settings as one-line JSON (validated), if any.
+    pub(crate) fn settings_compact(&self, format: Format) -> Result<Option<String>, IoError> {
+        self.settings_value(format)
+            .map(|v| v.map(|v| serde_json::to_string(&v).expect("JSON value")))
+    }
+
+    /// The settings parsed as JSON, if any.
+    pub(crate) fn settings_value(
+        &self,
+        format: Format,
+    ) -> Result<Option<serde_json::Value>, IoError> {
+        match self.settings_json {
+            None => Ok(None),
+            Some(s) => serde_json::from_str(s)
+                .map(Some)
+                .map_err(|e| IoError::InvalidInput {
+                    format,
+                    what: format!("settings are not valid JSON: {e}"),
+                }),
+        }
+    }
+}
+
+/// Writes a mesh in `format` (OBJ, PLY, STL, GLB or VTK) to bytes.
+pub fn write_bytes(format: Format, input: &WriteInput) -> Result<Vec<u8>, IoError> {
+    match format {
+        Format::Obj => obj::write(input),
+        Format::Ply => ply::write(input),
+        Format::Stl => stl::write(input),
+        Format::Glb => gltf::write_glb(input),
+        Format::Vtk => vtk::write(input),
+        f => Err(IoError::Unsupported {
+            format: f,
+            what: "writing this format".into(),
+        }),
+    }
+}
+
+/// Writes a mesh to a file, choosing the format from the extension (native only).
+#[cfg(not(target_arch = "wasm32"))]
+pub fn write_path(path: impl AsRef<std::path::Path>, input: &WriteInput) -> Result<(), IoError> {
+    let path = path.as_ref();
+    let format = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .and_then(Format::from_extension)
+        .ok_or_else(|| IoError::UnknownFormat {
+            reason: format!(
+                "cannot tell the output format from {}; use .obj, .ply, .stl, .glb or .vtk",
+                path.display()
+            ),
+        })?;
+    let bytes = write_bytes(format, input)?;
+    std::fs::write(path, bytes).map_err(|e| IoError::Fs {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })
+}

@@ -1,0 +1,832 @@
+//! Stanford PLY: reader (ASCII, binary little- and big-endian) and binary little-endian writer.
+//!
+//! Hand-written rather than using a crate: the PLY crates build a dynamic property map per
+//! element (one allocation per vertex), which is far from the 0.2 s budget for a million points,
+//! and do not report byte offsets or bound their allocations by the file size. Here the vertex
+//! records are read in place from the input slice (no copy), element counts are checked against
+//! the bytes that follow the header before anything is allocated, and every error names the line
+//! (header, ASCII body) or byte offset (binary body).
+//!
+//! The vertex element must have scalar `x`, `y`, `z` properties (any numeric type); all other
+//! properties and elements are skipped. A `face` element's `vertex_indices` (or `vertex_index`)
+//! list is fan-triangulated. No face element (or zero faces) means a point cloud.
+
+use super::error::{Format, IoError, Location};
+use super::text::{parse_f64, parse_i64, show, words, Lines};
+use super::{Encoding, RawGeometry, WriteInput};
+use glam::DVec3;
+
+const F: Format = Format::Ply;
+
+/// A PLY scalar type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Scalar {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    F32,
+    F64,
+}
+
+impl Scalar {
+    fn parse(name: &[u8]) -> Option<Scalar> {
+        Some(match name {
+            b"char" | b"int8" => Scalar::I8,
+            b"uchar" | b"uint8" => Scalar::U8,
+            b"short" | b"int16" => Scalar::I16,
+            b"ushort" | b"uint16" => Scalar::U16,
+            b"int" | b"int32" => Scalar::I32,
+            b"uint" | b"uint32" => Scalar::U32,
+            b"float" | b"float32" => Scalar::F32,
+            b"double" | b"float64" => Scalar::F64,
+            _ => return None,
+        })
+    }
+
+    fn size(self) -> usize {
+        match self {
+            Scalar::I8 | Scalar::U8 => 1,
+            Scalar::I16 | Scalar::U16 => 2,
+            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
+            Scalar::F64 => 8,
+        }
+    }
+
+    fn is_integer(self) -> bool {
+        !matches!(self, Scalar::F32 | Scalar::F64)
+    }
+
+    /// Reads one value from the start of `b` (which holds at least `size()` bytes).
+    #[inline(always)]
+    fn get(self, b: &[u8], big_endian: bool) -> f64 {
+        macro_rules! rd {
+            ($t:ty, $n:expr) => {{
+                let mut a = [0u8; $n];
+                a.copy_from_slice(&b[..$n]);
+                if big_endian {
+                    <$t>::from_be_bytes(a) as f64
+                } else {
+                    <$t>::from_le_bytes(a) as f64
+                }
+            }};
+        }
+        match self {
+            Scalar::I8 => b[0] as i8 as f64,
+            Scalar::U8 => b[0] as f64,
+            Scalar::I16 => rd!(i16, 2),
+            Scalar::U16 => rd!(u16, 2),
+            Scalar::I32 => rd!(i32, 4),
+            Scalar::U32 => rd!(u32, 4),
+            Scalar::F32 => rd!(f32, 4),
+            Scalar::F64 => rd!(f64, 8),
+        }
+    }
+
+    /// Reads an integer (list count or index); integer types only.
+    #[inline(always)]
+    fn get_int(self, b: &[u8], big_endian: bool) -> i64 {
+        self.get(b, big_endian) as i64
+    }
+}
+
+#[derive(Clone, Debug)]
+enum Kind {
+    Scalar(Scalar),
+    List { count: Scalar, item: Scalar },
+}
+
+#[derive(Clone, Debug)]
+struct Property {
+    name: Vec<u8>,
+    kind: Kind,
+}
+
+#[derive(Clone, Debug)]
+struct Element {
+    name: Vec<u8>,
+    count: u64,
+    props: Vec<Property>,
+    line: usize,
+}
+
+impl Element {
+    /// Smallest number of bytes one record can take in the body (for the count check).
+    fn min_bytes(&self, enc: Encoding) -> u128 {
+        match enc {
+            // Every value is at least one character plus one separator.
+            Encoding::Ascii => 2 * self.props.len() as u128,
+            _ => self
+                .props
+                .iter()
+                .map(|p| match p.kind {
+                    Kind::Scalar(s) => s.size(),
+                    Kind::List { count, .. } => count.size(),
+                } as u128)
+                .sum(),
+        }
+    }
+
+    fn fixed_stride(&self) -> Option<usize> {
+        self.props
+            .iter()
+            .map(|p| match p.kind {
+                Kind::Scalar(s) => Some(s.size()),
+                Kind::List { .. } => None,
+            })
+            .sum()
+    }
+}
+
+struct Header {
+    encoding: Encoding,
+    elements: Vec<Element>,
+    body: usize,
+    body_line: usize,
+}
+
+fn parse_header(bytes: &[u8]) -> Result<Header, IoError> {
+    let mut lines = Lines::new(bytes, 0, 1);
+    match lines.next() {
+        Some((_, l)) if l.trim_ascii() == b"ply" => {}
+        Some((_, l)) => {
+            return Err(IoError::syntax(F, Location::Line(1), "\"ply\"", show(l)));
+        }
+        None => return Err(IoError::Empty { format: Some(F) }),
+    }
+    let mut encoding = None;
+    let mut elements: Vec<Element> = Vec::new();
+    while let Some((n, line)) = lines.next() {
+        let at = Location::Line(n);
+        let w: Vec<&[u8]> = words(line).take(6).collect();
+        match w.first().copied() {
+            None | Some(b"comment") | Some(b"obj_info") => {}
+            Some(b"format") => {
+                encoding = Some(match w.get(1).copied() {
+                    Some(b"ascii") => Encoding::Ascii,
+                    Some(b"binary_little_endian") => Encoding::BinaryLe,
+                    Some(b"binary_big_endian") => Encoding::BinaryBe,
+                    other => {
+                        return Err(IoError::syntax(
+                            F,
+                            at,
+                            "ascii, binary_little_endian or binary_big_endian",
+                            show(other.unwrap_or(b"")),
+                        ))
+                    }
+                });
+            }
+            Some(b"element") => {
+                let (name, count) = match (w.get(1), w.get(2).and_then(|c| parse_i64(c))) {
+                    (Some(name), Some(c)) if c >= 0 => (name.to_vec(), c as u64),
+                    _ => {
+                        return Err(IoError::syntax(
+                            F,
+                            at,
+                            "\"element NAME COUNT\" with a count ≥ 0",
+                            show(line),
+                        ))
+                    }
+                };
+                elements.push(Element {
+                    name,
+                    count,
+                    props: Vec::new(),
+                    line: n,
+                });
+            }
+            Some(b"property") => {
+                let Some(el) = elements.last_mut() else {
+                    return Err(IoError::syntax(
+                        F,
+                        at,
+                        "an element line before the first property",
+                        show(line),
+                    ));
+                };
+                let bad_type = |t: &[u8]| {
+                    IoError::syntax(
+                        F,
+                        at,
+                        "a PLY type (char, uchar, short, ushort, int, uint, float, double)",
+                        show(t),
+                    )
+                };
+                let prop = if w.get(1).copied() == Some(b"list") {
+                    let (Some(c), Some(i), Some(name)) = (w.get(2), w.get(3), w.get(4)) else {
+                        return Err(IoError::syntax(
+                            F,
+                            at,
+                            "\"property list COUNT_TYPE ITEM_TYPE NAME\"",
+                            show(line),
+                        ));
+                    };
+                    let count = Scalar::parse(c).ok_or_else(|| bad_type(c))?;
+                    let item = Scalar::parse(i).ok_or_else(|| bad_type(i))?;
+                    if !count.is_integer() {
+                        return Err(IoError::syntax(
+                            F,
+                            at,
+                            "an integer list count type",
+                            show(c),
+                        ));
+                    }
+                    Property {
+                        name: name.to_vec(),
+                        kind: Kind::List { count, item },
+                    }
+                } else {
+                    let (Some(t), Some(name)) = (w.get(1), w.get(2)) else {
+                        return Err(IoError::syntax(F, at, "\"property TYPE NAME\"", show(line)));
+                    };
+                    Property {
+                        name: name.to_vec(),
+                        kind: Kind::Scalar(Scalar::parse(t).ok_or_else(|| bad_type(t))?),
+                    }
+                };
+                el.props.push(prop);
+            }
+            Some(b"end_header") => {
+                let Some(encoding) = encoding else {
+                    return Err(IoError::syntax(
+                        F,
+                        at,
+                        "a \"format\" line before end_header",
+                        "end_header",
+                    ));
+                };
+                return Ok(Header {
+                    encoding,
+                    elements,
+                    body: lines.pos(),
+                    body_line: lines.line(),
+                });
+            }
+            Some(other) => {
+                return Err(IoError::syntax(
+                    F,
+                    at,
+                    "a header keyword (format, comment, element, property, end_header)",
+                    show(other),
+                ))
+            }
+        }
+    }
+    Err(IoError::truncated(
+        F,
+        Location::Line(lines.line()),
+        "\"end_header\"",
+    ))
+}
+
+/// What to extract from the vertex element.
+struct VertexLayout {
+    xyz: [usize; 3],
+    extra: Option<usize>,
+}
+
+/// What the body parse produced.
+struct Parsed {
+    points: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+    extra: Option<Vec<f64>>,
+}
+
+/// Reads a PLY file into points and (fan-triangulated) triangles.
+pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
+    let h = parse_header(bytes)?;
+    let p = parse_body(bytes, &h, None)?;
+    Ok((p.points, p.triangles, h.encoding))
+}
+
+/// Reads the named per-vertex scalar property (e.g. one written by [`write`]) as `f64`s.
+pub fn read_vertex_property(bytes: &[u8], name: &str) -> Result<Vec<f64>, IoError> {
+    let h = parse_header(bytes)?;
+    let p = parse_body(bytes, &h, Some(name.as_bytes()))?;
+    Ok(p.extra.unwrap_or_default())
+}
+
+fn vertex_layout(el: &Element, extra: Option<&[u8]>) -> Result<VertexLayout, IoError> {
+    let find = |name: &[u8]| -> Result<usize, IoError> {
+        match el.props.iter().position(|p| p.name == name) {
+            Some(i) if matches!(el.props[i].kind, Kind::Scalar(_)) => Ok(i),
+            Some(_) => Err(IoError::syntax(
+                F,
+                Location::Line(el.line),
+                format!("a scalar property {}", String::from_utf8_lossy(name)),
+                "a list",
+            )),
+            None => Err(IoError::syntax(
+                F,
+                Location::Line(el.line),
+                "properties x, y and z on element vertex",
+                format!("no property {}", String::from_utf8_lossy(name)),
+            )),
+        }
+    };
+    Ok(VertexLayout {
+        xyz: [find(b"x")?, find(b"y")?, find(b"z")?],
+        extra: match extra {
+            Some(n) => Some(find(n)?),
+            None => None,
+        },
+    })
+}
+
+fn check_counts(bytes: &[u8], h: &Header) -> Result<(), IoError> {
+    let available = bytes.len() - h.body;
+    let slack = if h.encoding == Encoding::Ascii { 1 } else { 0 };
+    let mut needed: u128 = 0;
+    for el in &h.elements {
+        needed += el.count as u128 * el.min_bytes(h.encoding);
+        if needed > (available + slack) as u128 {
+            return Err(IoError::CountTooLarge {
+                format: F,
+                at: Location::Line(el.line),
+                element: format!("\"{}\" elements", String::from_utf8_lossy(&el.name)),
+                count: el.count,
+                available,
+                needed,
+            });
+        }
+    }
+    Ok(())
+}
+
+fn parse_body(bytes: &[u8], h: &Header, extra: Option<&[u8]>) -> Result<Parsed, IoError> {
+    check_counts(bytes, h)?;
+    let Some(vi) = h.elements.iter().position(|e| e.name == b"vertex") else {
+        return Err(IoError::syntax(
+            F,
+            Location::Line(h.body_line.saturating_sub(1)),
+            "an \"element vertex\" in the header",
+            "none",
+        ));
+    };
+    let layout = vertex_layout(&h.elements[vi], extra)?;
+    let nv = h.elements[vi].count;
+    if nv > u32::MAX as u64 {
+        return Err(IoError::Unsupported {
+            format: F,
+            what: format!("{nv} vertices (more than 2^32)"),
+        });
+    }
+    // The counts were checked against the file size, so these capacities are bounded by it.
+    let mut out = Parsed {
+        points: Vec::with_capacity(nv as usize),
+        triangles: Vec::new(),
+        extra: extra.map(|_| Vec::with_capacity(nv as usize)),
+    };
+    match h.encoding {
+        Encoding::Ascii => parse_ascii(bytes, h, vi, &layout, &mut out)?,
+        enc => parse_binary(bytes, h, vi, &layout, enc == Encoding::BinaryBe, &mut out)?,
+    }
+    Ok(out)
+}
+
+/// Index of the face list property of a `face` element, if the element is a face element.
+fn face_list(el: &Element) -> Result<Option<usize>, IoError> {
+    if el.name != b"face" {
+        return Ok(None);
+    }
+    let lists = |n: &[u8]| {
+        el.props
+            .iter()
+            .position(|p| p.name == n && matches!(p.kind, Kind::List { .. }))
+    };
+    let i = lists(b"vertex_indices")
+        .or_else(|| lists(b"vertex_index"))
+        .or_else(|| {
+            el.props
+                .iter()
+                .position(|p| matches!(p.kind, Kind::List { .. }))
+        });
+    match i {
+        Some(i) => {
+            if let Kind::List { item, .. } = el.props[i].kind {
+                if !item.is_integer() {
+                    return Err(IoError::syntax(
+                        F,
+                        Location::Line(el.line),
+                        "an integer type for face vertex indices",
+                        "a floating-point type",
+                    ));
+                }
+            }
+            Ok(Some(i))
+        }
+        None if el.count == 0 => Ok(None),
+        None => Err(IoError::syntax(
+            F,
+            Location::Line(el.line),
+            "a list property vertex_indices on element face",
+            "no list property",
+        )),
+    }
+}
+
+/// Fan-triangulates one face given its vertex indices, checking them.
+#[inline]
+fn push_face(
+    tris: &mut Vec<[u32; 3]>,
+    idx: &[i64],
+    nv: u64,
+    face: usize,
+    at: Location,
+) -> Result<(), IoError> {
+    if idx.len() < 3 {
+        return Err(IoError::syntax(
+            F,
+            at,
+            format!("face {face} with at least 3 vertices"),
+            format!("{} vertices", idx.len()),
+        ));
+    }
+    for &i in idx {
+        if i < 0 || i as u64 >= nv {
+            return Err(IoError::IndexOutOfRange {
+                format: F,
+                at,
+                face,
+                index: i,
+                count: nv as usize,
+            });
+        }
+    }
+    for k in 1..idx.len() - 1 {
+        tris.push([idx[0] as u32, idx[k] as u32, idx[k + 1] as u32]);
+    }
+    Ok(())
+}
+
+fn non_finite(at: Location, index: usize, p: DVec3) -> IoError {
+    IoError::NonFinite {
+        format: F,
+        at,
+        index,
+        x: p.x,
+        y: p.y,
+        z: p.z,
+    }
+}
+
+fn parse_binary(
+    bytes: &[u8],
+    h: &Header,
+    vi: usize,
+    layout: &VertexLayout,
+    be: bool,
+    out: &mut Parsed,
+) -> Result<(), IoError> {
+    let mut pos = h.body;
+    let mut idx: Vec<i64> = Vec::new();
+    for (ei, el) in h.elements.iter().enumerate() {
+        let ename = String::from_utf8_lossy(&el.name);
+        let stride = el.fixed_stride();
+        if ei == vi {
+            if let Some(stride) = stride {
+                // Fast path: fixed-size vertex records, read in place.
+                let offs: Vec<(usize, Scalar)> = el
+                    .props
+                    .iter()
+                    .scan(0usize, |o, p| {
+                        let Kind::Scalar(s) = p.kind else {
+                            unreachable!("fixed stride has scalars only")
+                        };
+                        let r = (*o, s);
+                        *o += s.size();
+                        Some(r)
+                    })
+                    .collect();
+                let n = el.count as usize;
+                let len = n * stride;
+                if bytes.len() - pos < len {
+                    return Err(IoError::truncated(
+                        F,
+                        Location::Byte(bytes.len()),
+                        format!("{n} vertex records of {stride} bytes from byte {pos}"),
+                    ));
+                }
+                let [(ox, tx), (oy, ty), (oz, tz)] = layout.xyz.map(|i| offs[i]);
+                for (i, rec) in bytes[pos..pos + len].chunks_exact(stride).enumerate() {
+                    let p = DVec3::new(
+                        tx.get(&rec[ox..], be),
+                        ty.get(&rec[oy..], be),
+                        tz.get(&rec[oz..], be),
+                    );
+                    if !p.is_finite() {
+                        return Err(non_finite(Location::Byte(pos + i * stride), i, p));
+                    }
+                    out.points.push(p);
+                    if let (Some(e), Some(v)) = (layout.extra, out.extra.as_mut()) {
+                        let (o, t) = offs[e];
+                        v.push(t.get(&rec[o..], be));
+                    }
+                }
+                pos += len;
+                continue;
+            }
+        } else if let (Some(stride), None) = (stride, face_list(el)?) {
+            let len = el.count as u128 * stride as u128;
+            if ((bytes.len() - pos) as u128) < len {
+                return Err(IoError::truncated(
+                    F,
+                    Location::Byte(bytes.len()),
+                    format!("{} \"{ename}\" records of {stride} bytes", el.count),
+                ));
+            }
+            pos += len as usize;
+            continue;
+        }
+        let flist = if ei == vi { None } else { face_list(el)? };
+        if flist.is_some() {
+            out.triangles.reserve(el.count as usize);
+        }
+        let mut vals = [0f64; 3];
+        for r in 0..el.count as usize {
+            let rec_start = pos;
+            let mut extra_val = 0.0;
+            for (pi, p) in el.props.iter().enumerate() {
+                match p.kind {
+                    Kind::Scalar(s) => {
+                        let Some(b) = bytes.get(pos..pos + s.size()) else {
+                            return Err(IoError::truncated(
+                                F,
+                                Location::Byte(pos),
+                                format!(
+                                    "property {} of {ename} {r} of {}",
+                                    String::from_utf8_lossy(&p.name),
+                                    el.count
+                                ),
+                            ));
+                        };
+                        if ei == vi {
+                            if let Some(k) = layout.xyz.iter().position(|&x| x == pi) {
+                                vals[k] = s.get(b, be);
+                            }
+                            if layout.extra == Some(pi) {
+                                extra_val = s.get(b, be);
+                            }
+                        }
+                        pos += s.size();
+                    }
+                    Kind::List { count, item } => {
+                        let Some(b) = bytes.get(pos..pos + count.size()) else {
+                            return Err(IoError::truncated(
+                                F,
+                                Location::Byte(pos),
+                                format!("the list length of {ename} {r} of {}", el.count),
+                            ));
+                        };
+                        let n = count.get_int(b, be);
+                        let list_at = pos;
+                        pos += count.size();
+                        let len = (n.max(0) as u128) * item.size() as u128;
+                        if n < 0 || ((bytes.len() - pos) as u128) < len {
+                            return Err(IoError::truncated(
+                                F,
+                                Location::Byte(list_at),
+                                format!(
+                                    "{n} list items of {ename} {r} of {} ({} bytes left)",
+                                    el.count,
+                                    bytes.len() - pos
+                                ),
+                            ));
+                        }
+                        let len = len as usize;
+                        if flist == Some(pi) {
+                            idx.clear();
+                            idx.extend(
+                                bytes[pos..pos + len]
+                                    .chunks_exact(item.size())
+                                    .map(|c| item.get_int(c, be)),
+                            );
+                            push_face(
+                                &mut out.triangles,
+                                &idx,
+                                h.elements[vi].count,
+                                r,
+                                Location::Byte(list_at),
+                            )?;
+                        }
+                        pos += len;
+                    }
+                }
+            }
+            if ei == vi {
+                let p = DVec3::from_array(vals);
+                if !p.is_finite() {
+                    return Err(non_finite(Location::Byte(rec_start), r, p));
+                }
+                out.points.push(p);
+                if let Some(v) = out.extra.as_mut() {
+                    v.push(extra_val);
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+fn parse_ascii(
+    bytes: &[u8],
+    h: &Header,
+    vi: usize,
+    layout: &VertexLayout,
+    out: &mut Parsed,
+) -> Result<(), IoError> {
+    let mut lines = Lines::new(bytes, h.body, h.body_line);
+    let mut idx: Vec<i64> = Vec::new();
+    for (ei, el) in h.elements.iter().enumerate() {
+        let ename = String::from_utf8_lossy(&el.name);
+        let flist = if ei == vi { None } else { face_list(el)? };
+        let nprops = el.props.len();
+        for r in 0..el.count as usize {
+            let (n, line) = loop {
+                match lines.next() {
+                    Some((_, l)) if l.trim_ascii().is_empty() => continue,
+                    Some(x) => break x,
+                    None => {
+                        return Err(IoError::truncated(
+                            F,
+                            Location::Line(lines.line()),
+                            format!("{ename} {r} of {}", el.count),
+                        ))
+                    }
+                }
+            };
+            let at = Location::Line(n);
+            let mut toks = words(line);
+            let mut vals = [0f64; 3];
+            let mut extra_val = 0.0;
+            for (pi, p) in el.props.iter().enumerate() {
+                let missing = || {
+                    IoError::syntax(
+                        F,
+                        at,
+                        format!(
+                            "a value for property {} ({nprops} properties per {ename})",
+                            String::from_utf8_lossy(&p.name)
+                        ),
+                        "end of line",
+                    )
+                };
+                match p.kind {
+                    Kind::Scalar(_) => {
+                        let t = toks.next().ok_or_else(missing)?;
+                        if ei == vi {
+                            let k = layout.xyz.iter().position(|&x| x == pi);
+                            if k.is_some() || layout.extra == Some(pi) {
+                                let v = parse_f64(t)
+                                    .ok_or_else(|| IoError::syntax(F, at, "a number", show(t)))?;
+                                if let Some(k) = k {
+                                    vals[k] = v;
+                                }
+                                if layout.extra == Some(pi) {
+                                    extra_val = v;
+                                }
+                            }
+                        }
+                    }
+                    Kind::List { .. } => {
+                        let t = toks.next().ok_or_else(missing)?;
+                        let c = parse_i64(t)
+                            .filter(|&c| c >= 0)
+                            .ok_or_else(|| IoError::syntax(F, at, "a list length", show(t)))?;
+                        idx.clear();
+                        for _ in 0..c {
+                            let t = toks.next().ok_or_else(|| {
+                                IoError::syntax(
+                                    F,
+                                    at,
+                                    format!("{c} list items"),
+                                    format!("{} items", idx.len()),
+                                )
+                            })?;
+                            if flist == Some(pi) {
+                                idx.push(parse_i64(t).ok_or_else(|| {
+                                    IoError::syntax(F, at, "an integer vertex index", show(t))
+                                })?);
+                            } else {
+                                idx.push(0);
+                            }
+                        }
+                        if flist == Some(pi) {
+                            push_face(&mut out.triangles, &idx, h.elements[vi].count, r, at)?;
+                        }
+                    }
+                }
+            }
+            if ei == vi {
+                let p = DVec3::from_array(vals);
+                if !p.is_finite() {
+                    return Err(non_finite(at, r, p));
+                }
+                out.points.push(p);
+                if let Some(v) = out.extra.as_mut() {
+                    v.push(extra_val);
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Makes a name safe for a PLY/VTK header (no whitespace).
+pub(crate) fn header_name(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// Writes binary little-endian PLY: float x, y, z, one float property per named scalar, and a
+/// `uchar int vertex_indices` face list. Comments record the LSW version and settings.
+pub fn write(input: &WriteInput) -> Result<Vec<u8>, IoError> {
+    input.check(F)?;
+    let names: Vec<String> = input.scalars.iter().map(|(n, _)| header_name(n)).collect();
+    for (i, n) in names.iter().enumerate() {
+        if ["x", "y", "z"].contains(&n.as_str()) || names[..i].contains(n) {
+            return Err(IoError::InvalidInput {
+                format: F,
+                what: format!("scalar name \"{n}\" is used twice or clashes with x, y, z"),
+            });
+        }
+    }
+    let mut head = String::from("ply\nformat binary_little_endian 1.0\n");
+    head += &format!("comment written by LSW {}\n", crate::VERSION);
+    if let Some(s) = input.settings_compact(F)? {
+        head += &format!("comment settings {s}\n");
+    }
+    head += &format!(
+        "element vertex {}\nproperty float x\nproperty float y\nproperty float z\n",
+        input.positions.len()
+    );
+    for n in &names {
+        head += &format!("property float {n}\n");
+    }
+    head += &format!(
+        "element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        input.triangles.len()
+    );
+    let stride = 12 + 4 * names.len();
+    let mut out = Vec::with_capacity(
+        head.len() + input.positions.len() * stride + 13 * input.triangles.len(),
+    );
+    out.extend_from_slice(head.as_bytes());
+    for (i, p) in input.positions.iter().enumerate() {
+        for c in p.to_array() {
+            out.extend_from_slice(&(c as f32).to_le_bytes());
+        }
+        for (_, s) in input.scalars {
+            out.extend_from_slice(&(s[i] as f32).to_le_bytes());
+        }
+    }
+    for t in input.triangles {
+        out.push(3);
+        for &v in t {
+            out.extend_from_slice(&(v as i32).to_le_bytes());
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ascii_with_extra_properties_and_quads() {
+        let src = b"ply\nformat ascii 1.0\ncomment hi\nelement vertex 4\nproperty float x\nproperty uchar red\nproperty double y\nproperty int z\nelement face 1\nproperty uchar flags\nproperty list uchar int vertex_indices\nend_header\n0 255 0 0\n1 0 0 0\n1 1 1 0\n0 2 1 0\n7 4 0 1 2 3\n";
+        let (p, t, e) = read(src).unwrap();
+        assert_eq!(e, Encoding::Ascii);
+        assert_eq!(p.len(), 4);
+        assert_eq!(p[2], DVec3::new(1.0, 1.0, 0.0));
+        assert_eq!(t, vec![[0, 1, 2], [0, 2, 3]]);
+    }
+
+    #[test]
+    fn binary_big_endian_with_list_in_vertex() {
+        let mut b = b"ply\nformat binary_big_endian 1.0\nelement vertex 2\nproperty double x\nproperty list uchar float junk\nproperty float y\nproperty short z\nend_header\n".to_vec();
+        for (x, y, z) in [(1.5f64, 2.5f32, -3i16), (4.0, 5.0, 6)] {
+            b.extend_from_slice(&x.to_be_bytes());
+            b.push(2);
+            b.extend_from_slice(&[0; 8]);
+            b.extend_from_slice(&y.to_be_bytes());
+            b.extend_from_slice(&z.to_be_bytes());
+        }
+        let (p, t, _) = read(&b).unwrap();
+        assert!(t.is_empty());
+        assert_eq!(
+            p,
+            vec![DVec3::new(1.5, 2.5, -3.0), DVec3::new(4.0, 5.0, 6.0)]
+        );
+    }
+}
