@@ -13,6 +13,8 @@ pub mod flow;
 pub mod geometry;
 pub mod io;
 pub mod mesh;
+pub mod metrics;
+pub mod remesh;
 pub mod solve;
 pub mod target;
 

@@ -49,6 +49,15 @@ pub struct HalfedgeMesh {
     pub(crate) f_halfedge: Vec<u32>,
     /// Named per-vertex scalar layers (distance, feature flags, …), kept in step with `positions`.
     pub(crate) vertex_scalars: Vec<(String, Vec<f64>)>,
+    /// Deleted-vertex flags left by topology edits (`mesh::edit`); empty means "none deleted".
+    /// Either empty or exactly `n_vertices()` long.
+    pub(crate) v_deleted: Vec<bool>,
+    /// Deleted-edge flags (empty, or `n_edges()` long).
+    pub(crate) e_deleted: Vec<bool>,
+    /// Deleted-face flags (empty, or `n_faces()` long).
+    pub(crate) f_deleted: Vec<bool>,
+    /// Number of elements flagged deleted but not yet compacted by `garbage_collect()`.
+    pub(crate) n_garbage: usize,
 }
 
 impl HalfedgeMesh {
@@ -135,6 +144,28 @@ impl HalfedgeMesh {
             }
         }
         Ok(m)
+    }
+
+    /// True when topology edits left deleted elements that [`HalfedgeMesh::garbage_collect`]
+    /// has not compacted yet. Element counts then include the deleted ones, and whole-mesh
+    /// functions (`validate`, `triangles`, `signed_volume`, …) must not be used before compaction.
+    pub fn has_garbage(&self) -> bool {
+        self.n_garbage > 0
+    }
+    /// True when vertex `v` was removed by an edit and awaits garbage collection.
+    #[inline]
+    pub fn is_deleted_vertex(&self, v: u32) -> bool {
+        self.v_deleted.get(v as usize).copied().unwrap_or(false)
+    }
+    /// True when edge `e` was removed by an edit and awaits garbage collection.
+    #[inline]
+    pub fn is_deleted_edge(&self, e: u32) -> bool {
+        self.e_deleted.get(e as usize).copied().unwrap_or(false)
+    }
+    /// True when face `f` was removed by an edit and awaits garbage collection.
+    #[inline]
+    pub fn is_deleted_face(&self, f: u32) -> bool {
+        self.f_deleted.get(f as usize).copied().unwrap_or(false)
     }
 
     /// Number of vertices.

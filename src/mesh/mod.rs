@@ -1,10 +1,13 @@
-//! Halfedge triangle mesh: connectivity, per-vertex properties, one-ring iteration, validation.
+//! Halfedge triangle mesh: connectivity, per-vertex properties, one-ring iteration, validation,
+//! and the topology edits (split, collapse, flip, garbage collection) of `edit.rs`.
 //!
 //! The halfedge structure (rather than an index list) is what the adaptive remesher needs:
 //! split, collapse and flip are local pointer edits on it.
 
+mod edit;
 mod halfedge;
 mod validate;
 
+pub use edit::GarbageMaps;
 pub use halfedge::{HalfedgeMesh, MeshBuildError, INVALID};
 pub use validate::{MeshReport, ValidationError};

@@ -1,0 +1,420 @@
+//! A bounding-volume hierarchy over triangles or points, with exact closest-point queries and box
+//! overlap queries (the acceleration behind distances, back-projection and the self-intersection
+//! count).
+//!
+//! Built top-down by median split along the widest centroid axis (leaves of ≤ 4 primitives);
+//! deterministic for a given input. Queries visit the nearer child first and prune by the
+//! squared box distance, so results are exact, not approximate.
+
+// `!(x > y)` is used deliberately: it is also true when x is NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use glam::DVec3;
+
+const LEAF_SIZE: usize = 4;
+
+/// One node: its box and either two children or a run of primitives.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    min: DVec3,
+    max: DVec3,
+    /// Inner node: index of the left child. Leaf: first index into `order`.
+    start: u32,
+    /// Leaf: primitive count; 0 for an inner node.
+    count: u32,
+    /// Inner node: right child.
+    right: u32,
+}
+
+/// A BVH over primitives given by their boxes. Primitive ids are indices into the input.
+#[derive(Clone, Debug, Default)]
+pub struct Bvh {
+    nodes: Vec<Node>,
+    order: Vec<u32>,
+}
+
+#[inline]
+fn box_dist2(p: DVec3, min: DVec3, max: DVec3) -> f64 {
+    let d = (min - p).max(p - max).max(DVec3::ZERO);
+    d.length_squared()
+}
+
+impl Bvh {
+    /// Builds the hierarchy over boxes `[mins[i], maxs[i]]`.
+    pub fn new(mins: &[DVec3], maxs: &[DVec3]) -> Self {
+        let n = mins.len();
+        let mut bvh = Bvh {
+            nodes: Vec::with_capacity(2 * n / LEAF_SIZE + 1),
+            order: (0..n as u32).collect(),
+        };
+        if n == 0 {
+            return bvh;
+        }
+        let centroids: Vec<DVec3> = mins
+            .iter()
+            .zip(maxs)
+            .map(|(a, b)| 0.5 * (*a + *b))
+            .collect();
+        bvh.nodes.push(Node {
+            min: DVec3::ZERO,
+            max: DVec3::ZERO,
+            start: 0,
+            count: 0,
+            right: 0,
+        });
+        // Explicit stack: (node index, start, end).
+        let mut stack = vec![(0usize, 0usize, n)];
+        while let Some((ni, s, e)) = stack.pop() {
+            let (mut bmin, mut bmax) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+            let (mut cmin, mut cmax) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+            for &i in &bvh.order[s..e] {
+                bmin = bmin.min(mins[i as usize]);
+                bmax = bmax.max(maxs[i as usize]);
+                cmin = cmin.min(centroids[i as usize]);
+                cmax = cmax.max(centroids[i as usize]);
+            }
+            let node = &mut bvh.nodes[ni];
+            node.min = bmin;
+            node.max = bmax;
+            if e - s <= LEAF_SIZE {
+                node.start = s as u32;
+                node.count = (e - s) as u32;
+                continue;
+            }
+            let ext = cmax - cmin;
+            let axis = if ext.x >= ext.y && ext.x >= ext.z {
+                0
+            } else if ext.y >= ext.z {
+                1
+            } else {
+                2
+            };
+            let mid = s + (e - s) / 2;
+            bvh.order[s..e].select_nth_unstable_by(mid - s, |&a, &b| {
+                centroids[a as usize][axis]
+                    .total_cmp(&centroids[b as usize][axis])
+                    .then(a.cmp(&b))
+            });
+            let left = bvh.nodes.len();
+            let blank = bvh.nodes[ni];
+            bvh.nodes.push(blank);
+            bvh.nodes.push(blank);
+            let node = &mut bvh.nodes[ni];
+            node.start = left as u32;
+            node.right = left as u32 + 1;
+            node.count = 0;
+            stack.push((left, s, mid));
+            stack.push((left + 1, mid, e));
+        }
+        bvh
+    }
+
+    /// True when built over no primitives.
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// Nearest primitive to `p` under `dist2(id, p)` (an exact squared distance that is at least
+    /// the squared distance to the primitive's box). Returns `(id, squared distance)`.
+    pub fn nearest(&self, p: DVec3, mut dist2: impl FnMut(u32) -> f64) -> Option<(u32, f64)> {
+        if self.nodes.is_empty() {
+            return None;
+        }
+        let mut best = (u32::MAX, f64::INFINITY);
+        let mut stack: [u32; 64] = [0; 64];
+        let mut sp = 1usize;
+        while sp > 0 {
+            sp -= 1;
+            let node = &self.nodes[stack[sp] as usize];
+            if box_dist2(p, node.min, node.max) >= best.1 {
+                continue;
+            }
+            if node.count > 0 {
+                for &i in &self.order[node.start as usize..(node.start + node.count) as usize] {
+                    let d = dist2(i);
+                    if d < best.1 || (d == best.1 && i < best.0) {
+                        best = (i, d);
+                    }
+                }
+            } else {
+                let (l, r) = (node.start, node.right);
+                let dl = {
+                    let n = &self.nodes[l as usize];
+                    box_dist2(p, n.min, n.max)
+                };
+                let dr = {
+                    let n = &self.nodes[r as usize];
+                    box_dist2(p, n.min, n.max)
+                };
+                // Push the farther child first so the nearer one is popped next.
+                let (first, second) = if dl <= dr { (r, l) } else { (l, r) };
+                if sp + 2 > stack.len() {
+                    // Unreachable for median-split trees (depth ≤ log2 n + 1).
+                    continue;
+                }
+                stack[sp] = first;
+                stack[sp + 1] = second;
+                sp += 2;
+            }
+        }
+        (best.0 != u32::MAX).then_some(best)
+    }
+
+    /// Calls `f(id)` for every primitive whose box overlaps `[min, max]`, in a fixed order.
+    pub fn for_each_overlap(&self, min: DVec3, max: DVec3, mut f: impl FnMut(u32)) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let mut stack: [u32; 64] = [0; 64];
+        let mut sp = 1usize;
+        while sp > 0 {
+            sp -= 1;
+            let node = &self.nodes[stack[sp] as usize];
+            if node.min.cmpgt(max).any() || node.max.cmplt(min).any() {
+                continue;
+            }
+            if node.count > 0 {
+                for &i in &self.order[node.start as usize..(node.start + node.count) as usize] {
+                    f(i);
+                }
+            } else if sp + 2 <= stack.len() {
+                stack[sp] = node.right;
+                stack[sp + 1] = node.start;
+                sp += 2;
+            }
+        }
+    }
+}
+
+/// The closest point on triangle `[a, b, c]` to `p` and its barycentric coordinates
+/// `(u, v, w)` with `point = u·a + v·b + w·c` (Ericson, Real-Time Collision Detection §5.1.5).
+/// Exact up to rounding; degenerate triangles fall back to their edges.
+pub fn closest_point_on_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> (DVec3, DVec3) {
+    let ab = b - a;
+    let ac = c - a;
+    let ap = p - a;
+    let d1 = ab.dot(ap);
+    let d2 = ac.dot(ap);
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return (a, DVec3::X);
+    }
+    let bp = p - b;
+    let d3 = ab.dot(bp);
+    let d4 = ac.dot(bp);
+    if d3 >= 0.0 && d4 <= d3 {
+        return (b, DVec3::Y);
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        let v = d1 / (d1 - d3);
+        return (a + v * ab, DVec3::new(1.0 - v, v, 0.0));
+    }
+    let cp = p - c;
+    let d5 = ab.dot(cp);
+    let d6 = ac.dot(cp);
+    if d6 >= 0.0 && d5 <= d6 {
+        return (c, DVec3::Z);
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        let w = d2 / (d2 - d6);
+        return (a + w * ac, DVec3::new(1.0 - w, 0.0, w));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return (b + w * (c - b), DVec3::new(0.0, 1.0 - w, w));
+    }
+    let denom = va + vb + vc;
+    if !(denom > 0.0) || !denom.is_finite() {
+        // Degenerate triangle: nearest point on the three edges.
+        let mut best = (a, DVec3::X, f64::INFINITY);
+        for (s, e, k) in [(a, b, 0), (b, c, 1), (c, a, 2)] {
+            let d = e - s;
+            let l2 = d.length_squared();
+            let t = if l2 > 0.0 {
+                ((p - s).dot(d) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let q = s + t * d;
+            let dq = (p - q).length_squared();
+            if dq < best.2 {
+                let bary = match k {
+                    0 => DVec3::new(1.0 - t, t, 0.0),
+                    1 => DVec3::new(0.0, 1.0 - t, t),
+                    _ => DVec3::new(t, 0.0, 1.0 - t),
+                };
+                best = (q, bary, dq);
+            }
+        }
+        return (best.0, best.1);
+    }
+    let v = vb / denom;
+    let w = vc / denom;
+    (a + ab * v + ac * w, DVec3::new(1.0 - v - w, v, w))
+}
+
+/// Result of a closest-point query on a triangle set.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClosestHit {
+    /// Index of the nearest triangle.
+    pub triangle: u32,
+    /// The closest point.
+    pub point: DVec3,
+    /// Its barycentric coordinates in that triangle.
+    pub barycentric: DVec3,
+    /// Squared distance from the query point.
+    pub distance_squared: f64,
+}
+
+/// A BVH over an indexed triangle set (positions and triangles copied in).
+#[derive(Clone, Debug, Default)]
+pub struct TriangleBvh {
+    bvh: Bvh,
+    positions: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+}
+
+impl TriangleBvh {
+    /// Builds the hierarchy over `triangles` (indices into `positions`).
+    pub fn new(positions: &[DVec3], triangles: &[[u32; 3]]) -> Self {
+        let (mut mins, mut maxs) = (
+            Vec::with_capacity(triangles.len()),
+            Vec::with_capacity(triangles.len()),
+        );
+        for t in triangles {
+            let [a, b, c] = t.map(|v| positions[v as usize]);
+            mins.push(a.min(b).min(c));
+            maxs.push(a.max(b).max(c));
+        }
+        Self {
+            bvh: Bvh::new(&mins, &maxs),
+            positions: positions.to_vec(),
+            triangles: triangles.to_vec(),
+        }
+    }
+
+    /// The triangles.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+    /// The positions.
+    pub fn positions(&self) -> &[DVec3] {
+        &self.positions
+    }
+    /// The underlying box hierarchy (for overlap queries).
+    pub fn bvh(&self) -> &Bvh {
+        &self.bvh
+    }
+
+    /// Exact closest point on the triangle set (`None` if it is empty).
+    pub fn closest_point(&self, p: DVec3) -> Option<ClosestHit> {
+        let (t, d2) = self.bvh.nearest(p, |i| {
+            let [a, b, c] = self.triangles[i as usize].map(|v| self.positions[v as usize]);
+            (closest_point_on_triangle(p, a, b, c).0 - p).length_squared()
+        })?;
+        let [a, b, c] = self.triangles[t as usize].map(|v| self.positions[v as usize]);
+        let (point, barycentric) = closest_point_on_triangle(p, a, b, c);
+        Some(ClosestHit {
+            triangle: t,
+            point,
+            barycentric,
+            distance_squared: d2,
+        })
+    }
+
+    /// Exact distance to the triangle set (∞ if it is empty).
+    pub fn distance(&self, p: DVec3) -> f64 {
+        self.closest_point(p)
+            .map_or(f64::INFINITY, |h| h.distance_squared.sqrt())
+    }
+}
+
+/// A BVH over points, for nearest-neighbour distances to a point cloud.
+#[derive(Clone, Debug, Default)]
+pub struct PointBvh {
+    bvh: Bvh,
+    points: Vec<DVec3>,
+}
+
+impl PointBvh {
+    /// Builds the hierarchy over `points`.
+    pub fn new(points: &[DVec3]) -> Self {
+        Self {
+            bvh: Bvh::new(points, points),
+            points: points.to_vec(),
+        }
+    }
+    /// Index of and squared distance to the nearest point (`None` if there are no points).
+    pub fn nearest(&self, p: DVec3) -> Option<(u32, f64)> {
+        self.bvh
+            .nearest(p, |i| (self.points[i as usize] - p).length_squared())
+    }
+    /// Distance to the nearest point (∞ if there are none).
+    pub fn distance(&self, p: DVec3) -> f64 {
+        self.nearest(p).map_or(f64::INFINITY, |(_, d)| d.sqrt())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rng(seed: u64) -> impl FnMut() -> f64 {
+        let mut s = seed;
+        move || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    #[test]
+    fn triangle_closest_point_matches_brute_force() {
+        let mut r = rng(7);
+        let pts: Vec<DVec3> = (0..300).map(|_| DVec3::new(r(), r(), r())).collect();
+        let tris: Vec<[u32; 3]> = (0..100).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+        let bvh = TriangleBvh::new(&pts, &tris);
+        for _ in 0..200 {
+            let p = DVec3::new(2.0 * r() - 0.5, 2.0 * r() - 0.5, 2.0 * r() - 0.5);
+            let brute = tris
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = t.map(|v| pts[v as usize]);
+                    (closest_point_on_triangle(p, a, b, c).0 - p).length_squared()
+                })
+                .fold(f64::INFINITY, f64::min);
+            let hit = bvh.closest_point(p).unwrap();
+            assert_eq!(hit.distance_squared, brute);
+            let [a, b, c] = tris[hit.triangle as usize].map(|v| pts[v as usize]);
+            let q = hit.barycentric.x * a + hit.barycentric.y * b + hit.barycentric.z * c;
+            assert!((q - hit.point).length() < 1e-12);
+        }
+        let cloud = PointBvh::new(&pts);
+        for _ in 0..200 {
+            let p = DVec3::new(r(), r(), r());
+            let brute = pts
+                .iter()
+                .map(|q| (*q - p).length_squared())
+                .fold(f64::INFINITY, f64::min);
+            assert_eq!(cloud.nearest(p).unwrap().1, brute);
+        }
+    }
+
+    #[test]
+    fn closest_point_regions() {
+        let (a, b, c) = (DVec3::ZERO, DVec3::X, DVec3::Y);
+        let q = closest_point_on_triangle(DVec3::new(0.2, 0.2, 1.0), a, b, c).0;
+        assert!((q - DVec3::new(0.2, 0.2, 0.0)).length() < 1e-15);
+        assert_eq!(
+            closest_point_on_triangle(DVec3::new(-1.0, -1.0, 0.0), a, b, c).0,
+            a
+        );
+        assert_eq!(
+            closest_point_on_triangle(DVec3::new(1.0, 1.0, 0.0), a, b, c).0,
+            DVec3::new(0.5, 0.5, 0.0)
+        );
+    }
+}

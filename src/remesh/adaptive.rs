@@ -1,0 +1,637 @@
+//! Adaptive isotropic remeshing after Dunyach et al. 2013 as implemented by PMP's
+//! `Remeshing::adaptive_remeshing` (method spec §7.3): split long edges, collapse short ones,
+//! equalise valences by flips, smooth tangentially, remove caps — with a curvature-adaptive
+//! sizing field and locked / sliding feature vertices.
+//!
+//! Differences from the reference, all deliberate:
+//! * collapses and flips also reject geometric fold-overs (a remaining face turning by more than
+//!   60°, or a degenerate face), so `validate()` holds after every call;
+//! * vertex normals for the smoothing are area-weighted (cheaper than angle-weighted and only used
+//!   to remove the normal component of a tangential update);
+//! * features are re-detected on every call (see [`super::features`]), never accumulated;
+//! * caps on feature edges are left alone instead of moving the cap vertex.
+//!
+//! The mesh must be garbage-free on entry and is garbage-free on exit. Boundary vertices are
+//! locked and boundary edges never edited (LSW surfaces are closed).
+
+// `!(x > y)` is used deliberately: it is also true when x is NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use super::curvature::{principal_curvatures, vertex_normals};
+use super::features::{detect_features, FeatureSettings, Features};
+use super::sizing::{curvature_sizing, EdgeSizes};
+use crate::mesh::{HalfedgeMesh, INVALID};
+use crate::metrics::bvh::TriangleBvh;
+use glam::{DMat3, DVec3};
+use serde::{Deserialize, Serialize};
+
+/// Sweeps per phase (split / collapse / flip) before giving up on convergence (PMP: 10).
+const MAX_SWEEPS: usize = 10;
+/// A collapse may turn a remaining face's normal by at most 60° (cos 60° = 0.5).
+const COLLAPSE_MIN_COS: f64 = 0.5;
+
+/// Settings of one adaptive remeshing call. Lengths are in mesh units (the flow works in its
+/// stabilised frame, so it passes the scaled lengths).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct RemeshSettings {
+    /// Shortest target edge length l_min (> 0). Default 0.01.
+    pub min_edge_length: f64,
+    /// Longest target edge length l_max (≥ l_min). Default 0.04 (= 4·l_min, the reference's ratio).
+    pub max_edge_length: f64,
+    /// Approximation error ε_rem (> 0): edges are sized so that their chords deviate about this
+    /// much from a sphere of the local curvature radius. Default 0.0125 (= 0.25·(l_min + l_max)).
+    pub approx_error: f64,
+    /// Outer iterations (split, collapse, flip, smooth), `NRemeshingIters`. Default 2.
+    pub iterations: u32,
+    /// Tangential smoothing passes per outer iteration, `NTanSmoothingIters`. Default 5.
+    pub smoothing_iterations: u32,
+    /// Project moved and new vertices back onto the surface as it was when the call started
+    /// (`UseBackProjection`). Default false (the reference's evolution runs; true only for the
+    /// initial marching-cubes remesh).
+    pub use_projection: bool,
+    /// Cap removal: flip an edge whose larger opposite angle exceeds this many degrees.
+    /// Default 170.
+    pub cap_angle_deg: f64,
+    /// Feature detection, redone on every call. Default: off.
+    pub features: FeatureSettings,
+}
+
+impl Default for RemeshSettings {
+    fn default() -> Self {
+        Self {
+            min_edge_length: 0.01,
+            max_edge_length: 0.04,
+            approx_error: 0.0125,
+            iterations: 2,
+            smoothing_iterations: 5,
+            use_projection: false,
+            cap_angle_deg: 170.0,
+            features: FeatureSettings::default(),
+        }
+    }
+}
+
+impl RemeshSettings {
+    /// Settings with the given sizes and every other field at its default.
+    pub fn with_sizes(sizes: EdgeSizes) -> Self {
+        Self {
+            min_edge_length: sizes.min_edge_length,
+            max_edge_length: sizes.max_edge_length,
+            approx_error: sizes.approx_error,
+            ..Default::default()
+        }
+    }
+    /// The three sizes of these settings.
+    pub fn sizes(&self) -> EdgeSizes {
+        EdgeSizes {
+            min_edge_length: self.min_edge_length,
+            max_edge_length: self.max_edge_length,
+            approx_error: self.approx_error,
+        }
+    }
+}
+
+/// Why a remesh call refused to run. The mesh is untouched in every case.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RemeshError {
+    /// A length is not positive and finite, or `l_min > l_max`. Fix: pass sizes from
+    /// [`super::sizing`] or positive lengths with `min_edge_length ≤ max_edge_length`.
+    #[error("invalid remesh sizes: l_min = {min}, l_max = {max}, ε_rem = {eps}")]
+    InvalidSizes { min: f64, max: f64, eps: f64 },
+    /// The mesh has no faces.
+    #[error("cannot remesh a mesh without faces")]
+    Empty,
+}
+
+/// What one remesh call did.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct RemeshReport {
+    /// Vertex count before.
+    pub vertices_before: usize,
+    /// Vertex count after.
+    pub vertices_after: usize,
+    /// Edge splits.
+    pub splits: usize,
+    /// Edge collapses.
+    pub collapses: usize,
+    /// Valence-improving flips.
+    pub flips: usize,
+    /// Cap-removing flips.
+    pub caps_removed: usize,
+    /// Feature vertices detected at the start.
+    pub feature_vertices: usize,
+    /// Feature edges detected at the start.
+    pub feature_edges: usize,
+    /// Locked vertices at the start (features not on exactly two feature edges, boundary).
+    pub locked_vertices: usize,
+}
+
+/// Remeshes `mesh` in place (features detected per `settings.features`).
+/// Per-vertex scalar layers follow the edits (see `mesh::edit`).
+pub fn remesh(
+    mesh: &mut HalfedgeMesh,
+    settings: &RemeshSettings,
+) -> Result<RemeshReport, RemeshError> {
+    remesh_impl(mesh, settings, None)
+}
+
+/// Remeshes with caller-supplied features (indexed like `mesh`); `settings.features` is ignored.
+pub fn remesh_with_features(
+    mesh: &mut HalfedgeMesh,
+    settings: &RemeshSettings,
+    features: &Features,
+) -> Result<RemeshReport, RemeshError> {
+    remesh_impl(mesh, settings, Some(features))
+}
+
+/// The surface at the start of the call, for back-projection.
+struct Reference {
+    triangles: Vec<[u32; 3]>,
+    sizing: Vec<f64>,
+    bvh: TriangleBvh,
+}
+
+impl Reference {
+    /// Closest point on the reference and the barycentric sizing there.
+    fn project(&self, p: DVec3) -> (DVec3, f64) {
+        match self.bvh.closest_point(p) {
+            Some(hit) => {
+                let t = self.triangles[hit.triangle as usize];
+                let h = hit.barycentric.x * self.sizing[t[0] as usize]
+                    + hit.barycentric.y * self.sizing[t[1] as usize]
+                    + hit.barycentric.z * self.sizing[t[2] as usize];
+                (hit.point, h)
+            }
+            None => (p, f64::NAN),
+        }
+    }
+}
+
+/// Working state: per-vertex and per-edge arrays kept in step with the mesh's edits.
+struct Work<'a> {
+    s: &'a RemeshSettings,
+    /// Target edge length per vertex.
+    h: Vec<f64>,
+    locked: Vec<bool>,
+    vfeat: Vec<bool>,
+    efeat: Vec<bool>,
+    normals: Vec<DVec3>,
+    upd: Vec<DVec3>,
+    valence: Vec<i32>,
+    min_area: f64,
+    reference: Option<Reference>,
+    report: RemeshReport,
+}
+
+fn remesh_impl(
+    mesh: &mut HalfedgeMesh,
+    s: &RemeshSettings,
+    given: Option<&Features>,
+) -> Result<RemeshReport, RemeshError> {
+    let (lmin, lmax, eps) = (s.min_edge_length, s.max_edge_length, s.approx_error);
+    let ok = |x: f64| x > 0.0 && x.is_finite();
+    if !(ok(lmin) && ok(lmax) && ok(eps) && lmin <= lmax) {
+        return Err(RemeshError::InvalidSizes {
+            min: lmin,
+            max: lmax,
+            eps,
+        });
+    }
+    mesh.garbage_collect();
+    if mesh.n_faces() == 0 {
+        return Err(RemeshError::Empty);
+    }
+    let nv = mesh.n_vertices();
+    let mut report = RemeshReport {
+        vertices_before: nv,
+        ..Default::default()
+    };
+
+    // Features and locks.
+    let curv0 = principal_curvatures(mesh, None, 0);
+    let features = match given {
+        Some(f) => f.clone(),
+        None => detect_features(mesh, &curv0, &s.features),
+    };
+    let mut locked = vec![false; nv];
+    for v in 0..nv as u32 {
+        let boundary = mesh.outgoing(v).any(|h| mesh.is_boundary_halfedge(h));
+        let nfe = mesh
+            .outgoing(v)
+            .filter(|&h| features.edges[(h >> 1) as usize])
+            .count();
+        locked[v as usize] = boundary || (features.vertices[v as usize] && nfe != 2);
+    }
+    report.feature_vertices = features.n_vertices();
+    report.feature_edges = features.n_edges();
+    report.locked_vertices = locked.iter().filter(|&&b| b).count();
+
+    // Sizing: curvatures with one smoothing pass that skips features.
+    let fixed: Vec<bool> = (0..nv).map(|v| locked[v] || features.vertices[v]).collect();
+    let curv = principal_curvatures(mesh, Some(&fixed), 1);
+    let h = curvature_sizing(mesh, &curv, &s.sizes(), &fixed);
+
+    let reference = s.use_projection.then(|| Reference {
+        triangles: mesh.triangles(),
+        sizing: h.clone(),
+        bvh: TriangleBvh::new(mesh.positions(), &mesh.triangles()),
+    });
+
+    let mut w = Work {
+        s,
+        h,
+        locked,
+        vfeat: features.vertices,
+        efeat: features.edges,
+        normals: Vec::new(),
+        upd: Vec::new(),
+        valence: Vec::new(),
+        min_area: 1e-8 * lmin * lmin,
+        reference,
+        report,
+    };
+
+    for _ in 0..s.iterations {
+        split_long_edges(mesh, &mut w);
+        collapse_short_edges(mesh, &mut w);
+        flip_edges(mesh, &mut w);
+        tangential_smoothing(mesh, &mut w);
+    }
+    remove_caps(mesh, &mut w);
+    mesh.garbage_collect();
+    w.report.vertices_after = mesh.n_vertices();
+    Ok(w.report)
+}
+
+#[inline]
+fn ends(mesh: &HalfedgeMesh, e: u32) -> (u32, u32) {
+    (mesh.to(2 * e + 1), mesh.to(2 * e))
+}
+
+fn split_long_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
+    for _ in 0..MAX_SWEEPS {
+        let mut any = false;
+        let ne = mesh.n_edges() as u32;
+        for e in 0..ne {
+            if mesh.is_deleted_edge(e) || !mesh.is_interior_edge(e) {
+                continue;
+            }
+            let (a, b) = ends(mesh, e);
+            let (pa, pb) = (mesh.position(a), mesh.position(b));
+            let hmax = 4.0 / 3.0 * w.h[a as usize].min(w.h[b as usize]);
+            if (pb - pa).length_squared() <= hmax * hmax {
+                continue;
+            }
+            let feature = w.efeat[e as usize];
+            let mut p = 0.5 * (pa + pb);
+            let mut hm = 0.5 * (w.h[a as usize] + w.h[b as usize]);
+            if !feature {
+                if let Some(r) = &w.reference {
+                    let (q, hq) = r.project(p);
+                    p = q;
+                    if hq.is_finite() {
+                        hm = hq;
+                    }
+                }
+            }
+            mesh.split_edge(e, p);
+            w.h.push(hm);
+            w.locked.push(false);
+            w.vfeat.push(feature);
+            w.efeat.extend([feature, false, false]);
+            w.report.splits += 1;
+            any = true;
+        }
+        if !any {
+            break;
+        }
+    }
+}
+
+/// May the feature vertex `from(h)` be collapsed into `to(h)`? Only along a feature edge between
+/// two feature vertices, and only if none of the four edges that merge is a feature.
+fn feature_collapse_ok(mesh: &HalfedgeMesh, w: &Work, h: u32) -> bool {
+    let o = h ^ 1;
+    let fe = |x: u32| w.efeat[(x >> 1) as usize];
+    w.vfeat[mesh.to(h) as usize]
+        && fe(h)
+        && !fe(mesh.next(h))
+        && !fe(mesh.prev(h))
+        && !fe(mesh.next(o))
+        && !fe(mesh.prev(o))
+}
+
+fn collapse_short_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
+    for _ in 0..MAX_SWEEPS {
+        let mut any = false;
+        let ne = mesh.n_edges() as u32;
+        for e in 0..ne {
+            if mesh.is_deleted_edge(e) || !mesh.is_interior_edge(e) {
+                continue;
+            }
+            let (v0, v1) = ends(mesh, e);
+            let (h0, h1) = (w.h[v0 as usize], w.h[v1 as usize]);
+            let hmin = 0.8 * h0.min(h1);
+            if (mesh.position(v1) - mesh.position(v0)).length_squared() >= hmin * hmin {
+                continue;
+            }
+            let (h01, h10) = (2 * e, 2 * e + 1);
+            let mut c01 = !w.locked[v0 as usize];
+            let mut c10 = !w.locked[v1 as usize];
+            if c01 && w.vfeat[v0 as usize] {
+                c01 = feature_collapse_ok(mesh, w, h01);
+            }
+            if c10 && w.vfeat[v1 as usize] {
+                c10 = feature_collapse_ok(mesh, w, h10);
+            }
+            if c01 {
+                c01 = mesh.is_collapse_ok(h01);
+            }
+            if c10 {
+                c10 = mesh.is_collapse_ok(h10);
+            }
+            if c01 && c10 {
+                if mesh.valence(v0) < mesh.valence(v1) {
+                    c10 = false;
+                } else {
+                    c01 = false;
+                }
+            }
+            let h = if c01 {
+                h01
+            } else if c10 {
+                h10
+            } else {
+                continue;
+            };
+            let (vr, vk) = (mesh.from(h), mesh.to(h));
+            let pk = mesh.position(vk);
+            let hk = w.h[vk as usize];
+            let creates_long = mesh.neighbors(vr).any(|u| {
+                if u == vk {
+                    return false;
+                }
+                let lim = 4.0 / 3.0 * hk.min(w.h[u as usize]);
+                (mesh.position(u) - pk).length_squared() > lim * lim
+            });
+            if creates_long || mesh.collapse_flips_faces(h, pk, COLLAPSE_MIN_COS, w.min_area) {
+                continue;
+            }
+            // The merged edge pairs keep the feature flag of either.
+            let o = h ^ 1;
+            let (keep1, gone1) = (mesh.prev(h) >> 1, mesh.next(h) >> 1);
+            let (keep2, gone2) = (mesh.next(o) >> 1, mesh.prev(o) >> 1);
+            w.efeat[keep1 as usize] |= w.efeat[gone1 as usize];
+            w.efeat[keep2 as usize] |= w.efeat[gone2 as usize];
+            mesh.collapse_edge(h);
+            w.report.collapses += 1;
+            any = true;
+        }
+        if !any {
+            break;
+        }
+    }
+    let maps = mesh.garbage_collect();
+    remap(&mut w.h, &maps.vertices);
+    remap(&mut w.locked, &maps.vertices);
+    remap(&mut w.vfeat, &maps.vertices);
+    remap(&mut w.efeat, &maps.edges);
+}
+
+/// Compacts `data` by an old→new index map (`INVALID` = dropped); new indices never exceed old.
+fn remap<T: Copy>(data: &mut Vec<T>, map: &[u32]) {
+    let mut n = 0;
+    for (old, &new) in map.iter().enumerate() {
+        if new != INVALID {
+            data[new as usize] = data[old];
+            n += 1;
+        }
+    }
+    data.truncate(n);
+}
+
+/// True when the two faces that flipping edge `(a, b)` (opposite vertices c, d) would create,
+/// `(c, a, d)` and `(d, b, c)`, are non-degenerate and face the same side as the old pair.
+fn flip_geometry_ok(mesh: &HalfedgeMesh, a: u32, b: u32, c: u32, d: u32, min_area: f64) -> bool {
+    let [pa, pb, pc, pd] = [a, b, c, d].map(|v| mesh.position(v));
+    let m =
+        (pb - pa).cross(pc - pa).normalize_or_zero() + (pa - pb).cross(pd - pb).normalize_or_zero();
+    let n1 = (pa - pc).cross(pd - pc);
+    let n2 = (pb - pd).cross(pc - pd);
+    0.5 * n1.length() > min_area
+        && 0.5 * n2.length() > min_area
+        && n1.dot(m) > 0.0
+        && n2.dot(m) > 0.0
+}
+
+fn flip_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
+    let nv = mesh.n_vertices();
+    w.valence.clear();
+    w.valence.resize(nv, 0);
+    for hh in 0..mesh.n_halfedges() as u32 {
+        w.valence[mesh.to(hh) as usize] += 1;
+    }
+    let dev = |x: i32| (x - 6) * (x - 6);
+    for _ in 0..MAX_SWEEPS {
+        let mut any = false;
+        for e in 0..mesh.n_edges() as u32 {
+            if w.efeat[e as usize] || !mesh.is_interior_edge(e) {
+                continue;
+            }
+            let (h0, h1) = (2 * e, 2 * e + 1);
+            let (a, b) = (mesh.to(h1), mesh.to(h0));
+            let c = mesh.to(mesh.next(h0));
+            let d = mesh.to(mesh.next(h1));
+            if [a, b, c, d].iter().any(|&v| w.locked[v as usize]) {
+                continue;
+            }
+            let [va, vb, vc, vd] = [a, b, c, d].map(|v| w.valence[v as usize]);
+            let before = dev(va) + dev(vb) + dev(vc) + dev(vd);
+            let after = dev(va - 1) + dev(vb - 1) + dev(vc + 1) + dev(vd + 1);
+            if after >= before || va <= 3 || vb <= 3 || c == d || mesh.are_adjacent(c, d) {
+                continue;
+            }
+            if !flip_geometry_ok(mesh, a, b, c, d, w.min_area) {
+                continue;
+            }
+            mesh.flip_edge(e);
+            w.valence[a as usize] -= 1;
+            w.valence[b as usize] -= 1;
+            w.valence[c as usize] += 1;
+            w.valence[d as usize] += 1;
+            w.report.flips += 1;
+            any = true;
+        }
+        if !any {
+            break;
+        }
+    }
+}
+
+/// Minimiser of `Σ_{ring edges pq} |(x − p)×(q − p)|² / |q − p|` (PMP's `minimize_squared_areas`),
+/// or `None` when the 3×3 system is (nearly) singular.
+fn minimize_squared_areas(mesh: &HalfedgeMesh, v: u32) -> Option<DVec3> {
+    let (mut xx, mut xy, mut xz, mut yy, mut yz, mut zz) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    let mut rhs = DVec3::ZERO;
+    for h in mesh.outgoing(v) {
+        let p = mesh.position(mesh.to(h));
+        let q = mesh.position(mesh.to(mesh.next(h)));
+        let d = q - p;
+        let l2 = d.length_squared();
+        if !(l2 > 0.0) {
+            continue;
+        }
+        let wgt = 1.0 / l2.sqrt();
+        let (axx, axy, axz) = (wgt * (l2 - d.x * d.x), -wgt * d.x * d.y, -wgt * d.x * d.z);
+        let (ayy, ayz, azz) = (
+            wgt * (l2 - d.y * d.y),
+            -wgt * d.y * d.z,
+            wgt * (l2 - d.z * d.z),
+        );
+        xx += axx;
+        xy += axy;
+        xz += axz;
+        yy += ayy;
+        yz += ayz;
+        zz += azz;
+        rhs += DVec3::new(
+            axx * p.x + axy * p.y + axz * p.z,
+            axy * p.x + ayy * p.y + ayz * p.z,
+            axz * p.x + ayz * p.y + azz * p.z,
+        );
+    }
+    let m = DMat3::from_cols(
+        DVec3::new(xx, xy, xz),
+        DVec3::new(xy, yy, yz),
+        DVec3::new(xz, yz, zz),
+    );
+    let det = m.determinant();
+    let scale = (xx + yy + zz) / 3.0;
+    if !(det.abs() > 1e-6 * scale * scale * scale) {
+        return None;
+    }
+    let x = m.inverse() * rhs;
+    x.is_finite().then_some(x)
+}
+
+/// Fallback target: centroid of the incident faces' centroids weighted by `area / h̄²`.
+fn weighted_centroid(mesh: &HalfedgeMesh, w: &Work, v: u32) -> DVec3 {
+    let x = mesh.position(v);
+    let (mut sum, mut ww) = (DVec3::ZERO, 0.0);
+    for h in mesh.outgoing(v) {
+        let (b, c) = (mesh.to(h), mesh.to(mesh.next(h)));
+        let (pb, pc) = (mesh.position(b), mesh.position(c));
+        let area = 0.5 * (pb - x).cross(pc - x).length();
+        let hm = (w.h[v as usize] + w.h[b as usize] + w.h[c as usize]) / 3.0;
+        let wt = area / (hm * hm);
+        sum += wt * (x + pb + pc) / 3.0;
+        ww += wt;
+    }
+    if ww > 0.0 {
+        sum / ww
+    } else {
+        x
+    }
+}
+
+fn tangential_smoothing(mesh: &mut HalfedgeMesh, w: &mut Work) {
+    let nv = mesh.n_vertices();
+    if w.reference.is_some() {
+        project_all(mesh, w);
+    }
+    for _ in 0..w.s.smoothing_iterations {
+        vertex_normals(mesh, &mut w.normals);
+        w.upd.clear();
+        w.upd.resize(nv, DVec3::ZERO);
+        for v in 0..nv as u32 {
+            let vi = v as usize;
+            if w.locked[vi] {
+                continue;
+            }
+            let x = mesh.position(v);
+            if w.vfeat[vi] {
+                // Slide along the feature line: mean of the two feature-edge midpoints weighted
+                // by |e| / h̄, projected onto the line's tangent.
+                let mut dirs = [DVec3::ZERO; 2];
+                let mut k = 0;
+                let (mut target, mut ww) = (DVec3::ZERO, 0.0);
+                for h in mesh.outgoing(v) {
+                    if !w.efeat[(h >> 1) as usize] {
+                        continue;
+                    }
+                    let u = mesh.to(h);
+                    let pu = mesh.position(u);
+                    let len = (pu - x).length();
+                    if k < 2 {
+                        dirs[k] = (pu - x) / len;
+                    }
+                    k += 1;
+                    let wt = len / (0.5 * (w.h[vi] + w.h[u as usize]));
+                    target += wt * 0.5 * (x + pu);
+                    ww += wt;
+                }
+                if k != 2 || !(ww > 0.0) {
+                    continue;
+                }
+                let t = (dirs[0] - dirs[1]).normalize_or_zero();
+                let u = target / ww - x;
+                w.upd[vi] = t * t.dot(u);
+            } else {
+                let target = minimize_squared_areas(mesh, v)
+                    .unwrap_or_else(|| weighted_centroid(mesh, w, v));
+                let n = w.normals[vi];
+                let u = target - x;
+                w.upd[vi] = u - n * n.dot(u);
+            }
+        }
+        let pos = mesh.positions_mut();
+        for (p, u) in pos.iter_mut().zip(&w.upd) {
+            *p += *u;
+        }
+    }
+    if w.reference.is_some() {
+        project_all(mesh, w);
+    }
+}
+
+/// Projects every unlocked, non-feature vertex onto the reference surface and takes its sizing.
+fn project_all(mesh: &mut HalfedgeMesh, w: &mut Work) {
+    let Some(r) = &w.reference else { return };
+    for v in 0..mesh.n_vertices() {
+        if w.locked[v] || w.vfeat[v] {
+            continue;
+        }
+        let (q, hq) = r.project(mesh.positions()[v]);
+        mesh.positions_mut()[v] = q;
+        if hq.is_finite() {
+            w.h[v] = hq;
+        }
+    }
+}
+
+fn remove_caps(mesh: &mut HalfedgeMesh, w: &mut Work) {
+    let cos_cap = w.s.cap_angle_deg.to_radians().cos();
+    for e in 0..mesh.n_edges() as u32 {
+        if w.efeat[e as usize] || !mesh.is_interior_edge(e) {
+            continue;
+        }
+        let (h0, h1) = (2 * e, 2 * e + 1);
+        let (a, b) = (mesh.to(h1), mesh.to(h0));
+        let c = mesh.to(mesh.next(h0));
+        let d = mesh.to(mesh.next(h1));
+        let [pa, pb, pc, pd] = [a, b, c, d].map(|v| mesh.position(v));
+        let cos_at = |q: DVec3| {
+            let (u, v) = (pa - q, pb - q);
+            u.dot(v) / (u.length() * v.length())
+        };
+        let worst = cos_at(pc).min(cos_at(pd));
+        if !(worst < cos_cap) {
+            continue;
+        }
+        if mesh.is_flip_ok(e) && flip_geometry_ok(mesh, a, b, c, d, w.min_area) {
+            mesh.flip_edge(e);
+            w.report.caps_removed += 1;
+        }
+    }
+}

@@ -1,0 +1,16 @@
+//! Adaptive remeshing (method spec §7) and feature detection (§8, re-derived).
+//!
+//! * [`adaptive`] — one remesh call: split / collapse / flip / tangential smoothing / cap removal
+//!   with a curvature-adaptive sizing field ([`adaptive::remesh`]).
+//! * [`sizing`] — the sizing field and the start-size rules and schedule of §6.6 / §7.2.
+//! * [`features`] — convex crease and corner detection (mean-curvature angle, dihedral angle).
+//! * [`curvature`] — principal curvatures from the edge-based curvature tensor (§8.1).
+
+pub mod adaptive;
+pub mod curvature;
+pub mod features;
+pub mod sizing;
+
+pub use adaptive::{remesh, remesh_with_features, RemeshError, RemeshReport, RemeshSettings};
+pub use features::{FeatureDetector, FeatureSettings, Features};
+pub use sizing::EdgeSizes;

@@ -1,0 +1,225 @@
+//! Adaptive remeshing keeps the mesh valid (closed, manifold, genus, no degenerate faces) and
+//! brings edge lengths into the sizing band, on randomly perturbed spheres and tori.
+//! Runs natively and in headless Chromium.
+
+use lsw::geometry::icosphere::icosphere;
+use lsw::mesh::HalfedgeMesh;
+use lsw::remesh::{remesh, RemeshSettings};
+use lsw::DVec3;
+use wasm_bindgen_test::*;
+
+wasm_bindgen_test_configure!(run_in_browser);
+
+/// Deterministic uniform numbers in [0, 1).
+fn rng(seed: u64) -> impl FnMut() -> f64 {
+    let mut s = seed ^ 0x9E37_79B9_7F4A_7C15;
+    move || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// A torus (major radius `big`, tube radius `small`) as an `nu × nv` grid of quads split into
+/// triangles, outward oriented.
+fn torus(big: f64, small: f64, nu: u32, nv: u32) -> HalfedgeMesh {
+    let mut p = Vec::new();
+    for i in 0..nu {
+        let u = i as f64 / nu as f64 * std::f64::consts::TAU;
+        for j in 0..nv {
+            let v = j as f64 / nv as f64 * std::f64::consts::TAU;
+            p.push(DVec3::new(
+                (big + small * v.cos()) * u.cos(),
+                (big + small * v.cos()) * u.sin(),
+                small * v.sin(),
+            ));
+        }
+    }
+    let id = |i: u32, j: u32| (i % nu) * nv + (j % nv);
+    let mut f = Vec::new();
+    for i in 0..nu {
+        for j in 0..nv {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            f.push([a, b, c]);
+            f.push([a, c, d]);
+        }
+    }
+    HalfedgeMesh::from_triangles(p, &f).unwrap()
+}
+
+/// Moves every vertex by a random vector of length ≤ `amount`.
+fn perturb(mesh: &mut HalfedgeMesh, amount: f64, seed: u64) {
+    let mut r = rng(seed);
+    for p in mesh.positions_mut() {
+        let d = DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * (2.0 * amount / 3f64.sqrt());
+        *p += d;
+    }
+}
+
+fn edge_lengths(mesh: &HalfedgeMesh) -> Vec<f64> {
+    (0..mesh.n_edges() as u32)
+        .map(|e| (mesh.position(mesh.to(2 * e)) - mesh.position(mesh.to(2 * e + 1))).length())
+        .collect()
+}
+
+/// Remeshes `calls` times, validating after each call; returns the final genus.
+fn remesh_checked(mesh: &mut HalfedgeMesh, s: &RemeshSettings, calls: usize, genus: i64) {
+    for k in 0..calls {
+        let rep = remesh(mesh, s).unwrap();
+        let v = mesh
+            .validate()
+            .unwrap_or_else(|e| panic!("remesh call {k}: {e} ({rep:?})"));
+        assert_eq!(v.genus, genus, "call {k}: genus changed");
+        assert_eq!(v.components, 1);
+        assert_eq!(rep.vertices_after, mesh.n_vertices());
+    }
+}
+
+/// Fraction of edges inside `[lo, hi]`, and the extreme lengths.
+fn band(mesh: &HalfedgeMesh, lo: f64, hi: f64) -> (f64, f64, f64) {
+    let l = edge_lengths(mesh);
+    let inside = l.iter().filter(|&&x| x >= lo && x <= hi).count();
+    let min = l.iter().cloned().fold(f64::INFINITY, f64::min);
+    let max = l.iter().cloned().fold(0.0, f64::max);
+    (inside as f64 / l.len() as f64, min, max)
+}
+
+/// The sizing band after convergence. Split (> 4/3·h) and collapse (< 4/5·h) thresholds bound
+/// the lengths, except that a collapse is refused when it would create an edge longer than
+/// 4/3·h, which leaves a tail of edges down to ≈ 0.6·h (the same holds for PMP); smoothing moves
+/// lengths a little. So: every edge within [0.5·l_min, 1.4·l_max], ≥ 95 % within
+/// [0.7·l_min, 4/3·l_max]. Returns the extreme lengths.
+fn check_band(m: &HalfedgeMesh, l_min: f64, l_max: f64, seed: u64) -> (f64, f64) {
+    let (all, min, max) = band(m, 0.5 * l_min, 1.4 * l_max);
+    assert_eq!(
+        all, 1.0,
+        "seed {seed}: edges outside [0.5 l_min, 1.4 l_max]: min {min}, max {max}"
+    );
+    let (frac, _, _) = band(m, 0.7 * l_min, 4.0 / 3.0 * l_max);
+    assert!(
+        frac >= 0.95,
+        "seed {seed}: only {frac:.3} of edges in [0.7 l_min, 4/3 l_max]"
+    );
+    (min, max)
+}
+
+fn uniform(len: f64) -> RemeshSettings {
+    RemeshSettings {
+        min_edge_length: len,
+        max_edge_length: len,
+        approx_error: len,
+        ..Default::default()
+    }
+}
+
+#[wasm_bindgen_test(unsupported = test)]
+fn coarse_perturbed_sphere_is_refined_into_the_band() {
+    for seed in 0..3 {
+        let mut m = icosphere(2, 1.0, DVec3::ZERO).unwrap(); // edges ≈ 0.55
+        perturb(&mut m, 0.05, seed);
+        let s = uniform(0.1);
+        remesh_checked(&mut m, &s, 3, 0);
+        check_band(&m, 0.1, 0.1, seed);
+    }
+}
+
+#[wasm_bindgen_test(unsupported = test)]
+fn fine_perturbed_sphere_is_coarsened_into_the_band() {
+    for seed in 10..12 {
+        let mut m = icosphere(5, 1.0, DVec3::ZERO).unwrap(); // edges ≈ 0.034
+        perturb(&mut m, 0.01, seed);
+        let n0 = m.n_vertices();
+        let s = uniform(0.12);
+        remesh_checked(&mut m, &s, 3, 0);
+        assert!(
+            m.n_vertices() < n0 / 5,
+            "{} → {} vertices",
+            n0,
+            m.n_vertices()
+        );
+        check_band(&m, 0.12, 0.12, seed);
+    }
+}
+
+#[wasm_bindgen_test(unsupported = test)]
+fn perturbed_torus_keeps_genus_and_adapts_to_curvature() {
+    for seed in 20..23 {
+        let mut m = torus(1.0, 0.3, 48, 16);
+        perturb(&mut m, 0.02, seed);
+        let s = RemeshSettings {
+            min_edge_length: 0.03,
+            max_edge_length: 0.12,
+            approx_error: 0.002,
+            ..Default::default()
+        };
+        remesh_checked(&mut m, &s, 4, 1);
+        let (min, max) = check_band(&m, 0.03, 0.12, seed);
+        // Curvature adaptivity: the inner rim (Gaussian curvature < 0, |κ| up to 1/0.3 and
+        // 1/0.7) is meshed no coarser than the flat-ish outer parts.
+        assert!(max > 1.5 * min);
+    }
+}
+
+#[wasm_bindgen_test(unsupported = test)]
+fn scalar_layers_survive_remeshing() {
+    let mut m = icosphere(3, 1.0, DVec3::ZERO).unwrap();
+    m.set_vertex_scalar_layer("height", 0.0);
+    let z: Vec<f64> = m.positions().iter().map(|p| p.z).collect();
+    m.vertex_scalars_mut("height").unwrap().copy_from_slice(&z);
+    remesh_checked(&mut m, &uniform(0.08), 1, 0);
+    // The layer is interpolated/kept, so it still approximates z (vertices moved tangentially).
+    let h = m.vertex_scalars("height").unwrap();
+    assert_eq!(h.len(), m.n_vertices());
+    let worst = m
+        .positions()
+        .iter()
+        .zip(h)
+        .map(|(p, h)| (p.z - h).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 0.1, "layer drifted by {worst}");
+}
+
+#[wasm_bindgen_test(unsupported = test)]
+fn remesh_is_deterministic() {
+    let run = || {
+        let mut m = icosphere(3, 1.0, DVec3::ZERO).unwrap();
+        perturb(&mut m, 0.03, 99);
+        remesh(&mut m, &uniform(0.09)).unwrap();
+        (m.positions().to_vec(), m.triangles())
+    };
+    assert_eq!(run(), run());
+}
+
+#[wasm_bindgen_test(unsupported = test)]
+fn invalid_sizes_are_rejected_and_leave_the_mesh_alone() {
+    let mut m = icosphere(1, 1.0, DVec3::ZERO).unwrap();
+    let before = m.triangles();
+    let bad = RemeshSettings {
+        min_edge_length: 0.2,
+        max_edge_length: 0.1,
+        ..Default::default()
+    };
+    assert!(remesh(&mut m, &bad).is_err());
+    assert_eq!(m.triangles(), before);
+}
+
+#[test]
+#[ignore]
+fn probe_distribution() {
+    for (lvl, amt, len) in [(2u32, 0.05, 0.1), (5, 0.01, 0.12)] {
+        let mut m = icosphere(lvl, 1.0, DVec3::ZERO).unwrap();
+        perturb(&mut m, amt, 1);
+        for call in 0..6 {
+            let rep = remesh(&mut m, &uniform(len)).unwrap();
+            let l = edge_lengths(&m);
+            let mut hist = [0usize; 8];
+            for x in &l {
+                let b = ((x / len - 0.4) / 0.15).floor().clamp(0.0, 7.0) as usize;
+                hist[b] += 1;
+            }
+            let (frac, _, _) = band(&m, 0.8 * len, 4.0 / 3.0 * len);
+            println!("lvl {lvl} call {call}: V {} frac {frac:.3} hist(0.4..1.6 step .15) {hist:?} {rep:?}", m.n_vertices());
+        }
+    }
+}
