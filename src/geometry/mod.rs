@@ -2,4 +2,6 @@
 
 pub mod aabb;
 pub mod icosphere;
+pub mod marching_cubes;
+pub mod primitives;
 pub mod sphere;

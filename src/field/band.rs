@@ -1,0 +1,172 @@
+//! The exact near band: every node within `k` cells of the target gets its exact distance.
+//!
+//! Instead of a nearest-neighbour query per node, each primitive *splats* its exact distance onto
+//! the nodes of its own neighbourhood and every node keeps the minimum. A node whose nearest
+//! primitive lies within `r = k·c` is inside that primitive's neighbourhood (its cube of half side
+//! `r` for a point; its bounding box grown by `r`, cut to the slab `|n·(x − a)| ≤ r`, for a
+//! triangle), so it receives its true minimum: the band `{d ≤ r}` is exact, with no kd-tree or BVH,
+//! duplicates cost nothing, and the work is proportional to (primitives × band volume each).
+//!
+//! Nodes inside a neighbourhood but farther than `r` keep the distance to some nearby primitive:
+//! an upper bound of the truth. They stay unfrozen and fast sweeping may lower them.
+
+use super::grid::Grid;
+use crate::geometry::primitives::closest_point_on_triangle;
+use glam::DVec3;
+
+/// The initial condition for fast sweeping.
+pub struct Band {
+    /// Per node: the exact distance in the band, an upper bound or `init` elsewhere.
+    pub values: Vec<f64>,
+    /// Per node: true when the value is the exact distance and `≤ r` (frozen for sweeping).
+    pub frozen: Vec<bool>,
+    /// For triangle targets: the triangle that realises the value (`u32::MAX` where none).
+    pub nearest_triangle: Option<Vec<u32>>,
+}
+
+/// Node index ranges `[lo, hi]` (inclusive) of the nodes within `[a − r, b + r]` on `axis`;
+/// `None` when empty.
+#[inline]
+fn node_range(grid: &Grid, axis: usize, lo: f64, hi: f64) -> Option<(usize, usize)> {
+    let o = grid.origin[axis];
+    let n = grid.dims[axis] as f64;
+    let a = ((lo - o) / grid.cell).ceil().max(0.0);
+    let b = ((hi - o) / grid.cell).floor().min(n - 1.0);
+    (a <= b).then_some((a as usize, b as usize))
+}
+
+/// Exact band around a point cloud: all nodes with distance ≤ `width_cells·c` to the nearest
+/// point. `init` is the value of untouched nodes (∞ or the truncation distance).
+pub fn points_band(grid: &Grid, points: &[DVec3], width_cells: f64, init: f64) -> Band {
+    let r = width_cells * grid.cell;
+    let r2 = r * r;
+    let n = grid.node_count();
+    let [nx, ny, _] = grid.dims;
+    let mut d2 = vec![init * init; n];
+    let mut dx2: Vec<f64> = Vec::new();
+    for &p in points {
+        let (Some((x0, x1)), Some((y0, y1)), Some((z0, z1))) = (
+            node_range(grid, 0, p.x - r, p.x + r),
+            node_range(grid, 1, p.y - r, p.y + r),
+            node_range(grid, 2, p.z - r, p.z + r),
+        ) else {
+            continue;
+        };
+        dx2.clear();
+        dx2.extend((x0..=x1).map(|ix| {
+            let d = grid.origin.x + grid.cell * ix as f64 - p.x;
+            d * d
+        }));
+        for iz in z0..=z1 {
+            let dz = grid.origin.z + grid.cell * iz as f64 - p.z;
+            let dz2 = dz * dz;
+            for iy in y0..=y1 {
+                let dy = grid.origin.y + grid.cell * iy as f64 - p.y;
+                let dyz = dy * dy + dz2;
+                if dyz > r2 {
+                    continue;
+                }
+                let row = x0 + nx * (iy + ny * iz);
+                let out = &mut d2[row..=row + (x1 - x0)];
+                for (v, &a) in out.iter_mut().zip(&dx2) {
+                    let s = a + dyz;
+                    if s < *v {
+                        *v = s;
+                    }
+                }
+            }
+        }
+    }
+    finish(d2, r2, init)
+}
+
+/// Square roots, band flags, truncation.
+fn finish(mut d2: Vec<f64>, r2: f64, init: f64) -> Band {
+    let init2 = init * init;
+    let mut frozen = vec![false; d2.len()];
+    for (v, f) in d2.iter_mut().zip(frozen.iter_mut()) {
+        if *v < init2 {
+            *f = *v <= r2;
+            *v = v.sqrt();
+        } else {
+            *v = init;
+        }
+    }
+    Band {
+        values: d2,
+        frozen,
+        nearest_triangle: None,
+    }
+}
+
+/// Exact band around a triangle soup: all nodes with distance ≤ `width_cells·c` to the nearest
+/// triangle, plus the index of that triangle (for the sign).
+pub fn triangles_band(
+    grid: &Grid,
+    points: &[DVec3],
+    triangles: &[[u32; 3]],
+    width_cells: f64,
+    init: f64,
+) -> Band {
+    let r = width_cells * grid.cell;
+    let r2 = r * r;
+    let n = grid.node_count();
+    let [nx, ny, _] = grid.dims;
+    let mut d2 = vec![init * init; n];
+    let mut nearest = vec![u32::MAX; n];
+    for (t, tri) in triangles.iter().enumerate() {
+        let [a, b, c] = tri.map(|v| points[v as usize]);
+        let lo = a.min(b).min(c) - DVec3::splat(r);
+        let hi = a.max(b).max(c) + DVec3::splat(r);
+        let (Some((x0, x1)), Some((y0, y1)), Some((z0, z1))) = (
+            node_range(grid, 0, lo.x, hi.x),
+            node_range(grid, 1, lo.y, hi.y),
+            node_range(grid, 2, lo.z, hi.z),
+        ) else {
+            continue;
+        };
+        let nrm = (b - a).cross(c - a).normalize_or_zero();
+        // Slab |n·(x − a)| ≤ r cut along x when the plane is not parallel to the x axis.
+        let slab_x = nrm.x.abs() > 1e-3;
+        for iz in z0..=z1 {
+            let z = grid.origin.z + grid.cell * iz as f64;
+            for iy in y0..=y1 {
+                let y = grid.origin.y + grid.cell * iy as f64;
+                let (mut xa, mut xb) = (x0, x1);
+                if slab_x {
+                    // n·(x − a) = nrm.x·(x − a.x) + rest, |…| ≤ r  ⇒ x in an interval.
+                    let rest = nrm.y * (y - a.y) + nrm.z * (z - a.z);
+                    let u = a.x + (-r - rest) / nrm.x;
+                    let v = a.x + (r - rest) / nrm.x;
+                    let (u, v) = (u.min(v), u.max(v));
+                    match node_range(grid, 0, u, v) {
+                        Some((p, q)) => {
+                            xa = xa.max(p);
+                            xb = xb.min(q);
+                            if xa > xb {
+                                continue;
+                            }
+                        }
+                        None => continue,
+                    }
+                } else if nrm != DVec3::ZERO && (nrm.y * (y - a.y) + nrm.z * (z - a.z)).abs() > r {
+                    continue;
+                }
+                let row = nx * (iy + ny * iz);
+                for ix in xa..=xb {
+                    let p = DVec3::new(grid.origin.x + grid.cell * ix as f64, y, z);
+                    let q = closest_point_on_triangle(p, a, b, c).0;
+                    let s = (p - q).length_squared();
+                    let i = row + ix;
+                    if s < d2[i] {
+                        d2[i] = s;
+                        nearest[i] = t as u32;
+                    }
+                }
+            }
+        }
+    }
+    let mut band = finish(d2, r2, init);
+    band.nearest_triangle = Some(nearest);
+    band
+}

@@ -1,0 +1,172 @@
+//! The voxel lattice of a distance field: where its nodes are and how they are numbered.
+//!
+//! Values live at **nodes** `origin + (ix, iy, iz)·c` for `0 ≤ ix < nx` etc.; there is no
+//! half-cell shift (a node's value is the distance measured at that very node). Storage index:
+//! `i = ix + nx·(iy + ny·iz)` (x fastest, then y, then z), as in the reference and in VTK
+//! structured points.
+//!
+//! Layout [method §2.1–2.2]: `c = β_min / N` with `β_min` the smallest side of the target's
+//! bounding box and `N` the cells per minimum dimension; the box is expanded by `ζ·β_min` on every
+//! side; the node count per axis is the number of cells plus one, so the last node plane lies on
+//! or just beyond the expanded box (the reference's "133×132×121" for the bunny are cell counts:
+//! here 134×133×122 nodes). The lattice starts at the expanded box's corner (not at the world
+//! origin; nothing depends on that).
+
+use super::{FieldError, FieldSettings};
+use crate::geometry::aabb::Aabb;
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+/// Bytes held per node by a finished field: f64 value, 3×f32 gradient, 1 byte band flag.
+pub const BYTES_PER_NODE: u64 = 8 + 12 + 1;
+
+/// Sides shorter than this fraction of the longest side count as flat (zero thickness).
+pub const FLAT_RELATIVE: f64 = 1e-6;
+
+/// A regular lattice of nodes: origin, cell size and node counts.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Grid {
+    /// Position of node (0, 0, 0).
+    pub origin: DVec3,
+    /// Cell size c (distance between neighbouring nodes), > 0.
+    pub cell: f64,
+    /// Node counts (nx, ny, nz), each ≥ 2.
+    pub dims: [usize; 3],
+}
+
+impl Grid {
+    /// The lattice for a target with bounding box `bbox` under `settings` (see the module docs).
+    ///
+    /// The reference length is `β_min`, the smallest side; sides flatter than
+    /// [`FLAT_RELATIVE`] × the longest side are skipped (a planar target uses its smaller in-plane
+    /// side). Fails when all points coincide or when the grid would exceed the memory cap.
+    pub fn for_bbox(bbox: &Aabb, settings: &FieldSettings) -> Result<Self, FieldError> {
+        settings.check()?;
+        let size = bbox.size();
+        let longest = size.max_element();
+        if longest <= 0.0 || !longest.is_finite() {
+            return Err(FieldError::DegenerateTarget);
+        }
+        let beta = reference_length(bbox);
+        let cell = beta / settings.cells_per_min_dimension as f64;
+        let margin = settings.expansion * beta;
+        let grid = Self::covering(bbox.expanded(margin), cell);
+        let bytes = grid.node_count() as u64 * BYTES_PER_NODE;
+        if bytes > settings.memory_cap_bytes {
+            let fit = cells_that_fit(bbox, settings);
+            return Err(FieldError::TooLarge {
+                dims: grid.dims,
+                bytes,
+                cap_bytes: settings.memory_cap_bytes,
+                cells_that_fit: fit,
+            });
+        }
+        Ok(grid)
+    }
+
+    /// The smallest lattice with cell size `cell` starting at `b.min` whose nodes reach `b.max`.
+    pub fn covering(b: Aabb, cell: f64) -> Self {
+        let n = |ext: f64| ((ext / cell - 1e-9).ceil().max(1.0) as usize) + 1;
+        let s = b.size();
+        Self {
+            origin: b.min,
+            cell,
+            dims: [n(s.x), n(s.y), n(s.z)],
+        }
+    }
+
+    /// Total number of nodes nx·ny·nz.
+    pub fn node_count(&self) -> usize {
+        self.dims[0] * self.dims[1] * self.dims[2]
+    }
+
+    /// Storage index of node (ix, iy, iz).
+    #[inline]
+    pub fn index(&self, ix: usize, iy: usize, iz: usize) -> usize {
+        ix + self.dims[0] * (iy + self.dims[1] * iz)
+    }
+
+    /// Node coordinates (ix, iy, iz) of storage index `i`.
+    #[inline]
+    pub fn coords(&self, i: usize) -> [usize; 3] {
+        let [nx, ny, _] = self.dims;
+        [i % nx, (i / nx) % ny, i / (nx * ny)]
+    }
+
+    /// World position of node (ix, iy, iz).
+    #[inline]
+    pub fn node_position(&self, ix: usize, iy: usize, iz: usize) -> DVec3 {
+        self.origin + self.cell * DVec3::new(ix as f64, iy as f64, iz as f64)
+    }
+
+    /// World position of the node with storage index `i`.
+    #[inline]
+    pub fn position_of(&self, i: usize) -> DVec3 {
+        let [x, y, z] = self.coords(i);
+        self.node_position(x, y, z)
+    }
+
+    /// The box spanned by the nodes: `origin .. origin + (dims − 1)·c`.
+    pub fn bbox(&self) -> Aabb {
+        let n = DVec3::new(
+            (self.dims[0] - 1) as f64,
+            (self.dims[1] - 1) as f64,
+            (self.dims[2] - 1) as f64,
+        );
+        Aabb {
+            min: self.origin,
+            max: self.origin + self.cell * n,
+        }
+    }
+}
+
+/// β_min: the smallest non-flat side of `bbox` (see [`Grid::for_bbox`]).
+pub fn reference_length(bbox: &Aabb) -> f64 {
+    let s = bbox.size();
+    let longest = s.max_element();
+    [s.x, s.y, s.z]
+        .into_iter()
+        .filter(|&e| e > FLAT_RELATIVE * longest)
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The largest cells-per-minimum-dimension whose grid fits under the memory cap (at least 1).
+fn cells_that_fit(bbox: &Aabb, settings: &FieldSettings) -> u32 {
+    let beta = reference_length(bbox);
+    let nodes_for = |n: u32| {
+        let c = beta / n as f64;
+        Grid::covering(bbox.expanded(settings.expansion * beta), c).node_count() as u64
+    };
+    let (mut lo, mut hi) = (1u32, settings.cells_per_min_dimension);
+    // Invariant: answer in [lo, hi); nodes_for is monotone in n.
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if nodes_for(mid) * BYTES_PER_NODE <= settings.memory_cap_bytes {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn layout_of_a_box() {
+        let b = Aabb {
+            min: DVec3::ZERO,
+            max: DVec3::new(2.0, 1.0, 1.0),
+        };
+        let g = Grid::for_bbox(&b, &FieldSettings::default()).unwrap();
+        assert_eq!(g.cell, 1.0 / 40.0);
+        // 1 + 2·1 = 3 units = 120 cells along y, z; 4 units = 160 cells along x.
+        assert_eq!(g.dims, [161, 121, 121]);
+        assert_eq!(g.origin, DVec3::splat(-1.0));
+        let i = g.index(3, 4, 5);
+        assert_eq!(g.coords(i), [3, 4, 5]);
+        assert!((g.bbox().max - DVec3::new(3.0, 2.0, 2.0)).length() < 1e-12);
+    }
+}

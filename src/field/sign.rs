@@ -1,0 +1,233 @@
+//! The sign of a mesh distance field: negative inside, positive outside [method §2.6, §13.4].
+//!
+//! * **Band nodes** take the sign of `(p − q)·n` where `q` is the closest point on the nearest
+//!   triangle and `n` the angle-weighted pseudo-normal of the feature holding `q` (face normal,
+//!   sum of the two face normals of an edge, angle-weighted vertex normal; Bærentzen & Aanæs
+//!   2005). For a closed, consistently oriented mesh this is exact.
+//! * **All other nodes** by a 6-connected flood fill of the exterior from the grid border over
+//!   non-band nodes; what the fill does not reach is inside. A path from outside to inside between
+//!   neighbouring nodes must cross the surface, and the node next to the crossing lies within c/2
+//!   of it, hence in the band: the band (≥ 1 cell) seals the inside. The reference instead leaves
+//!   the whole band negative on both sides (a zero level shifted outwards).
+//!
+//! Which meshes get a sign: closed and consistently oriented ones ([`Signedness::Signed`]);
+//! meshes whose only defects are a few boundary edges (≤ 2 % of the edges, "nearly closed",
+//! [`Signedness::SignedWithHoles`]) when the fill still finds an inside; everything else, and
+//! every point cloud, stays unsigned ([`Signedness::Unsigned`]). An inward-oriented closed mesh
+//! (negative volume) is handled by flipping its normals.
+
+use super::grid::Grid;
+use crate::geometry::primitives::{closest_point_on_triangle, TriangleFeature};
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+
+/// Which kind of field was produced.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Signedness {
+    /// Unsigned distance `d ≥ 0` (point clouds, open soups, non-manifold meshes, or by request).
+    Unsigned,
+    /// Signed: negative inside a closed, consistently oriented mesh.
+    Signed,
+    /// Signed, for a mesh with a few boundary edges whose holes the near band sealed.
+    SignedWithHoles,
+}
+
+/// Edge statistics of a triangle soup, deciding whether it can be signed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Closure {
+    /// Undirected edges.
+    pub edges: usize,
+    /// Edges used by exactly one triangle.
+    pub boundary_edges: usize,
+    /// Edges used by more than two triangles, or twice in the same direction.
+    pub bad_edges: usize,
+}
+
+/// Undirected edge key `(min, max)`.
+#[inline]
+fn key(a: u32, b: u32) -> (u32, u32) {
+    (a.min(b), a.max(b))
+}
+
+/// Counts boundary and non-manifold/inconsistent edges.
+pub fn closure(triangles: &[[u32; 3]]) -> Closure {
+    // (uses in direction min→max, uses in direction max→min)
+    let mut uses: HashMap<(u32, u32), (u32, u32)> = HashMap::with_capacity(triangles.len() * 3 / 2);
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let e = uses.entry(key(a, b)).or_insert((0, 0));
+            if a < b {
+                e.0 += 1;
+            } else {
+                e.1 += 1;
+            }
+        }
+    }
+    let mut c = Closure {
+        edges: uses.len(),
+        boundary_edges: 0,
+        bad_edges: 0,
+    };
+    for &(f, b) in uses.values() {
+        match (f, b) {
+            (1, 1) => {}
+            (1, 0) | (0, 1) => c.boundary_edges += 1,
+            _ => c.bad_edges += 1,
+        }
+    }
+    c
+}
+
+/// Pseudo-normals of faces, edges and vertices.
+struct PseudoNormals {
+    face: Vec<DVec3>,
+    vertex: Vec<DVec3>,
+    edge: HashMap<(u32, u32), DVec3>,
+}
+
+impl PseudoNormals {
+    fn new(points: &[DVec3], triangles: &[[u32; 3]]) -> Self {
+        let mut face = Vec::with_capacity(triangles.len());
+        let mut vertex = vec![DVec3::ZERO; points.len()];
+        let mut edge: HashMap<(u32, u32), DVec3> = HashMap::with_capacity(triangles.len() * 3 / 2);
+        for t in triangles {
+            let p = t.map(|v| points[v as usize]);
+            let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+            face.push(n);
+            for k in 0..3 {
+                let e1 = (p[(k + 1) % 3] - p[k]).normalize_or_zero();
+                let e2 = (p[(k + 2) % 3] - p[k]).normalize_or_zero();
+                let angle = e1.dot(e2).clamp(-1.0, 1.0).acos();
+                vertex[t[k] as usize] += angle * n;
+                *edge.entry(key(t[k], t[(k + 1) % 3])).or_insert(DVec3::ZERO) += n;
+            }
+        }
+        Self { face, vertex, edge }
+    }
+
+    fn of(&self, t: usize, tri: [u32; 3], f: TriangleFeature) -> DVec3 {
+        match f {
+            TriangleFeature::Face => self.face[t],
+            TriangleFeature::Vertex(k) => self.vertex[tri[k as usize] as usize],
+            TriangleFeature::Edge(k) => {
+                let k = k as usize;
+                self.edge[&key(tri[k], tri[(k + 1) % 3])]
+            }
+        }
+    }
+}
+
+/// Signed volume enclosed by the triangles (positive for outward orientation).
+fn signed_volume(points: &[DVec3], triangles: &[[u32; 3]]) -> f64 {
+    let c = points.iter().copied().sum::<DVec3>() / points.len().max(1) as f64;
+    triangles
+        .iter()
+        .map(|t| {
+            let [a, b, d] = t.map(|v| points[v as usize] - c);
+            a.dot(b.cross(d))
+        })
+        .sum::<f64>()
+        / 6.0
+}
+
+/// Marks the exterior: nodes reachable from the grid border through non-frozen nodes.
+fn flood_exterior(grid: &Grid, frozen: &[bool]) -> Vec<bool> {
+    let [nx, ny, nz] = grid.dims;
+    let n = grid.node_count();
+    let mut outside = vec![false; n];
+    let mut stack: Vec<usize> = Vec::new();
+    for i in 0..n {
+        let [x, y, z] = grid.coords(i);
+        let border = x == 0 || y == 0 || z == 0 || x == nx - 1 || y == ny - 1 || z == nz - 1;
+        if border && !frozen[i] && !outside[i] {
+            outside[i] = true;
+            stack.push(i);
+        }
+    }
+    let sxy = nx * ny;
+    while let Some(i) = stack.pop() {
+        let [x, y, z] = grid.coords(i);
+        let mut push = |j: usize| {
+            if !frozen[j] && !outside[j] {
+                outside[j] = true;
+                stack.push(j);
+            }
+        };
+        if x > 0 {
+            push(i - 1);
+        }
+        if x + 1 < nx {
+            push(i + 1);
+        }
+        if y > 0 {
+            push(i - nx);
+        }
+        if y + 1 < ny {
+            push(i + nx);
+        }
+        if z > 0 {
+            push(i - sxy);
+        }
+        if z + 1 < nz {
+            push(i + sxy);
+        }
+    }
+    outside
+}
+
+/// Negates the values of inside nodes of an unsigned mesh field (see the module docs) and says
+/// which kind of field resulted. `nearest[i]` is the triangle realising band node `i`.
+pub fn apply_mesh_sign(
+    grid: &Grid,
+    values: &mut [f64],
+    frozen: &[bool],
+    nearest: &[u32],
+    points: &[DVec3],
+    triangles: &[[u32; 3]],
+) -> Signedness {
+    let cl = closure(triangles);
+    let kind = if cl.bad_edges > 0 || cl.edges == 0 {
+        return Signedness::Unsigned;
+    } else if cl.boundary_edges == 0 {
+        Signedness::Signed
+    } else if cl.boundary_edges * 50 <= cl.edges {
+        Signedness::SignedWithHoles
+    } else {
+        return Signedness::Unsigned;
+    };
+    let outside = flood_exterior(grid, frozen);
+    let interior = outside
+        .iter()
+        .zip(frozen)
+        .filter(|(&o, &f)| !o && !f)
+        .count();
+    if kind == Signedness::SignedWithHoles && interior == 0 {
+        // The fill leaked through a hole (or the object is thinner than the band): no sign.
+        return Signedness::Unsigned;
+    }
+    let normals = PseudoNormals::new(points, triangles);
+    let orientation = if signed_volume(points, triangles) < 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    for i in 0..values.len() {
+        let inside = if frozen[i] {
+            let t = nearest[i] as usize;
+            let tri = triangles[t];
+            let [a, b, c] = tri.map(|v| points[v as usize]);
+            let p = grid.position_of(i);
+            let (q, f) = closest_point_on_triangle(p, a, b, c);
+            orientation * (p - q).dot(normals.of(t, tri, f)) < 0.0
+        } else {
+            !outside[i]
+        };
+        if inside {
+            values[i] = -values[i];
+        }
+    }
+    kind
+}

@@ -1,0 +1,1 @@
+//! Isosurface extraction (placeholder, filled in below).

@@ -1,0 +1,164 @@
+//! Test helpers for the distance-field tests: the shared-data folder, a minimal ASCII-PLY/OBJ
+//! reader (test-only, until `lsw::io` is public), synthetic targets and brute-force distances.
+#![allow(dead_code)]
+
+use lsw::target::Target;
+use lsw::DVec3;
+
+/// The shared test-data folder from `LSW_SHARED_DATA`, or `None` with a notice.
+pub fn data_dir(test: &str) -> Option<std::path::PathBuf> {
+    match std::env::var_os("LSW_SHARED_DATA") {
+        Some(d) => Some(std::path::PathBuf::from(d)),
+        None => {
+            println!("{test}: LSW_SHARED_DATA is not set; skipping the real-data check");
+            None
+        }
+    }
+}
+
+/// Reads an ASCII PLY (vertex x y z first, optional face lists) or an OBJ (v / f, polygons fanned).
+pub fn load(path: &std::path::Path) -> Target {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
+    let (points, tris) = if path.extension().is_some_and(|e| e == "obj") {
+        parse_obj(&text)
+    } else {
+        parse_ascii_ply(&text)
+    };
+    Target::new(points, tris).unwrap()
+}
+
+fn parse_obj(text: &str) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let (mut pts, mut tris) = (Vec::new(), Vec::new());
+    for line in text.lines() {
+        let mut it = line.split_whitespace();
+        match it.next() {
+            Some("v") => {
+                let c: Vec<f64> = it.take(3).map(|s| s.parse().unwrap()).collect();
+                pts.push(DVec3::new(c[0], c[1], c[2]));
+            }
+            Some("f") => {
+                let n = pts.len() as i64;
+                let idx: Vec<u32> = it
+                    .map(|s| {
+                        let i: i64 = s.split('/').next().unwrap().parse().unwrap();
+                        (if i < 0 { n + i } else { i - 1 }) as u32
+                    })
+                    .collect();
+                for k in 1..idx.len() - 1 {
+                    tris.push([idx[0], idx[k], idx[k + 1]]);
+                }
+            }
+            _ => {}
+        }
+    }
+    (pts, tris)
+}
+
+fn parse_ascii_ply(text: &str) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let mut lines = text.lines();
+    let (mut nv, mut nf) = (0usize, 0usize);
+    for l in lines.by_ref() {
+        let w: Vec<&str> = l.split_whitespace().collect();
+        match w.as_slice() {
+            ["format", f, ..] => assert_eq!(*f, "ascii", "test reader: ASCII PLY only"),
+            ["element", "vertex", n] => nv = n.parse().unwrap(),
+            ["element", "face", n] => nf = n.parse().unwrap(),
+            ["end_header"] => break,
+            _ => {}
+        }
+    }
+    let mut pts = Vec::with_capacity(nv);
+    for _ in 0..nv {
+        let c: Vec<f64> = lines
+            .next()
+            .unwrap()
+            .split_whitespace()
+            .take(3)
+            .map(|s| s.parse().unwrap())
+            .collect();
+        pts.push(DVec3::new(c[0], c[1], c[2]));
+    }
+    let mut tris = Vec::new();
+    for _ in 0..nf {
+        let idx: Vec<u32> = lines
+            .next()
+            .unwrap()
+            .split_whitespace()
+            .map(|s| s.parse().unwrap())
+            .collect();
+        for k in 2..idx[0] as usize {
+            tris.push([idx[1], idx[k], idx[k + 1]]);
+        }
+    }
+    (pts, tris)
+}
+
+/// `n` points spread evenly on the sphere of radius `r` about `c` (Fibonacci lattice).
+pub fn fibonacci_sphere(n: usize, r: f64, c: DVec3) -> Vec<DVec3> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..n)
+        .map(|i| {
+            let y = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+            let s = (1.0 - y * y).sqrt();
+            let t = golden * i as f64;
+            c + r * DVec3::new(s * t.cos(), y, s * t.sin())
+        })
+        .collect()
+}
+
+/// A point cloud with the bunny's size: `n` points on an ellipsoid whose bounding box is that of
+/// `bunnyPts_3.ply`, so the default grid has the paper's dimensions (≈134×133×122 nodes).
+pub fn bunny_sized_cloud(n: usize) -> Vec<DVec3> {
+    let lo = DVec3::new(-0.09469, 0.03333, -0.06184);
+    let hi = DVec3::new(0.06101, 0.18722, 0.05879);
+    let (c, h) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+    fibonacci_sphere(n, 1.0, DVec3::ZERO)
+        .into_iter()
+        .map(|p| c + p * h)
+        .collect()
+}
+
+/// Exact distance from `p` to the nearest of `points` (brute force).
+pub fn brute_point_distance(p: DVec3, points: &[DVec3]) -> f64 {
+    points
+        .iter()
+        .map(|q| (p - *q).length_squared())
+        .fold(f64::INFINITY, f64::min)
+        .sqrt()
+}
+
+/// Triangles with their bounding boxes, for brute-force nearest-triangle distances.
+pub struct Soup {
+    tris: Vec<[DVec3; 3]>,
+    boxes: Vec<(DVec3, DVec3)>,
+}
+
+impl Soup {
+    pub fn new(t: &Target) -> Self {
+        let tris: Vec<[DVec3; 3]> = t
+            .triangles
+            .iter()
+            .map(|f| f.map(|v| t.points[v as usize]))
+            .collect();
+        let boxes = tris
+            .iter()
+            .map(|[a, b, c]| (a.min(*b).min(*c), a.max(*b).max(*c)))
+            .collect();
+        Self { tris, boxes }
+    }
+
+    /// Exact distance to the nearest triangle: every triangle is visited; the exact test is
+    /// skipped only when the triangle's box is already farther than the best so far.
+    pub fn distance(&self, p: DVec3) -> f64 {
+        let mut best = f64::INFINITY;
+        for (t, (lo, hi)) in self.tris.iter().zip(&self.boxes) {
+            let q = p.clamp(*lo, *hi);
+            if (p - q).length_squared() >= best {
+                continue;
+            }
+            let d = lsw::geometry::primitives::point_triangle_distance_squared(p, t[0], t[1], t[2]);
+            best = best.min(d);
+        }
+        best.sqrt()
+    }
+}
