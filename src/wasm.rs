@@ -160,6 +160,15 @@ impl McfSession {
         Float32Array::from(flat.as_slice())
     }
 
+    /// Angle-weighted unit vertex normals as a flat `Float32Array`, for shading.
+    pub fn normals(&self) -> Float32Array {
+        let flat: Vec<f32> = crate::geometry::normals::angle_weighted_normals(&self.mesh)
+            .iter()
+            .flat_map(|p| [p.x as f32, p.y as f32, p.z as f32])
+            .collect();
+        Float32Array::from(flat.as_slice())
+    }
+
     /// Triangle vertex indices as a flat `Uint32Array`.
     pub fn indices(&self) -> Uint32Array {
         let flat: Vec<u32> = self.mesh.triangles().into_iter().flatten().collect();

@@ -1,0 +1,66 @@
+//! Angle-weighted vertex normals (Thürmer & Wüthrich): the normal used by the LSW advection
+//! term (method spec §6.1 step 1) and by the viewer's shading.
+
+use crate::mesh::HalfedgeMesh;
+use glam::DVec3;
+
+/// Unit vertex normals: the sum of incident face normals weighted by the face's corner angle at
+/// the vertex, normalised. Insensitive to how the one-ring is triangulated, unlike area weights.
+/// A vertex whose faces are all degenerate gets the zero vector.
+pub fn angle_weighted_normals(mesh: &HalfedgeMesh) -> Vec<DVec3> {
+    let mut normals = vec![DVec3::ZERO; mesh.n_vertices()];
+    for f in 0..mesh.n_faces() as u32 {
+        let vs = mesh.face_vertices(f);
+        let ps = vs.map(|v| mesh.position(v));
+        let n = (ps[1] - ps[0]).cross(ps[2] - ps[0]);
+        let len = n.length();
+        if len <= 0.0 {
+            continue;
+        }
+        let n = n / len;
+        for k in 0..3 {
+            let (a, b) = (ps[(k + 1) % 3] - ps[k], ps[(k + 2) % 3] - ps[k]);
+            let angle = a.angle_between(b);
+            if angle.is_finite() {
+                normals[vs[k] as usize] += angle * n;
+            }
+        }
+    }
+    for n in &mut normals {
+        *n = n.normalize_or_zero();
+    }
+    normals
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::icosphere::icosphere;
+
+    #[test]
+    fn sphere_normals_are_radial() {
+        let m = icosphere(3, 2.0, DVec3::new(1.0, 0.0, 0.0)).unwrap();
+        for (n, p) in angle_weighted_normals(&m).iter().zip(m.positions()) {
+            let radial = (*p - DVec3::new(1.0, 0.0, 0.0)).normalize();
+            assert!(n.dot(radial) > 0.999, "{n:?} vs {radial:?}");
+        }
+    }
+
+    #[test]
+    fn cube_corner_normal_is_the_diagonal() {
+        // Angle weighting makes the corner normal of a cube the diagonal, however its faces are cut.
+        let p = vec![
+            DVec3::new(0., 0., 0.), DVec3::new(1., 0., 0.), DVec3::new(1., 1., 0.), DVec3::new(0., 1., 0.),
+            DVec3::new(0., 0., 1.), DVec3::new(1., 0., 1.), DVec3::new(1., 1., 1.), DVec3::new(0., 1., 1.),
+        ];
+        let f = [
+            [0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
+            [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7],
+        ];
+        let m = HalfedgeMesh::from_triangles(p, &f).unwrap();
+        m.validate().unwrap();
+        let n = angle_weighted_normals(&m);
+        assert!((n[6] - DVec3::ONE.normalize()).length() < 1e-12, "{:?}", n[6]);
+        assert!((n[0] + DVec3::ONE.normalize()).length() < 1e-12, "{:?}", n[0]);
+    }
+}

@@ -1,0 +1,159 @@
+// three.js scene: the evolving surface with optional wireframe and per-vertex colours.
+// It draws into an OffscreenCanvas inside the render worker, so even a CPU rasteriser drawing a
+// large mesh never blocks the page; camera motion arrives as small messages from the UI thread.
+import * as THREE from 'three';
+
+/** Copies into the existing attribute when sizes match (reusing its GPU buffer), else replaces it. */
+function setOrCopy(g: THREE.BufferGeometry, name: string, data: Float32Array): void {
+  const a = g.getAttribute(name) as THREE.BufferAttribute | undefined;
+  if (a && a.array.length === data.length) {
+    (a.array as Float32Array).set(data);
+    a.needsUpdate = true;
+  } else {
+    g.setAttribute(name, new THREE.BufferAttribute(data, 3));
+  }
+}
+
+/** True when WebGL runs on a CPU rasteriser (SwiftShader, llvmpipe, …). */
+export function isSoftwareRenderer(gl: WebGL2RenderingContext | WebGLRenderingContext | null): boolean {
+  if (!gl) return false;
+  const ext = gl.getExtension('WEBGL_debug_renderer_info');
+  const name = ext ? String(gl.getParameter(ext.UNMASKED_RENDERER_WEBGL)) : '';
+  return /swiftshader|llvmpipe|software|softpipe/i.test(name);
+}
+
+/** An orbiting camera: yaw/pitch about a target at a distance (no DOM needed). */
+export class Orbit {
+  target = new THREE.Vector3();
+  distance = 3;
+  yaw = 0.35;
+  pitch = 0.4;
+
+  apply(camera: THREE.PerspectiveCamera): void {
+    const c = Math.cos(this.pitch);
+    const dir = new THREE.Vector3(c * Math.sin(this.yaw), Math.sin(this.pitch), c * Math.cos(this.yaw));
+    camera.position.copy(this.target).addScaledVector(dir, this.distance);
+    camera.near = this.distance / 100;
+    camera.far = this.distance * 10;
+    camera.lookAt(this.target);
+    camera.updateProjectionMatrix();
+  }
+
+  rotate(dx: number, dy: number): void {
+    this.yaw -= dx * 0.008;
+    this.pitch = Math.max(-1.5, Math.min(1.5, this.pitch + dy * 0.008));
+  }
+
+  zoom(factor: number): void {
+    this.distance = Math.max(1e-6, this.distance * factor);
+  }
+}
+
+export class Viewer {
+  private readonly renderer: THREE.WebGLRenderer;
+  private readonly scene = new THREE.Scene();
+  private readonly camera = new THREE.PerspectiveCamera(40, 1, 0.01, 100);
+  private readonly orbit = new Orbit();
+  private readonly geometry = new THREE.BufferGeometry();
+  private readonly wire: THREE.Mesh;
+  private readonly surfaceMaterial = new THREE.MeshStandardMaterial({
+    color: 0xb8c4d6, vertexColors: true, roughness: 0.55, metalness: 0.05,
+    polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
+  });
+  private fitted = false;
+  private width = 1;
+  private height = 1;
+
+  constructor(canvas: OffscreenCanvas | HTMLCanvasElement, pixelRatio: number) {
+    const probe = canvas.getContext('webgl2', { preserveDrawingBuffer: true }) as WebGL2RenderingContext | null;
+    // Multisampling costs a CPU rasteriser dearly; keep it for real GPUs only.
+    const software = isSoftwareRenderer(probe);
+    this.renderer = new THREE.WebGLRenderer({ canvas, context: probe ?? undefined, antialias: false, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(pixelRatio * (software ? 0.5 : 1));
+    this.scene.background = new THREE.Color(0x15171c);
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x30343c, 1.6));
+    const sun = new THREE.DirectionalLight(0xffffff, 1.8);
+    sun.position.set(2, 3, 4);
+    this.camera.add(sun);
+    this.scene.add(this.camera);
+    // The wireframe shares the surface geometry; three.js rebuilds its edge list only when the
+    // index changes.
+    this.wire = new THREE.Mesh(this.geometry, new THREE.MeshBasicMaterial({ color: 0x0b0d12, wireframe: true, transparent: true, opacity: 0.3 }));
+    this.scene.add(new THREE.Mesh(this.geometry, this.surfaceMaterial), this.wire);
+  }
+
+  resize(width: number, height: number): void {
+    this.width = Math.max(1, width);
+    this.height = Math.max(1, height);
+    this.renderer.setSize(this.width, this.height, false);
+    this.camera.aspect = this.width / this.height;
+    this.orbit.apply(this.camera);
+  }
+
+  /** Replaces the surface buffers (indices only when connectivity changed). */
+  update(positions: Float32Array, normals: Float32Array, indices: Uint32Array | undefined, colors: Float32Array | null): void {
+    const g = this.geometry;
+    if (indices) {
+      // New connectivity: drop the old GPU buffers before uploading new ones.
+      g.dispose();
+      for (const name of Object.keys(g.attributes)) g.deleteAttribute(name);
+      g.setIndex(new THREE.BufferAttribute(indices, 1));
+    }
+    setOrCopy(g, 'position', positions);
+    setOrCopy(g, 'normal', normals);
+    if (colors) setOrCopy(g, 'color', colors);
+    else if (g.getAttribute('color')) g.deleteAttribute('color');
+    if (this.surfaceMaterial.vertexColors !== !!colors) {
+      this.surfaceMaterial.vertexColors = !!colors;
+      this.surfaceMaterial.needsUpdate = true;
+    }
+    g.computeBoundingSphere();
+    if (!this.fitted) this.fit();
+  }
+
+  /** Frames the whole surface. */
+  fit(): void {
+    const s = this.geometry.boundingSphere;
+    if (!s) return;
+    this.orbit.target.copy(s.center);
+    this.orbit.distance = (s.radius / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2))) * 1.1;
+    this.orbit.apply(this.camera);
+    this.fitted = true;
+  }
+
+  /** Forgets the framing so the next update fits the view again. */
+  refit(): void {
+    this.fitted = false;
+  }
+
+  rotate(dx: number, dy: number): void {
+    this.orbit.rotate(dx, dy);
+    this.orbit.apply(this.camera);
+  }
+
+  zoom(factor: number): void {
+    this.orbit.zoom(factor);
+    this.orbit.apply(this.camera);
+  }
+
+  setWireframe(on: boolean): void {
+    this.wire.visible = on;
+  }
+
+  render(): void {
+    this.renderer.render(this.scene, this.camera);
+  }
+
+  /** Fraction of drawn pixels that differ from the background (a test and sanity probe). */
+  meshPixelFraction(): number {
+    const gl = this.renderer.getContext();
+    const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+    const px = new Uint8Array(w * h * 4);
+    gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px);
+    let n = 0;
+    for (let i = 0; i < px.length; i += 4) {
+      if (Math.abs(px[i] - 0x15) + Math.abs(px[i + 1] - 0x17) + Math.abs(px[i + 2] - 0x1c) > 24) n++;
+    }
+    return n / (w * h);
+  }
+}

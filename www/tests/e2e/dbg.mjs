@@ -1,0 +1,14 @@
+import { chromium } from 'playwright-core';
+import { serve } from '/work/main/www/tests/e2e/server.mjs';
+const server = await serve('/work/main/www/dist');
+const browser = await chromium.launch({ executablePath: '/usr/bin/chromium', headless: true, args: ['--disable-quic','--enable-unsafe-swiftshader'] });
+const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+page.on('console', (m) => console.log('console:', m.text()));
+await page.addInitScript(() => { window.__lt = []; new PerformanceObserver((l) => { for (const e of l.getEntries()) window.__lt.push([Math.round(e.startTime), Math.round(e.duration)]); }).observe({ type: 'longtask', buffered: true }); });
+await page.goto(server.url + (process.env.Q || ''));
+await page.waitForSelector('[data-state=idle]');
+console.log('after load', JSON.stringify(await page.evaluate(() => window.__lt)), await page.evaluate(() => Math.round(performance.now())));
+await page.click('#play');
+await page.waitForSelector('[data-state=done]', { timeout: 60000 });
+console.log('after run', JSON.stringify(await page.evaluate(() => window.__lt)), await page.evaluate(() => Math.round(performance.now())));
+await browser.close(); await server.close();

@@ -1,0 +1,50 @@
+import { describe, expect, it } from 'vitest';
+import { colorize, robustRange, turbo } from '../../src/colormap';
+import { toUiError } from '../../src/protocol';
+import { batchSize } from '../../src/schedule';
+
+describe('colour map', () => {
+  it('maps the ends and clamps outside [0, 1]', () => {
+    expect(turbo(0)).toEqual(turbo(-5));
+    expect(turbo(1)).toEqual(turbo(7));
+    expect(turbo(0)).not.toEqual(turbo(1));
+    expect(turbo(NaN)).toEqual([0.5, 0.5, 0.5]);
+  });
+  it('robust range ignores outliers and non-finite values', () => {
+    const v = Array.from({ length: 100 }, (_, i) => i);
+    v.push(1e9, NaN, Infinity);
+    const [lo, hi] = robustRange(v);
+    expect(lo).toBeGreaterThanOrEqual(0);
+    expect(hi).toBeLessThan(1000);
+    expect(hi).toBeGreaterThan(90);
+  });
+  it('robust range widens a constant field', () => {
+    const [lo, hi] = robustRange([2, 2, 2]);
+    expect(lo).toBeLessThan(2);
+    expect(hi).toBeGreaterThan(2);
+  });
+  it('colorize writes RGB per value', () => {
+    const out = new Float32Array(6);
+    colorize([0, 1], 0, 1, out);
+    expect(Array.from(out.slice(0, 3))).toEqual(turbo(0).map(Math.fround));
+    expect(Array.from(out.slice(3))).toEqual(turbo(1).map(Math.fround));
+  });
+});
+
+describe('worker batch size', () => {
+  it('fills the frame budget and stays within bounds', () => {
+    expect(batchSize(1, 30)).toBe(30);
+    expect(batchSize(100, 30)).toBe(1);
+    expect(batchSize(0.01, 30, 50)).toBe(50);
+    expect(batchSize(NaN)).toBe(1);
+    expect(batchSize(0)).toBe(1);
+  });
+});
+
+describe('error mapping', () => {
+  it('keeps facade errors and wraps anything else', () => {
+    expect(toUiError({ code: 'bad-parameter', message: 'τ < 0', hint: 'positive' })).toEqual({ code: 'bad-parameter', message: 'τ < 0', hint: 'positive' });
+    expect(toUiError(new Error('boom')).code).toBe('internal');
+    expect(toUiError('text').message).toBe('text');
+  });
+});
