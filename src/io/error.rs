@@ -153,7 +153,7 @@ pub enum IoError {
     #[error("{format}: {what} is not supported")]
     Unsupported { format: Format, what: String },
     /// The glTF crate rejected the document (JSON, GLB container or validation error).
-    #[error("{format}: invalid glTF: {message}")]
+    #[error("{format}: {message}")]
     Gltf { format: Format, message: String },
     /// The file parsed but the geometry is unusable as a target (e.g. no points).
     #[error("{format}: {source}")]

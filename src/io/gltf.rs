@@ -120,10 +120,76 @@ fn check_accessor(
     }
 }
 
+/// Checks the GLB header and chunk lengths against the data, so a truncated or corrupt
+/// container gets an error with a byte offset (the crate's own error has none).
+fn check_glb_container(b: &[u8]) -> Result<(), IoError> {
+    let f = Format::Glb;
+    let u32_at = |o: usize| {
+        b.get(o..o + 4)
+            .map(|s| u32::from_le_bytes([s[0], s[1], s[2], s[3]]))
+    };
+    let (Some(version), Some(length)) = (u32_at(4), u32_at(8)) else {
+        return Err(IoError::truncated(
+            f,
+            Location::Byte(b.len()),
+            "a 12-byte GLB header",
+        ));
+    };
+    if version != 2 {
+        return Err(IoError::Unsupported {
+            format: f,
+            what: format!("GLB container version {version} (byte 4; only 2 is read)"),
+        });
+    }
+    if (length as usize) > b.len() {
+        return Err(IoError::truncated(
+            f,
+            Location::Byte(b.len()),
+            format!("{length} bytes, as the header declares at byte 8"),
+        ));
+    }
+    let mut o = 12;
+    let mut first = true;
+    while o < length as usize {
+        let (Some(len), Some(kind)) = (u32_at(o), u32_at(o + 4)) else {
+            return Err(IoError::truncated(
+                f,
+                Location::Byte(o),
+                "an 8-byte chunk header",
+            ));
+        };
+        if first && kind != 0x4E4F_534A {
+            return Err(IoError::syntax(
+                f,
+                Location::Byte(o + 4),
+                "the JSON chunk first",
+                format!("chunk type 0x{kind:08x}"),
+            ));
+        }
+        let end = o as u64 + 8 + len as u64;
+        if end > length as u64 {
+            return Err(IoError::truncated(
+                f,
+                Location::Byte(length as usize),
+                format!("a chunk of {len} bytes starting at byte {o}"),
+            ));
+        }
+        o = end as usize;
+        first = false;
+    }
+    if first {
+        return Err(IoError::truncated(f, Location::Byte(12), "a JSON chunk"));
+    }
+    Ok(())
+}
+
 /// Reads glTF JSON or GLB.
 pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
     let is_glb = bytes.starts_with(b"glTF");
     let format = if is_glb { Format::Glb } else { Format::Gltf };
+    if is_glb {
+        check_glb_container(bytes)?;
+    }
     let (json, bin): (Cow<[u8]>, Option<Cow<[u8]>>) = if is_glb {
         let glb = ::gltf::binary::Glb::from_slice(bytes).map_err(|e| gltf_err(format, e))?;
         (glb.json, glb.bin)

@@ -135,6 +135,9 @@ pub(crate) fn parse_i64(tok: &[u8]) -> Option<i64> {
 
 /// A short printable excerpt of `tok` for error messages (quoted, at most 40 characters).
 pub(crate) fn show(tok: &[u8]) -> String {
+    if let Some((i, b)) = first_binary_byte(tok, 40) {
+        return format!("binary data (byte 0x{b:02x} at offset {i} of the token)");
+    }
     let s = String::from_utf8_lossy(&tok[..tok.len().min(40)]);
     let clean: String = s
         .chars()

@@ -1,0 +1,221 @@
+//! Every file in the shared test-data folder (`LSW_SHARED_DATA`) reads with the right format,
+//! kind and counts, and the closed meshes have the Euler characteristic of their genus.
+//! Native only (reads files); prints a notice and passes when the variable is unset.
+#![cfg(not(target_arch = "wasm32"))]
+
+use lsw::io::{read_path, Format};
+use lsw::target::TargetKind;
+
+/// (file, format, kind, vertices, triangles, Euler characteristic of the closed mesh if closed).
+const EXPECTED: &[(&str, Format, TargetKind, usize, usize, Option<i64>)] = &[
+    (
+        "bunnyPts_3.ply",
+        Format::Ply,
+        TargetKind::Points,
+        11_988,
+        0,
+        None,
+    ),
+    (
+        "bunnyPts_Minimal.ply",
+        Format::Ply,
+        TargetKind::Points,
+        20,
+        0,
+        None,
+    ),
+    (
+        "spotPts_4.ply",
+        Format::Ply,
+        TargetKind::Points,
+        1_307,
+        0,
+        None,
+    ),
+    // 5 holes in the base: not closed.
+    (
+        "bunny.ply",
+        Format::Ply,
+        TargetKind::Mesh,
+        35_947,
+        69_451,
+        None,
+    ),
+    (
+        "bunnyLSW150_FullWrap.obj",
+        Format::Obj,
+        TargetKind::Mesh,
+        42_629,
+        85_254,
+        Some(2),
+    ),
+    (
+        "spot.obj",
+        Format::Obj,
+        TargetKind::Mesh,
+        2_930,
+        5_856,
+        Some(2),
+    ),
+    (
+        "1Torus.obj",
+        Format::Obj,
+        TargetKind::Mesh,
+        536,
+        1_072,
+        Some(0),
+    ),
+    (
+        "2Torus.obj",
+        Format::Obj,
+        TargetKind::Mesh,
+        2_467,
+        4_938,
+        Some(-2),
+    ),
+    (
+        "3Torus.obj",
+        Format::Obj,
+        TargetKind::Mesh,
+        1_914,
+        3_836,
+        Some(-4),
+    ),
+    // 24 quads (fan-triangulated) on 26 vertices: a cube-sphere.
+    (
+        "CubeSphere.obj",
+        Format::Obj,
+        TargetKind::Mesh,
+        26,
+        48,
+        Some(2),
+    ),
+    // 48 corners welded to 10 vertices; two wedges sharing an edge (non-manifold).
+    (
+        "DoubleWedge.stl",
+        Format::Stl,
+        TargetKind::Mesh,
+        10,
+        16,
+        None,
+    ),
+];
+
+fn euler(points: usize, tris: &[[u32; 3]]) -> i64 {
+    let mut e: Vec<(u32, u32)> = tris
+        .iter()
+        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+        .map(|(a, b)| (a.min(b), a.max(b)))
+        .collect();
+    e.sort_unstable();
+    e.dedup();
+    points as i64 - e.len() as i64 + tris.len() as i64
+}
+
+#[test]
+fn every_shared_file_reads_with_the_right_kind_and_counts() {
+    let Some(dir) = std::env::var_os("LSW_SHARED_DATA") else {
+        println!("io_data: LSW_SHARED_DATA is not set; skipping the real-data check");
+        return;
+    };
+    let mut seen = 0;
+    let mut entries: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    entries.sort();
+    for path in entries {
+        let name = path.file_name().unwrap().to_str().unwrap().to_string();
+        if name.ends_with(".md") {
+            continue;
+        }
+        let &(_, format, kind, nv, nf, chi) = EXPECTED
+            .iter()
+            .find(|e| e.0 == name)
+            .unwrap_or_else(|| panic!("{name}: new data file; add its expected counts here"));
+        let t0 = std::time::Instant::now();
+        let r = read_path(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let ms = t0.elapsed().as_secs_f64() * 1e3;
+        println!(
+            "{name}: {} {:?} {} V {} F ({ms:.1} ms)",
+            r.format,
+            r.target.kind(),
+            r.target.points.len(),
+            r.target.triangles.len()
+        );
+        assert_eq!(r.format, format, "{name}");
+        assert_eq!(r.target.kind(), kind, "{name}");
+        assert_eq!(r.target.points.len(), nv, "{name}");
+        assert_eq!(r.target.triangles.len(), nf, "{name}");
+        assert!(r.target.bbox.diagonal() > 0.0, "{name}");
+        if let Some(chi) = chi {
+            assert_eq!(euler(nv, &r.target.triangles), chi, "{name}");
+        }
+        // The format is found from the content alone too.
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(
+            lsw::io::read_bytes(&bytes, None).unwrap().target,
+            r.target,
+            "{name}"
+        );
+        seen += 1;
+    }
+    assert_eq!(
+        seen,
+        EXPECTED.len(),
+        "some expected files are missing from {dir:?}"
+    );
+}
+
+#[test]
+fn bunny_bbox_diagonals_match_the_readme() {
+    let Some(dir) = std::env::var_os("LSW_SHARED_DATA") else {
+        println!("io_data: LSW_SHARED_DATA is not set; skipping");
+        return;
+    };
+    let dir = std::path::PathBuf::from(dir);
+    let d = read_path(dir.join("bunnyPts_3.ply"))
+        .unwrap()
+        .target
+        .bbox
+        .diagonal();
+    assert!((d - 0.24996).abs() < 1e-5, "{d}");
+    let d = read_path(dir.join("bunny.ply"))
+        .unwrap()
+        .target
+        .bbox
+        .diagonal();
+    assert!((d - 0.25025).abs() < 1e-5, "{d}");
+}
+
+#[test]
+fn info_cli_reports_topology() {
+    let Some(dir) = std::env::var_os("LSW_SHARED_DATA") else {
+        println!("io_data: LSW_SHARED_DATA is not set; skipping");
+        return;
+    };
+    let dir = std::path::PathBuf::from(dir);
+    let run = |f: &str| {
+        let a = lsw::cli::info::InfoArgs { file: dir.join(f) };
+        let s = lsw::cli::info::run(&a).unwrap();
+        serde_json::from_str::<serde_json::Value>(&s).unwrap()
+    };
+    let v = run("2Torus.obj");
+    assert_eq!(v["kind"], "mesh");
+    assert_eq!(v["closed"], true);
+    assert_eq!(v["manifold"], true);
+    assert_eq!(v["euler_characteristic"], -2);
+    let v = run("bunny.ply");
+    assert_eq!(v["closed"], false);
+    assert_eq!(v["vertices"], 35_947);
+    let v = run("bunnyPts_3.ply");
+    assert_eq!(v["kind"], "points");
+    assert!(v.get("closed").is_none());
+    let v = run("DoubleWedge.stl");
+    assert_eq!(v["manifold"], false);
+    let e = lsw::cli::info::run(&lsw::cli::info::InfoArgs {
+        file: dir.join("README.md"),
+    })
+    .unwrap_err();
+    assert!(e.contains("unrecognised"), "{e}");
+}
