@@ -11,7 +11,9 @@
 //!   `√|disc|` instead, §13.6).
 //!
 //! A value is only ever lowered. Sweeping stops after the first pass in which no value dropped
-//! by more than `tolerance·h` (at least one full cycle of 8 orderings is always done). With
+//! by more than `tolerance·h`. Nodes none of whose neighbours dropped (by more than that) since
+//! their last update are skipped ("locking", Bak et al. 2010): their update could not change.
+//! With
 //! `tolerance = 0` this is "until no value changes": in a Gauss–Seidel pass that changes nothing
 //! every node was updated against the final values of its neighbours, so the discrete solution
 //! is reached exactly, but round-off ripples (drops of 1e-12 h) can keep that going for ~60 passes
@@ -56,9 +58,9 @@ pub fn godunov_update(a: f64, b: f64, c: f64, h: f64) -> f64 {
     (s + disc.sqrt()) / 3.0
 }
 
-/// Sweeps `values` in place; `frozen` nodes are fixed. Stops after the first pass (from the 8th
-/// on) in which no value dropped by more than `tolerance·h`, or after `max_passes` passes (the
-/// reference does exactly 8).
+/// Sweeps `values` in place; `frozen` nodes are fixed. Stops after the first pass in which no
+/// value dropped by more than `tolerance·h`, or after `max_passes` passes (the reference does
+/// exactly 8).
 pub fn fast_sweep(
     grid: &Grid,
     values: &mut [f64],
@@ -75,6 +77,13 @@ pub fn fast_sweep(
     let h = grid.cell;
     let tol = tolerance * h;
     let sxy = nx * ny;
+    // Locking (Bak, McLaughlin & Renzi 2010): a node is only recomputed while "active", i.e. when
+    // one of its neighbours dropped since its own last update; otherwise its update could not
+    // change. Frozen nodes are never active.
+    let mut state: Vec<u8> = frozen
+        .iter()
+        .map(|&f| if f { FROZEN } else { ACTIVE })
+        .collect();
     let mut passes = 0;
     while passes < max_passes {
         let ordering = passes % 8;
@@ -90,10 +99,12 @@ pub fn fast_sweep(
                 let ym = if iy > 0 { nx } else { 0 };
                 let yp = if iy + 1 < ny { nx } else { 0 };
                 let row = nx * (iy + ny * iz);
-                changed |= sweep_row(values, frozen, row, nx, [ym, yp, zm, zp], rx, h, tol);
+                let offsets = [ym, yp, zm, zp];
+                changed |= sweep_row(values, &mut state, row, nx, offsets, rx, h, tol);
             }
         }
-        if !changed && passes >= 8.min(max_passes) {
+        if !changed {
+            // No node dropped, so none was re-activated: every later pass would be a no-op.
             return SweepReport {
                 passes,
                 converged: true,
@@ -106,13 +117,17 @@ pub fn fast_sweep(
     }
 }
 
+const LOCKED: u8 = 0;
+const ACTIVE: u8 = 1;
+const FROZEN: u8 = 2;
+
 /// One row of one pass. Offsets of 0 point a missing neighbour at the node itself, which can never
 /// lower the node (the update is ≥ its smallest input), so it acts as +∞.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn sweep_row(
     v: &mut [f64],
-    frozen: &[bool],
+    state: &mut [u8],
     row: usize,
     nx: usize,
     [ym, yp, zm, zp]: [usize; 4],
@@ -121,9 +136,9 @@ fn sweep_row(
     tol: f64,
 ) -> bool {
     let mut changed = false;
-    let mut visit = |ix: usize, v: &mut [f64]| {
+    let mut visit = |ix: usize, v: &mut [f64], state: &mut [u8]| {
         let i = row + ix;
-        if frozen[i] {
+        if state[i] != ACTIVE {
             return;
         }
         let xm = if ix > 0 { i - 1 } else { i };
@@ -133,23 +148,30 @@ fn sweep_row(
         let c = v[i - zm].min(v[i + zp]);
         let cur = v[i];
         if a.min(b).min(c) >= cur {
+            state[i] = LOCKED;
             return;
         }
         let u = godunov_update(a, b, c, h);
         if u < cur {
+            v[i] = u;
             if cur - u > tol {
                 changed = true;
+                for j in [xm, xp, i - ym, i + yp, i - zm, i + zp] {
+                    if state[j] == LOCKED {
+                        state[j] = ACTIVE;
+                    }
+                }
             }
-            v[i] = u;
         }
+        state[i] = LOCKED;
     };
     if reverse {
         for ix in (0..nx).rev() {
-            visit(ix, v);
+            visit(ix, v, state);
         }
     } else {
         for ix in 0..nx {
-            visit(ix, v);
+            visit(ix, v, state);
         }
     }
     changed

@@ -359,6 +359,42 @@ impl DistanceField {
         }
     }
 
+    /// The isosurface `d = iso` (closed, oriented, welded; see
+    /// [`crate::geometry::marching_cubes`]) as positions and counter-clockwise triangles.
+    pub fn isosurface(&self, iso: f64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        let view = crate::geometry::marching_cubes::ScalarGridView {
+            origin: self.grid.origin,
+            cell: self.grid.cell,
+            dims: self.grid.dims,
+            values: &self.values,
+        };
+        crate::geometry::marching_cubes::marching_cubes(&view, iso)
+    }
+
+    /// The isosurface `d = iso` extracted on a lattice of cell size `factor·c` over the same box,
+    /// with values resampled trilinearly [method §5.3 step 1]; `factor = 1` is
+    /// [`DistanceField::isosurface`]. `factor` > 1 gives fewer, larger triangles.
+    pub fn isosurface_resampled(&self, iso: f64, factor: f64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        assert!(
+            factor > 0.0 && factor.is_finite(),
+            "resampling factor must be positive"
+        );
+        if factor == 1.0 {
+            return self.isosurface(iso);
+        }
+        let g = Grid::covering(self.bbox(), factor * self.grid.cell);
+        let values: Vec<f64> = (0..g.node_count())
+            .map(|i| self.sample(g.position_of(i)))
+            .collect();
+        let view = crate::geometry::marching_cubes::ScalarGridView {
+            origin: g.origin,
+            cell: g.cell,
+            dims: g.dims,
+            values: &values,
+        };
+        crate::geometry::marching_cubes::marching_cubes(&view, iso)
+    }
+
     /// A copy of the field in the scaled frame (see [`DistanceField::scale_uniform`]).
     pub fn scaled(&self, center: DVec3, phi: f64) -> Self {
         let mut f = self.clone();
