@@ -223,3 +223,21 @@ fn probe_distribution() {
         }
     }
 }
+
+#[test]
+#[ignore]
+fn probe_timing_40k() {
+    let mut m = icosphere(6, 1.0, DVec3::ZERO).unwrap(); // 40 962 vertices, edges ≈ 0.019
+    perturb(&mut m, 0.003, 5);
+    let s = RemeshSettings {
+        min_edge_length: 0.005,
+        max_edge_length: 0.02,
+        approx_error: 0.001,
+        ..Default::default()
+    };
+    for _ in 0..10 {
+        let t = std::time::Instant::now();
+        let rep = remesh(&mut m, &s).unwrap();
+        println!("remesh {:?}: {rep:?}", t.elapsed());
+    }
+}

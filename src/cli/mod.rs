@@ -5,6 +5,7 @@
 
 pub mod info;
 pub mod mcf;
+pub mod metrics;
 
 use clap::{Parser, Subcommand};
 
@@ -23,6 +24,9 @@ pub enum Command {
     Mcf(mcf::McfArgs),
     /// Reads a geometry file and prints its format, kind, counts, bounding box and topology.
     Info(info::InfoArgs),
+    /// Quality (κ, 2·r_in/r_circ, angles, co-volumes), topology, volume, self-intersections and,
+    /// with --target, exact two-sided distances of a mesh, as JSON.
+    Metrics(metrics::MetricsArgs),
 }
 
 /// Runs a parsed command line; `Ok` holds the JSON text to print.
@@ -30,5 +34,6 @@ pub fn run(cli: Cli) -> Result<String, String> {
     match cli.command {
         Command::Mcf(a) => mcf::run(&a),
         Command::Info(a) => info::run(&a),
+        Command::Metrics(a) => metrics::run(&a),
     }
 }

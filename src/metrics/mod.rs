@@ -1,5 +1,16 @@
 //! Quality and accuracy metrics (method spec §9 with the project's decisions 3 and 7).
 //!
+//! * [`quality`] — per-face κ(J_Δ) (equilateral = 1), the reference's κ variant, 2·r_in/r_circ,
+//!   minimum angle, summaries, co-volume statistics.
+//! * [`distance`] — exact two-sided mesh ↔ target distances (mean, RMS, p95, Hausdorff).
+//! * [`intersections`] — count of intersecting non-adjacent face pairs.
+//! * [`volume`] — enclosed volume.
+//! * [`histogram`] — fixed-bin histograms.
 //! * [`bvh`] — bounding-volume hierarchy and exact closest points on triangles / points.
 
 pub mod bvh;
+pub mod distance;
+pub mod histogram;
+pub mod intersections;
+pub mod quality;
+pub mod volume;

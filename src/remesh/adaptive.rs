@@ -18,7 +18,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::curvature::{principal_curvatures, vertex_normals};
-use super::features::{detect_features, FeatureSettings, Features};
+use super::features::{detect_features, FeatureDetector, FeatureSettings, Features};
 use super::sizing::{curvature_sizing, EdgeSizes};
 use crate::mesh::{HalfedgeMesh, INVALID};
 use crate::metrics::bvh::TriangleBvh;
@@ -209,10 +209,10 @@ fn remesh_impl(
     };
 
     // Features and locks.
-    let curv0 = principal_curvatures(mesh, None, 0);
     let features = match given {
         Some(f) => f.clone(),
-        None => detect_features(mesh, &curv0, &s.features),
+        None if s.features.detector == FeatureDetector::Off => Features::none(mesh),
+        None => detect_features(mesh, &principal_curvatures(mesh, None, 1), &s.features),
     };
     let mut locked = vec![false; nv];
     for v in 0..nv as u32 {

@@ -1,0 +1,153 @@
+//! `lsw metrics MESH [--target TARGET]`: quality and accuracy of a mesh, as JSON.
+//!
+//! JSON keys (stable; add, never rename):
+//! * `file`, `vertices`, `faces`, `bbox_diagonal`
+//! * `topology`: `closed`, `manifold`, `oriented`, `euler_characteristic`, `genus`,
+//!   `components` (the last three `null` unless the mesh is a valid closed manifold),
+//!   `boundary_edges`, `problem` (first broken invariant, or `null`)
+//! * `quality`: `kappa` (κ(J_Δ), equilateral = 1), `kappa_le_1_5` (fraction of faces),
+//!   `kappa_reference` (the reference's variant, equilateral = 2/√3), `kappa_reference_le_1_5`,
+//!   `radius_ratio` (2·r_in/r_circ), `min_angle_deg` — each summary has
+//!   `count, mean, median, p95, min, max`
+//! * `covolumes`: `area` (summary of the mixed Voronoi areas), `relative_std`, `max_over_min`
+//!   (`null` if the mesh is not manifold)
+//! * `volume` (signed enclosed volume), `self_intersections` (intersecting pairs of faces that
+//!   share no vertex)
+//! * with `--target`: `target` {`file`, `kind`, `points`, `faces`, `bbox_diagonal`, `volume`,
+//!   `volume_ratio`} (volumes only for mesh targets) and `distances` {`absolute`,
+//!   `percent_of_target_diagonal`}, each {`mesh_to_target`, `target_to_mesh`: `count, mean, rms,
+//!   p95, max`; `hausdorff`}. Mesh vertices are measured to the target's triangles (or nearest
+//!   point for a cloud); target points to the mesh's triangles.
+
+use crate::io::read_path;
+use crate::mesh::{HalfedgeMesh, ValidationError};
+use crate::metrics::distance::two_sided_distances;
+use crate::metrics::intersections::count_self_intersections;
+use crate::metrics::quality::{covolume_stats, quality_stats};
+use crate::metrics::volume::enclosed_volume;
+use crate::target::{Target, TargetKind};
+use glam::DVec3;
+use serde_json::{json, Value};
+use std::path::PathBuf;
+
+/// Arguments of `lsw metrics`.
+#[derive(clap::Args, Debug)]
+pub struct MetricsArgs {
+    /// The mesh to measure (any format `lsw info` reads).
+    pub mesh: PathBuf,
+    /// A target (point cloud or mesh) to measure distances to, both ways.
+    #[arg(long)]
+    pub target: Option<PathBuf>,
+}
+
+/// Runs `lsw metrics`.
+pub fn run(a: &MetricsArgs) -> Result<String, String> {
+    let mesh = read_path(&a.mesh).map_err(|e| format!("{}: {e}", a.mesh.display()))?;
+    let target = match &a.target {
+        Some(p) => Some((
+            p.display().to_string(),
+            read_path(p)
+                .map_err(|e| format!("{}: {e}", p.display()))?
+                .target,
+        )),
+        None => None,
+    };
+    let v = metrics_json(
+        &a.mesh.display().to_string(),
+        &mesh.target,
+        target.as_ref().map(|(n, t)| (n.as_str(), t)),
+    );
+    serde_json::to_string_pretty(&v).map_err(|e| e.to_string())
+}
+
+/// Number of edges used by exactly one face.
+fn boundary_edges(tris: &[[u32; 3]]) -> usize {
+    let mut e: Vec<(u32, u32)> = tris
+        .iter()
+        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+        .map(|(a, b)| (a.min(b), a.max(b)))
+        .collect();
+    e.sort_unstable();
+    e.chunk_by(|a, b| a == b).filter(|r| r.len() == 1).count()
+}
+
+/// The JSON of `lsw metrics` for a mesh and an optional `(file name, target)`.
+pub fn metrics_json(file: &str, mesh: &Target, target: Option<(&str, &Target)>) -> Value {
+    let (p, t) = (&mesh.points, &mesh.triangles);
+    let nb = boundary_edges(t);
+    let built = HalfedgeMesh::from_triangles(p.clone(), t);
+    let (manifold, oriented, problem, report, covol) = match &built {
+        Err(e) => (false, false, Some(e.to_string()), None, None),
+        Ok(m) => {
+            let v = m.validate();
+            let manifold = !matches!(v, Err(ValidationError::NonManifoldVertex { .. }));
+            let cv = manifold.then(|| covolume_stats(m));
+            match v {
+                Ok(r) => (true, true, None, Some(r), cv),
+                Err(e) => (manifold, true, Some(e.to_string()), None, cv),
+            }
+        }
+    };
+    let volume = enclosed_volume(p, t);
+    let mut out = json!({
+        "file": file,
+        "vertices": p.len(),
+        "faces": t.len(),
+        "bbox_diagonal": mesh.bbox.diagonal(),
+        "topology": {
+            "closed": nb == 0 && built.is_ok(),
+            "manifold": manifold,
+            "oriented": oriented,
+            "boundary_edges": nb,
+            "euler_characteristic": report.map(|r| r.euler_characteristic),
+            "genus": report.map(|r| r.genus),
+            "components": report.map(|r| r.components),
+            "problem": problem,
+        },
+        "quality": quality_stats(p, t),
+        "covolumes": covol,
+        "volume": volume,
+        "self_intersections": count_self_intersections(p, t),
+    });
+    if let Some((tfile, tg)) = target {
+        let diag = tg.bbox.diagonal();
+        let d = two_sided_distances(p, t, &tg.points, &tg.triangles);
+        let tvol =
+            (tg.kind() == TargetKind::Mesh).then(|| enclosed_volume(&tg.points, &tg.triangles));
+        let o = out.as_object_mut().expect("object");
+        o.insert(
+            "target".into(),
+            json!({
+                "file": tfile,
+                "kind": tg.kind(),
+                "points": tg.points.len(),
+                "faces": tg.triangles.len(),
+                "bbox_diagonal": diag,
+                "volume": tvol,
+                "volume_ratio": tvol.map(|tv| volume / tv),
+            }),
+        );
+        o.insert(
+            "distances".into(),
+            json!({
+                "absolute": d,
+                "percent_of_target_diagonal": d.percent_of(diag),
+            }),
+        );
+    }
+    out
+}
+
+/// Convenience for tests and `lsw wrap --stats`: the metrics JSON of in-memory data.
+pub fn metrics_json_of(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    target: Option<&Target>,
+) -> Result<Value, String> {
+    let m = Target::new(positions.to_vec(), triangles.to_vec()).map_err(|e| e.to_string())?;
+    Ok(metrics_json(
+        "<memory>",
+        &m,
+        target.map(|t| ("<memory>", t)),
+    ))
+}
