@@ -270,3 +270,69 @@ fn every_truncation_of_valid_files_is_handled() {
         Err(IoError::Empty { format: None })
     ));
 }
+
+/// Writes fuzzing seeds (every corpus case and every writer's output) into
+/// `$LSW_FUZZ_SEEDS/<target>/` when that variable is set: `LSW_FUZZ_SEEDS=fuzz/corpus cargo
+/// test --test io_corpus write_fuzz_seeds`. Does nothing otherwise.
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+fn write_fuzz_seeds() {
+    let Some(dir) = std::env::var_os("LSW_FUZZ_SEEDS") else {
+        return;
+    };
+    let dir = std::path::PathBuf::from(dir);
+    let target_of = |bytes: &[u8], name: Option<&str>| match lsw::io::detect(bytes, name) {
+        Ok(f) => f.name(),
+        Err(_) => "read_bytes",
+    };
+    let mut seeds: Vec<(String, Vec<u8>, &str)> = Vec::new();
+    for (i, c) in corpus().into_iter().enumerate() {
+        let t = target_of(&c.bytes, c.name);
+        seeds.push((format!("case{i}"), c.bytes, t));
+    }
+    let p = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+    let t = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
+    let d = [1.0, 2.0, 3.0, 4.0];
+    let s = [("d", &d[..])];
+    let input = WriteInput {
+        positions: &p,
+        triangles: &t,
+        scalars: &s,
+        settings_json: Some("{\"a\":1}"),
+    };
+    for f in [
+        Format::Obj,
+        Format::Ply,
+        Format::Stl,
+        Format::Glb,
+        Format::Vtk,
+    ] {
+        let b = write_bytes(f, &input).unwrap();
+        seeds.push((
+            format!("written_{f}"),
+            b.clone(),
+            if f == Format::Glb { "gltf" } else { f.name() },
+        ));
+        let pts = write_bytes(f, &WriteInput::new(&p, &[])).unwrap_or_default();
+        seeds.push((
+            format!("written_points_{f}"),
+            pts,
+            if f == Format::Glb { "gltf" } else { f.name() },
+        ));
+    }
+    seeds.push((
+        "off".into(),
+        b"OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n4 0 1 2 3\n".to_vec(),
+        "off",
+    ));
+    seeds.push(("xyz".into(), b"x,y,z\n1,2,3,4\n5 6 7\n".to_vec(), "xyz"));
+    seeds.push(("gltf".into(), gltf_json(DATA_URI, 3), "gltf"));
+    for (name, bytes, t) in seeds {
+        let t = if t == "glb" { "gltf" } else { t };
+        for sub in [t, "read_bytes"] {
+            let d = dir.join(sub);
+            std::fs::create_dir_all(&d).unwrap();
+            std::fs::write(d.join(&name), &bytes).unwrap();
+        }
+    }
+}

@@ -261,6 +261,17 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
         if let Some(mesh) = node.mesh() {
             instances.push((mesh, world));
         }
+        // Bound the work and the stack by the input size: a small file whose nodes list the
+        // same child many times would otherwise expand exponentially.
+        if visits + stack.len() + node.children().len() > 1 + bytes.len() {
+            return Err(gltf_err(
+                format,
+                format!(
+                    "node hierarchy too large at node {} (a cycle or shared subtrees?)",
+                    node.index()
+                ),
+            ));
+        }
         stack.extend(node.children().map(|c| (c, world, depth + 1)));
     }
 
@@ -356,6 +367,12 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
                     index: bad as i64,
                     count: n,
                 });
+            }
+            if tris.len() + idx.len() > 2 * max_points {
+                return Err(gltf_err(
+                    format,
+                    "instanced geometry is too large for the file size",
+                ));
             }
             let b = base as u32;
             match mode {
