@@ -207,6 +207,7 @@ fn every_malformed_input_gives_a_clear_typed_error() {
             )),
             Err(e) => {
                 let msg = e.to_string();
+                assert!(!e.hint().is_empty());
                 println!("{:<50} {msg}", c.what);
                 if e.code() != c.code {
                     failures.push(format!(

@@ -7,7 +7,9 @@ use lsw::io::{read_path, Format};
 use lsw::target::TargetKind;
 
 /// (file, format, kind, vertices, triangles, Euler characteristic of the closed mesh if closed).
-const EXPECTED: &[(&str, Format, TargetKind, usize, usize, Option<i64>)] = &[
+type Expected = (&'static str, Format, TargetKind, usize, usize, Option<i64>);
+
+const EXPECTED: &[Expected] = &[
     (
         "bunnyPts_3.ply",
         Format::Ply,

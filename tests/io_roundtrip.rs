@@ -144,7 +144,7 @@ fn glb_has_normals_and_settings_in_asset_extras() {
 #[wasm_bindgen_test(unsupported = test)]
 fn writers_reject_inconsistent_input() {
     let (p, t) = sphere();
-    let short = vec![0.0; 3];
+    let short = [0.0; 3];
     let bad_scalars = [("d", &short[..])];
     let bad_tri = [[0, 1, p.len() as u32]];
     let nan = [DVec3::new(f64::NAN, 0.0, 0.0)];

@@ -200,6 +200,25 @@ impl IoError {
         }
     }
 
+    /// A one-sentence suggestion of what the user can do (the `hint` of the wasm facade's
+    /// `{code, message, hint}`).
+    pub fn hint(&self) -> &'static str {
+        match self {
+            IoError::Empty { .. } => "The file has no content; check that it was saved or copied completely.",
+            IoError::UnknownFormat { .. } => "Export the geometry as PLY, OBJ, STL, OFF, XYZ, glTF/GLB or VTK.",
+            IoError::Syntax { .. } => "The file is damaged or not in the format it claims; re-export it from the original tool.",
+            IoError::Truncated { .. } => "The file ends early; it was probably cut during download or copy.",
+            IoError::CountTooLarge { .. } => "The header promises more data than the file holds; the file is truncated or its header is corrupt.",
+            IoError::IndexOutOfRange { .. } => "A face refers to a missing vertex; repair the mesh or re-export it.",
+            IoError::NonFinite { .. } => "Remove the points with NaN or infinite coordinates (the message names the first).",
+            IoError::Unsupported { .. } => "Convert the file to a supported variant (e.g. GLB with embedded buffers, ASCII VTK).",
+            IoError::Gltf { .. } => "The glTF document is invalid; check it with the Khronos glTF validator.",
+            IoError::Target { .. } => "The file holds no usable points.",
+            IoError::Fs { .. } => "Check the path and the file permissions.",
+            IoError::InvalidInput { .. } => "This is a bug in the caller: the mesh passed to the writer is inconsistent.",
+        }
+    }
+
     /// A short stable code for the variant (used by the wasm facade's `{code, message, hint}`).
     pub fn code(&self) -> &'static str {
         match self {

@@ -1,7 +1,7 @@
 //! Reading and writing geometry files: PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF/GLB (read and
 //! write) and legacy VTK polydata (write, with a reader for round-trips).
 //!
-//! One file per format; [`detect`] sniffs the format from the content (the file name is only a
+//! One file per format; [`detect()`] sniffs the format from the content (the file name is only a
 //! hint). Reading gives a [`Target`] (points, or triangles indexing points). Readers never panic
 //! and never allocate more than the input size justifies: header counts are checked against the
 //! bytes that follow before any buffer is reserved. Every failure is an [`IoError`] naming the

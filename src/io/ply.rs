@@ -301,7 +301,7 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
     Ok((p.points, p.triangles, h.encoding))
 }
 
-/// Reads the named per-vertex scalar property (e.g. one written by [`write`]) as `f64`s.
+/// Reads the named per-vertex scalar property (e.g. one written by [`write()`]) as `f64`s.
 pub fn read_vertex_property(bytes: &[u8], name: &str) -> Result<Vec<f64>, IoError> {
     let h = parse_header(bytes)?;
     let p = parse_body(bytes, &h, Some(name.as_bytes()))?;

@@ -173,7 +173,7 @@ fn read_ascii(bytes: &[u8]) -> Result<(Vec<DVec3>, Vec<[u32; 3]>), IoError> {
     Ok((w.points, tris))
 }
 
-/// Writes binary STL. The 80-byte header holds "LSW <version>" (never "solid", so readers do not
+/// Writes binary STL. The 80-byte header holds "LSW VERSION" (never "solid", so readers do not
 /// mistake it for ASCII); there is no room for settings or scalars.
 pub fn write(input: &WriteInput) -> Result<Vec<u8>, IoError> {
     input.check(F)?;
