@@ -242,8 +242,11 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
     if doc.nodes().len() == 0 {
         instances.extend(doc.meshes().map(|m| (m, DMat4::IDENTITY)));
     }
-    let mut stack: Vec<(::gltf::Node, DMat4, usize)> =
-        roots.into_iter().map(|n| (n, DMat4::IDENTITY, 0)).collect();
+    let mut stack: Vec<(::gltf::Node, DMat4, usize)> = roots
+        .into_iter()
+        .rev()
+        .map(|n| (n, DMat4::IDENTITY, 0))
+        .collect();
     let mut visits = 0usize;
     while let Some((node, parent, depth)) = stack.pop() {
         visits += 1;
@@ -272,7 +275,9 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
                 ),
             ));
         }
-        stack.extend(node.children().map(|c| (c, world, depth + 1)));
+        // Reversed so nodes pop (and are emitted) in document order.
+        let children: Vec<_> = node.children().collect();
+        stack.extend(children.into_iter().rev().map(|c| (c, world, depth + 1)));
     }
 
     let get = |b: ::gltf::Buffer| buffers.get(b.index()).and_then(|d| d.as_deref());
