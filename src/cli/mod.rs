@@ -5,6 +5,7 @@
 
 pub mod info;
 pub mod mcf;
+pub mod sdf;
 pub mod metrics;
 
 use clap::{Parser, Subcommand};
@@ -22,6 +23,9 @@ pub struct Cli {
 pub enum Command {
     /// Mean-curvature flow of an icosphere, checked against r(t) = sqrt(r0² − 4t).
     Mcf(mcf::McfArgs),
+    /// Builds the distance field of a point cloud or mesh; prints grid, signedness, range and
+    /// per-phase times as JSON; `--out field.vtk` writes it for ParaView.
+    Sdf(sdf::SdfArgs),
     /// Reads a geometry file and prints its format, kind, counts, bounding box and topology.
     Info(info::InfoArgs),
     /// Quality (κ, 2·r_in/r_circ, angles, co-volumes), topology, volume, self-intersections and,
@@ -33,6 +37,7 @@ pub enum Command {
 pub fn run(cli: Cli) -> Result<String, String> {
     match cli.command {
         Command::Mcf(a) => mcf::run(&a),
+        Command::Sdf(a) => sdf::run(&a),
         Command::Info(a) => info::run(&a),
         Command::Metrics(a) => metrics::run(&a),
     }

@@ -84,6 +84,9 @@ pub fn fast_sweep(
         .iter()
         .map(|&f| if f { FROZEN } else { ACTIVE })
         .collect();
+    // Per row (iy, iz): whether it may hold an active node, so that late passes, with only a few
+    // active nodes left, skip whole rows.
+    let mut row_active = vec![true; ny * nz];
     let mut passes = 0;
     while passes < max_passes {
         let ordering = passes % 8;
@@ -94,13 +97,51 @@ pub fn fast_sweep(
             let iz = if rz { nz - 1 - kz } else { kz };
             let zm = if iz > 0 { sxy } else { 0 };
             let zp = if iz + 1 < nz { sxy } else { 0 };
-            for ky in 0..ny {
-                let iy = if ry { ny - 1 - ky } else { ky };
-                let ym = if iy > 0 { nx } else { 0 };
-                let yp = if iy + 1 < ny { nx } else { 0 };
-                let row = nx * (iy + ny * iz);
-                let offsets = [ym, yp, zm, zp];
-                changed |= sweep_row(values, &mut state, row, nx, offsets, rx, h, tol);
+            let mut ky = 0;
+            while ky < ny {
+                // A group of up to GROUP consecutive rows (in sweep order) of this z plane.
+                let mut group = [RowJob::default(); GROUP];
+                let mut len = 0;
+                for (k, job) in group.iter_mut().enumerate().take(ny - ky) {
+                    let iy = if ry { ny - 1 - (ky + k) } else { ky + k };
+                    let r = iy + ny * iz;
+                    *job = RowJob {
+                        start: nx * r,
+                        offsets: [
+                            if iy > 0 { nx } else { 0 },
+                            if iy + 1 < ny { nx } else { 0 },
+                            zm,
+                            zp,
+                        ],
+                        run: row_active[r],
+                        woke: false,
+                    };
+                    row_active[r] = false;
+                    len = k + 1;
+                }
+                // A row woken by the row before it in the same group must still run in this
+                // pass (as it would row by row), so a group runs whole or not at all.
+                if group[..len].iter().any(|j| j.run) {
+                    for job in &mut group[..len] {
+                        job.run = true;
+                    }
+                    sweep_rows(values, &mut state, &mut group[..len], nx, rx, h, tol);
+                }
+                for job in &group[..len] {
+                    if job.woke {
+                        changed = true;
+                        // Rows of the neighbours that may have been re-activated (a missing
+                        // neighbour is the row itself).
+                        let r = job.start / nx;
+                        let [ym, yp, zm, zp] = job.offsets;
+                        row_active[r] = true;
+                        row_active[r - ym / nx] = true;
+                        row_active[r + yp / nx] = true;
+                        row_active[r - zm / nx] = true;
+                        row_active[r + zp / nx] = true;
+                    }
+                }
+                ky += len;
             }
         }
         if !changed {
@@ -121,60 +162,97 @@ const LOCKED: u8 = 0;
 const ACTIVE: u8 = 1;
 const FROZEN: u8 = 2;
 
-/// One row of one pass. Offsets of 0 point a missing neighbour at the node itself, which can never
-/// lower the node (the update is ≥ its smallest input), so it acts as +∞.
-#[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn sweep_row(
+/// Rows swept together, skewed by one node each (see [`sweep_rows`]).
+const GROUP: usize = 4;
+
+/// One row of a pass: first storage index, neighbour offsets (y−, y+, z−, z+; 0 = missing),
+/// whether it may hold active nodes, and (out) whether some node in it woke its neighbours.
+#[derive(Clone, Copy, Default)]
+struct RowJob {
+    start: usize,
+    offsets: [usize; 4],
+    run: bool,
+    woke: bool,
+}
+
+/// Sweeps a group of consecutive rows of one z plane in one pass direction. Row `k` of the group
+/// trails row `k − 1` by one node, so that the Gauss–Seidel dependencies (each node needs its x-
+/// and y-upwind neighbours updated first) are the same as row after row, while the group's rows
+/// form independent dependency chains the CPU can overlap (a single row is one long chain of
+/// sqrt-bound updates).
+fn sweep_rows(
     v: &mut [f64],
     state: &mut [u8],
-    row: usize,
+    rows: &mut [RowJob],
     nx: usize,
-    [ym, yp, zm, zp]: [usize; 4],
     reverse: bool,
     h: f64,
     tol: f64,
-) -> bool {
-    let mut changed = false;
-    let mut visit = |ix: usize, v: &mut [f64], state: &mut [u8]| {
-        let i = row + ix;
-        if state[i] != ACTIVE {
-            return;
-        }
-        let xm = if ix > 0 { i - 1 } else { i };
-        let xp = if ix + 1 < nx { i + 1 } else { i };
-        let a = v[xm].min(v[xp]);
-        let b = v[i - ym].min(v[i + yp]);
-        let c = v[i - zm].min(v[i + zp]);
-        let cur = v[i];
-        if a.min(b).min(c) >= cur {
-            state[i] = LOCKED;
-            return;
-        }
-        let u = godunov_update(a, b, c, h);
-        if u < cur {
-            v[i] = u;
-            if cur - u > tol {
-                changed = true;
-                for j in [xm, xp, i - ym, i + yp, i - zm, i + zp] {
-                    if state[j] == LOCKED {
-                        state[j] = ACTIVE;
-                    }
-                }
+) {
+    let n = rows.len();
+    for job in rows.iter() {
+        let [ym, yp, zm, zp] = job.offsets;
+        // Every index used lies in rows start − zm … start + zp, which exist by construction.
+        assert!(job.start >= ym.max(zm) && job.start + nx + yp.max(zp) <= v.len());
+    }
+    assert_eq!(v.len(), state.len());
+    for step in 0..nx + n - 1 {
+        for (k, job) in rows.iter_mut().enumerate() {
+            if !job.run || step < k || step - k >= nx {
+                continue;
             }
-        }
-        state[i] = LOCKED;
-    };
-    if reverse {
-        for ix in (0..nx).rev() {
-            visit(ix, v, state);
-        }
-    } else {
-        for ix in 0..nx {
-            visit(ix, v, state);
+            let s = step - k;
+            let ix = if reverse { nx - 1 - s } else { s };
+            job.woke |= visit(v, state, job.start, ix, nx, job.offsets, h, tol);
         }
     }
-    changed
+}
+
+/// Updates node `ix` of the row starting at `row`; returns whether it dropped by more than `tol`
+/// (and so re-activated its neighbours). Offsets of 0 point a missing neighbour at the node
+/// itself, which can never lower the node (the update is ≥ its smallest input): it acts as +∞.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn visit(
+    v: &mut [f64],
+    state: &mut [u8],
+    row: usize,
+    ix: usize,
+    nx: usize,
+    [ym, yp, zm, zp]: [usize; 4],
+    h: f64,
+    tol: f64,
+) -> bool {
+    let i = row + ix;
+    if state[i] != ACTIVE {
+        return false;
+    }
+    state[i] = LOCKED;
+    let xm = if ix > 0 { i - 1 } else { i };
+    let xp = if ix + 1 < nx { i + 1 } else { i };
+    let a = v[xm].min(v[xp]);
+    let b = v[i - ym].min(v[i + yp]);
+    let c = v[i - zm].min(v[i + zp]);
+    let cur = v[i];
+    if a.min(b).min(c) >= cur {
+        return false;
+    }
+    let u = godunov_update(a, b, c, h);
+    if u >= cur {
+        return false;
+    }
+    v[i] = u;
+    if cur - u <= tol {
+        return false;
+    }
+    for j in [xm, xp, i - ym, i + yp, i - zm, i + zp] {
+        if state[j] == LOCKED {
+            state[j] = ACTIVE;
+        }
+    }
+    // A missing neighbour is the node itself: keep it locked.
+    state[i] = LOCKED;
+    true
 }
 
 #[cfg(test)]

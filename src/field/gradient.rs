@@ -15,34 +15,46 @@ pub fn normalized_negative_gradient(grid: &Grid, d: &[f64]) -> Vec<[f32; 3]> {
     assert_eq!(d.len(), nx * ny * nz);
     let sxy = nx * ny;
     let mut out = vec![[0f32; 3]; d.len()];
-    // Difference quotient along one axis (in index units): central inside, one-sided at the
-    // border; `k` is the node's coordinate on that axis, `n` the node count (≥ 2).
-    let diff = |i: usize, n: usize, k: usize, stride: usize| -> f64 {
-        let m = if k > 0 { i - stride } else { i };
-        let p = if k + 1 < n { i + stride } else { i };
-        let span = ((k + 1).min(n - 1) - k.saturating_sub(1)) as f64;
-        (d[p] - d[m]) / span
-    };
     let inv_c = 1.0 / grid.cell;
+    // Per axis: (offset back, offset forward, 1/(c·span)) for coordinate k of n nodes — central
+    // inside, one-sided on the border planes.
+    let stencil = |k: usize, n: usize, stride: usize| -> (usize, usize, f64) {
+        let back = if k > 0 { stride } else { 0 };
+        let fwd = if k + 1 < n { stride } else { 0 };
+        let span = ((k + 1).min(n - 1) - k.saturating_sub(1)) as f64;
+        (back, fwd, inv_c / span)
+    };
+    let store = |o: &mut [f32; 3], gx: f64, gy: f64, gz: f64| {
+        let len = (gx * gx + gy * gy + gz * gz).sqrt();
+        if len >= 1e-6 && len.is_finite() {
+            let s = -1.0 / len;
+            *o = [(gx * s) as f32, (gy * s) as f32, (gz * s) as f32];
+        }
+    };
+    let (xb0, xf0, xs0) = stencil(0, nx, 1);
+    let (xbn, xfn, xsn) = stencil(nx - 1, nx, 1);
+    let half_inv_c = 0.5 * inv_c;
     for iz in 0..nz {
+        let (zb, zf, zs) = stencil(iz, nz, sxy);
         for iy in 0..ny {
+            let (yb, yf, ys) = stencil(iy, ny, nx);
             let row = nx * (iy + ny * iz);
-            for ix in 0..nx {
-                let i = row + ix;
-                let gx = if ix > 0 && ix + 1 < nx {
-                    0.5 * (d[i + 1] - d[i - 1])
-                } else {
-                    diff(i, nx, ix, 1)
-                };
-                let gy = diff(i, ny, iy, nx);
-                let gz = diff(i, nz, iz, sxy);
-                let (gx, gy, gz) = (gx * inv_c, gy * inv_c, gz * inv_c);
-                let len = (gx * gx + gy * gy + gz * gz).sqrt();
-                if len >= 1e-6 && len.is_finite() {
-                    let s = -1.0 / len;
-                    out[i] = [(gx * s) as f32, (gy * s) as f32, (gz * s) as f32];
-                }
+            let g = |i: usize, xb: usize, xf: usize, xs: f64| {
+                (
+                    (d[i + xf] - d[i - xb]) * xs,
+                    (d[i + yf] - d[i - yb]) * ys,
+                    (d[i + zf] - d[i - zb]) * zs,
+                )
+            };
+            let (gx, gy, gz) = g(row, xb0, xf0, xs0);
+            store(&mut out[row], gx, gy, gz);
+            for i in row + 1..row + nx - 1 {
+                let (gx, gy, gz) = g(i, 1, 1, half_inv_c);
+                store(&mut out[i], gx, gy, gz);
             }
+            let last = row + nx - 1;
+            let (gx, gy, gz) = g(last, xbn, xfn, xsn);
+            store(&mut out[last], gx, gy, gz);
         }
     }
     out

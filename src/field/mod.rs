@@ -18,6 +18,7 @@ pub mod gradient;
 pub mod grid;
 pub mod sample;
 pub mod sign;
+pub mod vtk;
 
 pub use grid::Grid;
 pub use sign::Signedness;
