@@ -5,8 +5,9 @@
 
 pub mod info;
 pub mod mcf;
-pub mod sdf;
 pub mod metrics;
+pub mod sdf;
+pub mod wrap;
 
 use clap::{Parser, Subcommand};
 
@@ -31,6 +32,8 @@ pub enum Command {
     /// Quality (κ, 2·r_in/r_circ, angles, co-volumes), topology, volume, self-intersections and,
     /// with --target, exact two-sided distances of a mesh, as JSON.
     Metrics(metrics::MetricsArgs),
+    /// Wraps a point cloud or mesh: read → distance field → start surface → evolve → write.
+    Wrap(wrap::WrapArgs),
 }
 
 /// Runs a parsed command line; `Ok` holds the JSON text to print.
@@ -40,5 +43,6 @@ pub fn run(cli: Cli) -> Result<String, String> {
         Command::Sdf(a) => sdf::run(&a),
         Command::Info(a) => info::run(&a),
         Command::Metrics(a) => metrics::run(&a),
+        Command::Wrap(a) => wrap::run(&a),
     }
 }

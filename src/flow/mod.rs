@@ -1,10 +1,17 @@
 //! Surface evolution: the discrete operators and the semi-implicit time steps.
 
+pub mod controls;
+pub mod evolver;
 pub mod laplacian;
 pub mod mcf;
+pub mod scaling;
+pub mod settings;
+pub mod tangential;
 
+pub use evolver::{EvolveError, Evolver, PhaseTimes, StepReport};
 pub use laplacian::{CotanLaplacian, COT_CLAMP};
 pub use mcf::{exact_sphere_radius, mcf_step, McfSettings, McfStepReport};
+pub use settings::{Preset, RemeshTrigger, StartSurface, WrapSettings};
 
 use crate::solve::SolveError;
 

@@ -129,7 +129,7 @@ impl HalfedgeMesh {
         let min_area = 1e-14 * bbox.size().length_squared();
         for f in 0..self.n_faces() as u32 {
             let (_, area) = self.face_normal_area(f);
-            if !(area > min_area) {
+            if area.is_nan() || area <= min_area {
                 return Err(ValidationError::DegenerateFace { face: f, area });
             }
         }

@@ -173,6 +173,7 @@ mod tests {
     }
 
     #[test]
+    #[allow(clippy::needless_range_loop)]
     fn solves_random_diagonally_dominant_system() {
         let n = 400;
         let mut seed = 0x9e3779b97f4a7c15u64;

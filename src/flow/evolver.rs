@@ -1,0 +1,421 @@
+//! The LSW evolution as a step-wise state machine: `Evolver::new(target, settings)`, then
+//! `step()` until `is_done()`. Each step is the semi-implicit scheme of method spec §6.1–6.4:
+//! implicit (cotangent) diffusion weighted by ε, explicit advection η·N and tangential
+//! redistribution, one matrix for x, y, z; then adaptive remeshing and the size/τ schedule.
+//! Work happens in the stabilised frame (see [`super::scaling`]); results come out in the
+//! target's units.
+
+use super::controls::Controls;
+use super::settings::{RemeshTrigger, StartSurface, WrapSettings};
+use super::tangential::tangential_velocity;
+use super::{mcf::stats, scaling, CotanLaplacian};
+use crate::clock::now_ms;
+use crate::field::{DistanceField, FieldError};
+use crate::geometry::icosphere::{icosphere, IcosphereError};
+use crate::geometry::normals::angle_weighted_normals;
+use crate::mesh::{HalfedgeMesh, MeshBuildError};
+use crate::remesh::adaptive::{remesh, RemeshError, RemeshReport, RemeshSettings};
+use crate::remesh::sizing::{decayed, icosphere_sizes, isosurface_sizes, EdgeSizes};
+use crate::solve::{solve_columns, SolveError};
+use crate::target::Target;
+use glam::DVec3;
+use serde::Serialize;
+
+/// Why a wrap could not start or continue.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum EvolveError {
+    /// A setting is out of range. Fix: see the named setting's documentation.
+    #[error(transparent)]
+    Setting(#[from] super::settings::SettingError),
+    /// The distance field could not be built (empty or degenerate target, too fine a grid).
+    #[error("distance field: {0}")]
+    Field(#[from] FieldError),
+    /// The icosphere could not be built.
+    #[error(transparent)]
+    Icosphere(#[from] IcosphereError),
+    /// The marching-cubes start surface is empty: no grid node lies below d_iso.
+    #[error("the isosurface d = {iso:.4} is empty; raise isosurface_level_cells")]
+    EmptyIsosurface { iso: f64 },
+    /// The marching-cubes start surface is not a manifold mesh.
+    #[error("the isosurface start is not a manifold mesh: {0}")]
+    StartMesh(#[from] MeshBuildError),
+    /// The remesher refused its sizes.
+    #[error(transparent)]
+    Remesh(#[from] RemeshError),
+    /// A step failed even after retrying with τ halved `retries` times (the mesh is unchanged).
+    #[error("step {step} failed after {retries} retries with τ halved down to {tau:.3e}: {cause}")]
+    Diverged {
+        step: u32,
+        retries: u32,
+        tau: f64,
+        cause: String,
+    },
+}
+
+/// Wall time of the phases of one step, in milliseconds.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct PhaseTimes {
+    /// Normals, distance sampling and control functions.
+    pub normals: f64,
+    /// Laplacian, matrix and right-hand sides.
+    pub assembly: f64,
+    /// Linear solves (all retries).
+    pub solve: f64,
+    /// Adaptive remeshing.
+    pub remesh: f64,
+    /// The whole step.
+    pub total: f64,
+}
+
+/// What one step did. Distances are in the target's units; co-volumes in the stabilised frame
+/// (where the method expects their mean to shrink from τ/σ towards τ).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct StepReport {
+    /// Steps completed (1 after the first).
+    pub step: u32,
+    /// Vertex and face counts after the step (and remesh).
+    pub vertices: usize,
+    pub faces: usize,
+    /// τ used by this step (after any retries).
+    pub tau: f64,
+    /// Retries (τ halvings) this step needed.
+    pub retries: u32,
+    /// Solver iterations (worst of x, y, z) and true relative residual.
+    pub solver_iterations: usize,
+    pub solver_residual: f64,
+    /// Co-volume (mixed Voronoi area) min / mean / max before the step, stabilised frame.
+    pub covolume_min: f64,
+    pub covolume_mean: f64,
+    pub covolume_max: f64,
+    /// Mean and max |d| over vertices after the step (field distance, target units).
+    pub distance_mean: f64,
+    pub distance_max: f64,
+    /// Fraction of vertices that moved less than the stop threshold in this step.
+    pub settled_fraction: f64,
+    /// The remesher's report, if it ran.
+    pub remesh: Option<RemeshReport>,
+    /// Per-phase wall times.
+    pub times: PhaseTimes,
+    /// True when the stopping rule or the step limit has been reached.
+    pub done: bool,
+}
+
+/// The evolving surface and everything the step needs.
+pub struct Evolver {
+    settings: WrapSettings,
+    mesh: HalfedgeMesh,
+    field: DistanceField,
+    center: DVec3,
+    phi: f64,
+    d0: f64,
+    tau: f64,
+    d1: f64,
+    sizes: EdgeSizes,
+    step: u32,
+    done: bool,
+    /// Per-step displacement threshold for the stopping rule (stabilised frame).
+    settle_threshold: f64,
+    /// Per-vertex field distance (stabilised frame), refreshed after each step.
+    distances: Vec<f64>,
+}
+
+impl Evolver {
+    /// Builds the distance field and the start surface, scaled into the stabilised frame.
+    pub fn new(target: &Target, settings: WrapSettings) -> Result<Self, EvolveError> {
+        settings.check()?;
+        let field = DistanceField::new(target, &settings.field)?;
+        let center = target.bbox.center();
+        let c = field.cell_size();
+        let (mesh, phi, sizes) = match settings.start {
+            StartSurface::Icosphere => {
+                let size = target.bbox.size();
+                let (bmin, bmax) = (size.min_element(), size.max_element());
+                let r = settings.icosphere_radius_factor * 0.4 * (bmin + 1.5 * bmax);
+                let phi = scaling::icosphere_scale(
+                    settings.tau,
+                    settings.shrink_factor,
+                    r,
+                    settings.icosphere_level,
+                );
+                let mesh = icosphere(settings.icosphere_level, phi * r, DVec3::ZERO)?;
+                let sizes = icosphere_sizes(
+                    settings.min_edge_multiplier,
+                    phi * r,
+                    settings.icosphere_level,
+                );
+                (mesh, phi, sizes)
+            }
+            StartSurface::Isosurface => {
+                let d0 = settings.iso_level_factor * 0.5 * 3f64.sqrt() * c;
+                let mut iso = settings.isosurface_level_cells * c;
+                if iso <= d0 {
+                    iso = 1.1 * d0;
+                }
+                let c_r = settings.isosurface_resampling * c;
+                let (pos, tris) = field.isosurface_resampled(iso, settings.isosurface_resampling);
+                if tris.is_empty() {
+                    return Err(EvolveError::EmptyIsosurface { iso });
+                }
+                let phi = scaling::isosurface_scale(settings.tau, settings.shrink_factor, c_r);
+                let scaled: Vec<DVec3> = pos.into_iter().map(|p| phi * (p - center)).collect();
+                let mut mesh = HalfedgeMesh::from_triangles(scaled, &tris)?;
+                let sizes = isosurface_sizes(settings.min_edge_multiplier, c_r, phi);
+                // One remesh with back-projection onto the marching-cubes surface (spec §5.3).
+                let rs = RemeshSettings {
+                    iterations: 1,
+                    use_projection: true,
+                    smoothing_iterations: settings.smoothing_iterations,
+                    features: settings.features.clone(),
+                    ..RemeshSettings::with_sizes(sizes)
+                };
+                remesh(&mut mesh, &rs)?;
+                (mesh, phi, sizes)
+            }
+        };
+        let field = field.scaled(center, phi);
+        let d0 = settings.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
+        let mut ev = Evolver {
+            tau: settings.tau,
+            d1: settings.d1,
+            settle_threshold: settings.stop_displacement_cells * c * phi,
+            settings,
+            mesh,
+            field,
+            center,
+            phi,
+            d0,
+            sizes,
+            step: 0,
+            done: false,
+            distances: vec![],
+        };
+        ev.refresh_distances();
+        ev.done = ev.settings.steps == 0;
+        Ok(ev)
+    }
+
+    fn refresh_distances(&mut self) {
+        self.distances = self
+            .mesh
+            .positions()
+            .iter()
+            .map(|&p| self.field.sample(p))
+            .collect();
+    }
+
+    /// True when the step limit or the stopping rule has been reached.
+    pub fn is_done(&self) -> bool {
+        self.done
+    }
+
+    /// Steps completed.
+    pub fn steps_done(&self) -> u32 {
+        self.step
+    }
+
+    /// The settings in use (τ and D1 there are the initial values).
+    pub fn settings(&self) -> &WrapSettings {
+        &self.settings
+    }
+
+    /// The stabilisation factor φ.
+    pub fn scale(&self) -> f64 {
+        self.phi
+    }
+
+    /// d₀ in the target's units.
+    pub fn iso_level(&self) -> f64 {
+        self.d0 / self.phi
+    }
+
+    /// The distance field (in the stabilised frame).
+    pub fn field(&self) -> &DistanceField {
+        &self.field
+    }
+
+    /// The evolving mesh in the stabilised frame.
+    pub fn mesh(&self) -> &HalfedgeMesh {
+        &self.mesh
+    }
+
+    /// Vertex positions in the target's units.
+    pub fn positions(&self) -> Vec<DVec3> {
+        self.mesh
+            .positions()
+            .iter()
+            .map(|&p| p / self.phi + self.center)
+            .collect()
+    }
+
+    /// Triangles (counter-clockwise, outward).
+    pub fn triangles(&self) -> Vec<[u32; 3]> {
+        self.mesh.triangles()
+    }
+
+    /// Per-vertex field distance d in the target's units.
+    pub fn vertex_distances(&self) -> Vec<f64> {
+        self.distances.iter().map(|d| d / self.phi).collect()
+    }
+
+    /// One LSW step. On error the surface is unchanged and further steps may still be tried.
+    pub fn step(&mut self) -> Result<StepReport, EvolveError> {
+        let t_start = now_ms();
+        let mut times = PhaseTimes::default();
+        let n = self.mesh.n_vertices();
+        let s = &self.settings;
+        let controls = Controls {
+            c1: s.c1,
+            c2: s.c2,
+            d1: self.d1,
+            d2: s.d2,
+            mcf_positive_support: s.mcf_positive_support,
+            advection_positive_support: s.advection_positive_support,
+        };
+        let normals = angle_weighted_normals(&self.mesh);
+        let (mut eps, mut eta) = (vec![1.0; n], vec![0.0; n]);
+        if s.use_target {
+            for i in 0..n {
+                let p = self.mesh.positions()[i];
+                let delta = self.distances[i] - self.d0;
+                eps[i] = controls.epsilon(delta);
+                if eps[i] != 0.0 || !s.advection_positive_support || delta >= 0.0 {
+                    let g = self.field.sample_gradient(p);
+                    eta[i] = controls.eta(delta, g.dot(normals[i]));
+                }
+            }
+        }
+        let tangential: Vec<DVec3> = (0..n as u32)
+            .map(|v| {
+                tangential_velocity(
+                    &self.mesh,
+                    v,
+                    normals[v as usize],
+                    s.tangential_weight * eps[v as usize],
+                )
+            })
+            .collect();
+        let t_normals = now_ms();
+        times.normals = t_normals - t_start;
+
+        let lap = CotanLaplacian::new(&self.mesh);
+        let (covolume_min, covolume_mean, covolume_max) = stats(&lap.covolumes);
+        let old = self.mesh.positions().to_vec();
+        let mut retries = 0;
+        let (x, solve) = loop {
+            let t0 = now_ms();
+            let tau = self.tau;
+            let a = lap.implicit_matrix(&self.mesh, tau, Some(&eps));
+            let rhs: Vec<DVec3> = (0..n)
+                .map(|i| old[i] + tau * (eta[i] * normals[i] + tangential[i]))
+                .collect();
+            let b: Vec<Vec<f64>> = (0..3).map(|k| rhs.iter().map(|q| q[k]).collect()).collect();
+            let mut x = b.clone();
+            let t1 = now_ms();
+            times.assembly += t1 - t0;
+            let result = solve_columns(&a, &b, &mut x, &s.solver).and_then(|r| {
+                match (0..n)
+                    .find(|&i| !(x[0][i].is_finite() && x[1][i].is_finite() && x[2][i].is_finite()))
+                {
+                    Some(_) => Err(SolveError::NonFinite {
+                        iterations: r.iterations,
+                    }),
+                    None => Ok(r),
+                }
+            });
+            times.solve += now_ms() - t1;
+            match result {
+                Ok(r) => break (x, r),
+                Err(e) if retries >= s.max_retries => {
+                    return Err(EvolveError::Diverged {
+                        step: self.step + 1,
+                        retries,
+                        tau,
+                        cause: e.to_string(),
+                    });
+                }
+                Err(_) => {
+                    retries += 1;
+                    self.tau *= 0.5;
+                }
+            }
+        };
+        let mut settled = 0usize;
+        for (i, q) in self.mesh.positions_mut().iter_mut().enumerate() {
+            let new = DVec3::new(x[0][i], x[1][i], x[2][i]);
+            if (new - old[i]).length() < self.settle_threshold {
+                settled += 1;
+            }
+            *q = new;
+        }
+        let tau_used = self.tau;
+        self.step += 1;
+
+        let mut remesh_report = None;
+        if s.remesh && self.step >= s.remesh_from_step && self.needs_remesh() {
+            let t0 = now_ms();
+            let rs = RemeshSettings {
+                iterations: s.remesh_iterations,
+                smoothing_iterations: s.smoothing_iterations,
+                features: s.features.clone(),
+                ..RemeshSettings::with_sizes(self.sizes)
+            };
+            remesh_report = Some(remesh(&mut self.mesh, &rs)?);
+            times.remesh = now_ms() - t0;
+        }
+        if self.settings.schedule.contains(&self.step) {
+            let decay = self.settings.decay;
+            self.sizes = decayed(self.sizes, decay);
+            self.tau *= decay * decay;
+            self.d1 /= decay;
+        }
+        self.refresh_distances();
+        let settled_fraction = settled as f64 / n.max(1) as f64;
+        // Sizes decayed at step t take effect in step t + 1, so stop only after that step.
+        let schedule_over = self.settings.schedule.iter().all(|&t| t < self.step);
+        self.done = self.step >= self.settings.steps
+            || (schedule_over && settled_fraction >= self.settings.stop_fraction);
+        let (mut dmean, mut dmax) = (0.0, 0.0f64);
+        for d in &self.distances {
+            dmean += d.abs();
+            dmax = dmax.max(d.abs());
+        }
+        dmean /= self.distances.len().max(1) as f64;
+        times.total = now_ms() - t_start;
+        Ok(StepReport {
+            step: self.step,
+            vertices: self.mesh.n_vertices(),
+            faces: self.mesh.n_faces(),
+            tau: tau_used,
+            retries,
+            solver_iterations: solve.iterations,
+            solver_residual: solve.relative_residual,
+            covolume_min,
+            covolume_mean,
+            covolume_max,
+            distance_mean: dmean / self.phi,
+            distance_max: dmax / self.phi,
+            settled_fraction,
+            remesh: remesh_report,
+            times,
+            done: self.done,
+        })
+    }
+
+    fn needs_remesh(&self) -> bool {
+        match self.settings.remesh_trigger {
+            RemeshTrigger::Always => true,
+            RemeshTrigger::QualityBand => {
+                crate::remesh::trigger::needs_remesh(&self.mesh, self.settings.remesh_max_kappa)
+            }
+        }
+    }
+
+    /// Runs until done, calling `on_step` after each step.
+    pub fn run(&mut self, mut on_step: impl FnMut(&StepReport)) -> Result<(), EvolveError> {
+        while !self.done {
+            let r = self.step()?;
+            on_step(&r);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,136 @@
+//! The LSW evolution end to end on analytic targets. Runs natively and in headless Chromium.
+
+use lsw::flow::{Evolver, Preset, WrapSettings};
+use lsw::geometry::sphere::mean_radius;
+use lsw::target::Target;
+use lsw::DVec3;
+use wasm_bindgen_test::*;
+
+wasm_bindgen_test_configure!(run_in_browser);
+
+/// `n` points spread evenly on a sphere (Fibonacci lattice).
+fn sphere_cloud(n: usize, r: f64) -> Target {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let pts = (0..n)
+        .map(|i| {
+            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+            let rho = (1.0 - z * z).sqrt();
+            let a = golden * i as f64;
+            r * DVec3::new(rho * a.cos(), rho * a.sin(), z)
+        })
+        .collect();
+    Target::new(pts, vec![]).unwrap()
+}
+
+#[wasm_bindgen_test(unsupported = test)]
+fn pure_mcf_preset_follows_the_sphere_law() {
+    // ε ≡ 1, η ≡ 0: the evolver's step is the semi-implicit MCF of the skeleton, in the
+    // stabilised frame. Checked while r ≥ 0.6·r0, where the scheme's O(τ) lag stays below 1 %.
+    let target = sphere_cloud(500, 1.0);
+    let settings = WrapSettings {
+        icosphere_level: 4,
+        steps: 1000,
+        ..Preset::Mcf.settings()
+    };
+    let mut ev = Evolver::new(&target, settings).unwrap();
+    let r0 = mean_radius(ev.mesh().positions());
+    let tau = ev.settings().tau;
+    for k in 1.. {
+        let rep = ev.step().unwrap();
+        assert_eq!(rep.vertices, 2562, "no remeshing in the MCF preset");
+        let exact = (r0 * r0 - 4.0 * tau * k as f64).sqrt();
+        if exact < 0.6 * r0 {
+            break;
+        }
+        let r = mean_radius(ev.mesh().positions());
+        assert!(
+            (r - exact).abs() / exact < 0.01,
+            "step {k}: r = {r}, exact {exact}"
+        );
+        ev.mesh().validate().unwrap();
+    }
+}
+
+#[wasm_bindgen_test(unsupported = test)]
+fn wraps_a_sphere_cloud_onto_radius_r_plus_d0_and_stops_by_itself() {
+    let r = 1.0;
+    let target = sphere_cloud(20_000, r);
+    let settings = WrapSettings {
+        steps: 400,
+        schedule: vec![3, 10, 20, 50],
+        ..WrapSettings::default()
+    };
+    let mut ev = Evolver::new(&target, settings).unwrap();
+    // The default radius rule gives exactly 2R for a sphere's bounding cube.
+    let start = mean_radius(&ev.positions());
+    assert!((start - 2.0 * r).abs() < 0.01, "start radius {start}");
+    let mut last = None;
+    while !ev.is_done() {
+        let rep = ev.step().unwrap();
+        let report = ev
+            .mesh()
+            .validate()
+            .unwrap_or_else(|e| panic!("step {}: {e}", rep.step));
+        assert_eq!(report.genus, 0);
+        assert!(ev.positions().iter().all(|p| p.is_finite()));
+        last = Some(rep);
+    }
+    let last = last.unwrap();
+    assert!(last.step < 400, "the stopping rule never fired");
+    let cell = 2.0 * r / 40.0;
+    let expect = r + ev.iso_level();
+    let radii: Vec<f64> = ev.positions().iter().map(|p| p.length()).collect();
+    let mean = radii.iter().sum::<f64>() / radii.len() as f64;
+    let worst = radii.iter().map(|x| (x - expect).abs()).fold(0.0, f64::max);
+    println!("stopped at step {}, {} vertices: mean radius {mean:.5} vs R + d0 = {expect:.5}, worst deviation {:.3} cells", last.step, last.vertices, worst / cell);
+    assert!(
+        (mean - expect).abs() < 0.1 * cell,
+        "mean radius {mean} vs {expect}"
+    );
+    assert!(worst < 0.5 * cell, "worst deviation {worst}");
+}
+
+#[wasm_bindgen_test(unsupported = test)]
+fn failing_solves_are_retried_then_reported_without_touching_the_mesh() {
+    let target = sphere_cloud(500, 1.0);
+    let mut settings = WrapSettings::default();
+    // A solver that cannot converge: every attempt fails, each retry halves τ.
+    settings.solver.max_iterations = 1;
+    settings.solver.tolerance = 1e-30;
+    let mut ev = Evolver::new(&target, settings).unwrap();
+    let before = ev.mesh().positions().to_vec();
+    match ev.step() {
+        Err(lsw::flow::EvolveError::Diverged {
+            step, retries, tau, ..
+        }) => {
+            assert_eq!((step, retries), (1, 4));
+            assert!(
+                (tau - 0.07 / 16.0).abs() < 1e-12,
+                "τ after four halvings: {tau}"
+            );
+        }
+        other => panic!("expected a Diverged error, got {other:?}"),
+    }
+    assert_eq!(ev.mesh().positions(), &before[..]);
+}
+
+#[wasm_bindgen_test(unsupported = test)]
+fn same_input_same_mesh() {
+    let target = sphere_cloud(3000, 1.0);
+    let settings = WrapSettings {
+        steps: 25,
+        ..WrapSettings::default()
+    };
+    let run = || {
+        let mut ev = Evolver::new(&target, settings.clone()).unwrap();
+        ev.run(|_| {}).unwrap();
+        (ev.positions(), ev.triangles())
+    };
+    let (a, b) = (run(), run());
+    assert_eq!(a.1, b.1);
+    assert!(a
+        .0
+        .iter()
+        .zip(&b.0)
+        .all(|(p, q)| p.to_array() == q.to_array()));
+}

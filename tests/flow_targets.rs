@@ -1,0 +1,122 @@
+//! The evolution on real scans from `LSW_SHARED_DATA` (native only; skipped with a notice when
+//! the variable is unset), and the tangential term on a distorted sphere.
+
+use lsw::flow::tangential::tangential_velocity;
+use lsw::flow::{CotanLaplacian, Evolver, Preset, WrapSettings};
+use lsw::geometry::icosphere::icosphere;
+use lsw::geometry::normals::angle_weighted_normals;
+use lsw::metrics::distance::two_sided_distances;
+use lsw::DVec3;
+
+fn shared(name: &str) -> Option<std::path::PathBuf> {
+    match std::env::var("LSW_SHARED_DATA") {
+        Ok(dir) => Some(std::path::Path::new(&dir).join(name)),
+        Err(_) => {
+            println!("LSW_SHARED_DATA is not set: skipping the test on {name}");
+            None
+        }
+    }
+}
+
+#[test]
+fn full_wrap_gets_closer_than_obstacle_on_spot() {
+    let Some(path) = shared("spotPts_4.ply") else {
+        return;
+    };
+    let target = lsw::io::read_path(&path).unwrap().target;
+    let diag = target.bbox.diagonal();
+    let mut means = vec![];
+    for preset in [Preset::Obstacle, Preset::FullWrap] {
+        let mut ev = Evolver::new(
+            &target,
+            WrapSettings {
+                steps: 100,
+                schedule: vec![3, 10, 20, 50],
+                ..preset.settings()
+            },
+        )
+        .unwrap();
+        ev.run(|_| {}).unwrap();
+        let report = ev.mesh().validate().unwrap();
+        assert_eq!(report.genus, 0);
+        let d = two_sided_distances(&ev.positions(), &ev.triangles(), &target.points, &[]);
+        println!(
+            "{}: {} vertices, mesh→cloud mean {:.3} % max {:.3} %, cloud→mesh mean {:.3} % max {:.3} % of the diagonal",
+            preset.name(),
+            report.vertices,
+            100.0 * d.mesh_to_target.mean / diag,
+            100.0 * d.mesh_to_target.max / diag,
+            100.0 * d.target_to_mesh.mean / diag,
+            100.0 * d.target_to_mesh.max / diag
+        );
+        means.push(d.target_to_mesh.mean);
+    }
+    // Full-wrap pushes into the concavities (between the legs, under the belly) that obstacle
+    // bridges: the cloud's mean distance to the surface must drop clearly.
+    assert!(
+        means[1] < 0.8 * means[0],
+        "full-wrap {} vs obstacle {}",
+        means[1],
+        means[0]
+    );
+}
+
+#[test]
+fn bunny_wrap_is_closed_genus_zero_and_close() {
+    let Some(path) = shared("bunnyPts_3.ply") else {
+        return;
+    };
+    let target = lsw::io::read_path(&path).unwrap().target;
+    let mut ev = Evolver::new(&target, WrapSettings::default()).unwrap();
+    ev.run(|_| {}).unwrap();
+    let report = ev.mesh().validate().unwrap();
+    assert_eq!(report.genus, 0);
+    let d = two_sided_distances(&ev.positions(), &ev.triangles(), &target.points, &[]);
+    let diag = target.bbox.diagonal();
+    println!(
+        "bunny: {} vertices after {} steps; surface→points mean {:.3} %, Hausdorff {:.3} %",
+        report.vertices,
+        ev.steps_done(),
+        100.0 * d.mesh_to_target.mean / diag,
+        100.0 * d.hausdorff / diag
+    );
+    assert!(d.mesh_to_target.mean < 0.015 * diag);
+    assert!(d.hausdorff < 0.06 * diag);
+}
+
+#[test]
+fn tangential_term_evens_out_covolumes_on_a_distorted_sphere() {
+    let mut mesh = icosphere(3, 1.0, DVec3::ZERO).unwrap();
+    // Squeeze the northern hemisphere's vertices towards the pole along the sphere.
+    for p in mesh.positions_mut() {
+        if p.z > 0.0 {
+            *p = DVec3::new(0.6 * p.x, 0.6 * p.y, p.z).normalize();
+        }
+    }
+    let spread = |m: &lsw::mesh::HalfedgeMesh| {
+        let a = CotanLaplacian::new(m).covolumes;
+        let mean = a.iter().sum::<f64>() / a.len() as f64;
+        (a.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / a.len() as f64).sqrt() / mean
+    };
+    let before = spread(&mesh);
+    let mut previous = before;
+    for round in 0..50 {
+        let normals = angle_weighted_normals(&mesh);
+        let v: Vec<DVec3> = (0..mesh.n_vertices() as u32)
+            .map(|i| tangential_velocity(&mesh, i, normals[i as usize], 1.0))
+            .collect();
+        for (p, d) in mesh.positions_mut().iter_mut().zip(&v) {
+            *p = (*p + 0.05 * *d).normalize();
+        }
+        let now = spread(&mesh);
+        assert!(
+            now <= previous * 1.001,
+            "round {round}: spread grew {previous} → {now}"
+        );
+        previous = now;
+    }
+    let after = spread(&mesh);
+    println!("co-volume relative spread: {before:.3} → {after:.3}");
+    assert!(after < 0.9 * before, "{before} → {after}");
+    mesh.validate().unwrap();
+}
