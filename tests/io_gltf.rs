@@ -98,3 +98,38 @@ fn node_cycles_are_rejected() {
     let e = read_bytes(&doc(prim, nodes, scenes), None).unwrap_err();
     assert!(e.to_string().contains("gltf"), "{e}");
 }
+
+/// `read_path` loads external buffers from the glTF file's folder; `read_bytes` cannot and says so.
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+fn read_path_resolves_external_buffers() {
+    let dir = std::env::temp_dir().join(format!("lsw_io_gltf_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let inline = String::from_utf8(doc(
+        r#"{"attributes":{"POSITION":0},"indices":1,"mode":5}"#,
+        "",
+        "",
+    ))
+    .unwrap();
+    let start = inline.find("data:").unwrap();
+    let end = start + inline[start..].find('"').unwrap();
+    let b64 = &inline[start + "data:application/octet-stream;base64,".len()..end];
+    let mut bin = Vec::new();
+    for p in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.]] {
+        for c in p {
+            bin.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    for i in [0u16, 1, 2, 3] {
+        bin.extend_from_slice(&i.to_le_bytes());
+    }
+    assert_eq!(base64(&bin), b64);
+    let external = format!("{}mesh data.bin{}", &inline[..start], &inline[end..]);
+    std::fs::write(dir.join("mesh data.bin"), &bin).unwrap();
+    std::fs::write(dir.join("scene.gltf"), &external).unwrap();
+    let r = lsw::io::read_path(dir.join("scene.gltf")).unwrap();
+    assert_eq!((r.target.points.len(), r.target.triangles.len()), (4, 2));
+    let e = read_bytes(external.as_bytes(), Some("scene.gltf")).unwrap_err();
+    assert_eq!(e.code(), "io_unsupported");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -93,7 +93,7 @@ fn check_accessor(
             return Err(IoError::Unsupported {
                 format,
                 what: format!(
-                    "buffer {} (an external file; use GLB or embed the buffer as a data: URI)",
+                    "buffer {} (an external file that is not available; use GLB or embed the buffer as a data: URI)",
                     view.buffer().index()
                 ),
             })
@@ -185,6 +185,15 @@ fn check_glb_container(b: &[u8]) -> Result<(), IoError> {
 
 /// Reads glTF JSON or GLB.
 pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
+    read_with(bytes, &|_| None)
+}
+
+/// Loads an external buffer by its (relative) URI; `None` when it cannot.
+pub type Resolver<'r> = &'r dyn Fn(&str) -> Option<Vec<u8>>;
+
+/// Reads glTF JSON or GLB, loading external buffers through `resolve` (the native
+/// [`super::read_path`] resolves them next to the file; the browser has no such files).
+pub fn read_with(bytes: &[u8], resolve: Resolver) -> Result<RawGeometry, IoError> {
     let is_glb = bytes.starts_with(b"glTF");
     let format = if is_glb { Format::Glb } else { Format::Gltf };
     if is_glb {
@@ -221,7 +230,7 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
                     || gltf_err(format, format!("buffer {}: invalid base64", b.index())),
                 )?))
             }
-            ::gltf::buffer::Source::Uri(_) => None,
+            ::gltf::buffer::Source::Uri(uri) => resolve(uri).map(Cow::Owned),
         });
     }
 

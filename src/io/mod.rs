@@ -83,6 +83,16 @@ pub fn read_as(bytes: &[u8], format: Format) -> Result<ReadResult, IoError> {
             (p, t, Encoding::Ascii)
         }
     };
+    finish(format, points, triangles, encoding)
+}
+
+/// Checks a reader's output into a [`Target`].
+fn finish(
+    format: Format,
+    points: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+    encoding: Encoding,
+) -> Result<ReadResult, IoError> {
     let format = match (format, encoding) {
         (Format::Gltf | Format::Glb, Encoding::Ascii) => Format::Gltf,
         (Format::Gltf | Format::Glb, _) => Format::Glb,
@@ -114,7 +124,20 @@ pub fn read_path(path: impl AsRef<std::path::Path>) -> Result<ReadResult, IoErro
         path: path.display().to_string(),
         message: e.to_string(),
     })?;
-    read_bytes(&bytes, path.to_str())
+    let format = detect(&bytes, path.to_str())?;
+    if format == Format::Gltf {
+        // External buffers (`"uri": "mesh.bin"`) are read from the glTF file's folder.
+        let dir = path.parent().map(|d| d.to_path_buf()).unwrap_or_default();
+        let resolve = |uri: &str| -> Option<Vec<u8>> {
+            if uri.contains("://") {
+                return None;
+            }
+            std::fs::read(dir.join(uri.replace("%20", " "))).ok()
+        };
+        let (points, triangles, encoding) = gltf::read_with(&bytes, &resolve)?;
+        return finish(format, points, triangles, encoding);
+    }
+    read_as(&bytes, format)
 }
 
 /// The input of every writer: a triangle mesh (or, for formats that allow it, bare points when
