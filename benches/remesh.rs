@@ -10,8 +10,7 @@ use lsw::metrics::quality::quality_stats;
 use lsw::remesh::{remesh, FeatureDetector, FeatureSettings, RemeshSettings};
 use lsw::DVec3;
 
-/// Level-6 icosphere (40 962 vertices, edges ≈ 0.019) with every vertex moved randomly by up to
-/// 30 % of an edge (tangentially and normally).
+/// Level-6 icosphere (40 962 vertices, edges ≈ 0.019) with every vertex moved randomly.
 fn perturbed_sphere() -> HalfedgeMesh {
     let mut m = icosphere(6, 1.0, DVec3::ZERO).unwrap();
     let mut s = 0x1234_5678_9ABC_DEF0u64;
@@ -22,7 +21,11 @@ fn perturbed_sphere() -> HalfedgeMesh {
         (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
     };
     for p in m.positions_mut() {
-        *p += DVec3::new(r(), r(), r()) * 0.011;
+        let n = p.normalize();
+        let d = DVec3::new(r(), r(), r());
+        // Tangential jitter up to ≈ 25 % of an edge, normal noise ≈ 2 %: stretched, skewed
+        // triangles on a smooth surface, like an evolving wrap between two remeshes.
+        *p += (d - n * n.dot(d)) * 0.01 + n * (0.0008 * r());
     }
     m
 }
@@ -42,8 +45,19 @@ fn settings(detector: FeatureDetector) -> RemeshSettings {
 
 fn report(mesh: &HalfedgeMesh, s: &RemeshSettings) {
     let q0 = quality_stats(mesh.positions(), &mesh.triangles());
-    let mut m = mesh.clone();
-    let rep = remesh(&mut m, s).unwrap();
+    // Five runs; the fastest one's per-phase times (least disturbed by other load).
+    let mut best: Option<(HalfedgeMesh, lsw::remesh::RemeshReport)> = None;
+    for _ in 0..5 {
+        let mut m = mesh.clone();
+        let rep = remesh(&mut m, s).unwrap();
+        if best
+            .as_ref()
+            .is_none_or(|(_, b)| rep.time_ms.total < b.time_ms.total)
+        {
+            best = Some((m, rep));
+        }
+    }
+    let (m, rep) = best.unwrap();
     m.validate().unwrap();
     let q1 = quality_stats(m.positions(), &m.triangles());
     eprintln!(

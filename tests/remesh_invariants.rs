@@ -241,3 +241,31 @@ fn probe_timing_40k() {
         println!("remesh {:?}: {rep:?}", t.elapsed());
     }
 }
+
+#[wasm_bindgen_test(unsupported = test)]
+fn back_projection_keeps_vertices_on_the_input_surface() {
+    let mut m = icosphere(3, 1.0, DVec3::ZERO).unwrap();
+    perturb(&mut m, 0.04, 42);
+    let reference = lsw::metrics::bvh::TriangleBvh::new(m.positions(), &m.triangles());
+    let s = RemeshSettings {
+        use_projection: true,
+        ..uniform(0.07)
+    };
+    remesh_checked(&mut m, &s, 1, 0);
+    let worst = m
+        .positions()
+        .iter()
+        .map(|p| reference.distance(*p))
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-9, "vertex {worst} off the input surface");
+    // Without projection, tangential smoothing leaves the (bumpy) input surface.
+    let mut m2 = icosphere(3, 1.0, DVec3::ZERO).unwrap();
+    perturb(&mut m2, 0.04, 42);
+    remesh_checked(&mut m2, &uniform(0.07), 1, 0);
+    let drift = m2
+        .positions()
+        .iter()
+        .map(|p| reference.distance(*p))
+        .fold(0.0, f64::max);
+    assert!(drift > 1e-4, "{drift}");
+}

@@ -191,14 +191,45 @@ impl HalfedgeMesh {
         if c == d {
             return false;
         }
-        if self.valence(c) <= 3 || self.valence(d) <= 3 {
+        if !self.valence_exceeds(c, 3) || !self.valence_exceeds(d, 3) {
             return false;
         }
+        // v1's one-ring on the stack (valences are small); a huge valence takes the slow path.
+        let mut ring1 = [0u32; 32];
+        let mut n1 = 0usize;
+        for h1 in self.outgoing(v1) {
+            if n1 == ring1.len() {
+                return self.is_collapse_ok_slow(v0, v1, c, d);
+            }
+            ring1[n1] = self.to(h1);
+            n1 += 1;
+        }
+        let mut n0 = 0usize;
+        for h0 in self.outgoing(v0) {
+            n0 += 1;
+            let w = self.to(h0);
+            if w == v1 || w == c || w == d {
+                continue;
+            }
+            // Link condition: common neighbours must be exactly {c, d}.
+            if ring1[..n1].contains(&w) {
+                return false;
+            }
+        }
+        n0 > 3 || n1 > 3
+    }
+
+    /// `valence(v) > k`, stopping after `k + 1` edges.
+    #[inline]
+    fn valence_exceeds(&self, v: u32, k: usize) -> bool {
+        self.outgoing(v).take(k + 1).count() > k
+    }
+
+    fn is_collapse_ok_slow(&self, v0: u32, v1: u32, c: u32, d: u32) -> bool {
         let (val0, val1) = (self.valence(v0), self.valence(v1));
         if val0 <= 3 && val1 <= 3 {
             return false;
         }
-        // Link condition: common neighbours must be exactly {c, d}.
         for h0 in self.outgoing(v0) {
             let w = self.to(h0);
             if w == v1 || w == c || w == d {

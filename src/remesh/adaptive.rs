@@ -17,9 +17,10 @@
 // `!(x > y)` is used deliberately: it is also true when x is NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::curvature::{principal_curvatures, vertex_normals};
+use super::curvature::principal_curvatures;
 use super::features::{detect_features, FeatureDetector, FeatureSettings, Features};
 use super::sizing::{curvature_sizing, EdgeSizes};
+use crate::clock::now_ms;
 use crate::mesh::{HalfedgeMesh, INVALID};
 use crate::metrics::bvh::TriangleBvh;
 use glam::{DMat3, DVec3};
@@ -125,6 +126,27 @@ pub struct RemeshReport {
     pub feature_edges: usize,
     /// Locked vertices at the start (features not on exactly two feature edges, boundary).
     pub locked_vertices: usize,
+    /// Wall-clock time per phase.
+    pub time_ms: RemeshTimings,
+}
+
+/// Milliseconds spent per phase of one remesh call (summed over the outer iterations).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct RemeshTimings {
+    /// Curvatures, features, locks and the sizing field.
+    pub sizing: f64,
+    /// Edge splits.
+    pub split: f64,
+    /// Edge collapses and garbage collection.
+    pub collapse: f64,
+    /// Valence flips.
+    pub flip: f64,
+    /// Tangential smoothing (and projection).
+    pub smooth: f64,
+    /// Cap removal and the final compaction.
+    pub caps: f64,
+    /// The whole call.
+    pub total: f64,
 }
 
 /// Remeshes `mesh` in place (features detected per `settings.features`).
@@ -176,8 +198,13 @@ struct Work<'a> {
     locked: Vec<bool>,
     vfeat: Vec<bool>,
     efeat: Vec<bool>,
-    normals: Vec<DVec3>,
     upd: Vec<DVec3>,
+    /// One-rings as CSR (see `build_rings`), rebuilt per smoothing phase.
+    ring_off: Vec<u32>,
+    ring: Vec<u32>,
+    /// Sweep work lists: vertices whose neighbourhood changed in the previous / current sweep.
+    dirty: Vec<bool>,
+    dirty_next: Vec<bool>,
     valence: Vec<i32>,
     min_area: f64,
     reference: Option<Reference>,
@@ -198,6 +225,7 @@ fn remesh_impl(
             eps,
         });
     }
+    let t_start = now_ms();
     mesh.garbage_collect();
     if mesh.n_faces() == 0 {
         return Err(RemeshError::Empty);
@@ -244,22 +272,38 @@ fn remesh_impl(
         locked,
         vfeat: features.vertices,
         efeat: features.edges,
-        normals: Vec::new(),
         upd: Vec::new(),
+        ring_off: Vec::new(),
+        ring: Vec::new(),
+        dirty: Vec::new(),
+        dirty_next: Vec::new(),
         valence: Vec::new(),
         min_area: 1e-8 * lmin * lmin,
         reference,
         report,
     };
 
+    let mut t = now_ms();
+    w.report.time_ms.sizing = t - t_start;
+    let mut lap = |acc: &mut f64| {
+        let now = now_ms();
+        *acc += now - t;
+        t = now;
+    };
     for _ in 0..s.iterations {
         split_long_edges(mesh, &mut w);
+        lap(&mut w.report.time_ms.split);
         collapse_short_edges(mesh, &mut w);
+        lap(&mut w.report.time_ms.collapse);
         flip_edges(mesh, &mut w);
+        lap(&mut w.report.time_ms.flip);
         tangential_smoothing(mesh, &mut w);
+        lap(&mut w.report.time_ms.smooth);
     }
     remove_caps(mesh, &mut w);
     mesh.garbage_collect();
+    lap(&mut w.report.time_ms.caps);
+    w.report.time_ms.total = now_ms() - t_start;
     w.report.vertices_after = mesh.n_vertices();
     Ok(w.report)
 }
@@ -322,7 +366,24 @@ fn feature_collapse_ok(mesh: &HalfedgeMesh, w: &Work, h: u32) -> bool {
         && !fe(mesh.prev(o))
 }
 
+/// Resets the sweep work lists: every vertex dirty for the first sweep.
+fn start_sweeps(w: &mut Work, nv: usize) {
+    w.dirty.clear();
+    w.dirty.resize(nv, true);
+    w.dirty_next.clear();
+    w.dirty_next.resize(nv, false);
+}
+
+/// Ends a sweep: the vertices touched in it become the next sweep's work list.
+fn next_sweep(w: &mut Work) {
+    std::mem::swap(&mut w.dirty, &mut w.dirty_next);
+    w.dirty_next.iter_mut().for_each(|d| *d = false);
+}
+
 fn collapse_short_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
+    // Later sweeps only revisit edges at vertices whose neighbourhood changed (a refused
+    // collapse is refused again otherwise), so failing candidates cost once, not ten times.
+    start_sweeps(w, mesh.n_vertices());
     for _ in 0..MAX_SWEEPS {
         let mut any = false;
         let ne = mesh.n_edges() as u32;
@@ -331,6 +392,9 @@ fn collapse_short_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
                 continue;
             }
             let (v0, v1) = ends(mesh, e);
+            if !w.dirty[v0 as usize] && !w.dirty[v1 as usize] {
+                continue;
+            }
             let (h0, h1) = (w.h[v0 as usize], w.h[v1 as usize]);
             let hmin = 0.8 * h0.min(h1);
             if (mesh.position(v1) - mesh.position(v0)).length_squared() >= hmin * hmin {
@@ -339,30 +403,28 @@ fn collapse_short_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
             let (h01, h10) = (2 * e, 2 * e + 1);
             let mut c01 = !w.locked[v0 as usize];
             let mut c10 = !w.locked[v1 as usize];
+            if !c01 && !c10 {
+                continue;
+            }
             if c01 && w.vfeat[v0 as usize] {
                 c01 = feature_collapse_ok(mesh, w, h01);
             }
             if c10 && w.vfeat[v1 as usize] {
                 c10 = feature_collapse_ok(mesh, w, h10);
             }
-            if c01 {
-                c01 = mesh.is_collapse_ok(h01);
-            }
-            if c10 {
-                c10 = mesh.is_collapse_ok(h10);
-            }
-            if c01 && c10 {
-                if mesh.valence(v0) < mesh.valence(v1) {
-                    c10 = false;
-                } else {
-                    c01 = false;
-                }
-            }
-            let h = if c01 {
-                h01
-            } else if c10 {
-                h10
+            // Prefer removing the lower-valence end (keeping the higher-valence one); fall back to
+            // the other direction if the preferred collapse is illegal — the same choice as
+            // testing both first, with fewer legality tests.
+            let order = if c01 && c10 && mesh.valence(v0) >= mesh.valence(v1) {
+                [(c10, h10), (c01, h01)]
             } else {
+                [(c01, h01), (c10, h10)]
+            };
+            let Some(h) = order
+                .into_iter()
+                .find(|&(ok, h)| ok && mesh.is_collapse_ok(h))
+                .map(|(_, h)| h)
+            else {
                 continue;
             };
             let (vr, vk) = (mesh.from(h), mesh.to(h));
@@ -385,9 +447,14 @@ fn collapse_short_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
             w.efeat[keep1 as usize] |= w.efeat[gone1 as usize];
             w.efeat[keep2 as usize] |= w.efeat[gone2 as usize];
             mesh.collapse_edge(h);
+            w.dirty_next[vk as usize] = true;
+            for u in mesh.neighbors(vk) {
+                w.dirty_next[u as usize] = true;
+            }
             w.report.collapses += 1;
             any = true;
         }
+        next_sweep(w);
         if !any {
             break;
         }
@@ -433,6 +500,7 @@ fn flip_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
         w.valence[mesh.to(hh) as usize] += 1;
     }
     let dev = |x: i32| (x - 6) * (x - 6);
+    start_sweeps(w, nv);
     for _ in 0..MAX_SWEEPS {
         let mut any = false;
         for e in 0..mesh.n_edges() as u32 {
@@ -441,6 +509,9 @@ fn flip_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
             }
             let (h0, h1) = (2 * e, 2 * e + 1);
             let (a, b) = (mesh.to(h1), mesh.to(h0));
+            if !w.dirty[a as usize] && !w.dirty[b as usize] {
+                continue;
+            }
             let c = mesh.to(mesh.next(h0));
             let d = mesh.to(mesh.next(h1));
             if [a, b, c, d].iter().any(|&v| w.locked[v as usize]) {
@@ -460,23 +531,48 @@ fn flip_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
             w.valence[b as usize] -= 1;
             w.valence[c as usize] += 1;
             w.valence[d as usize] += 1;
+            for v in [a, b, c, d] {
+                w.dirty_next[v as usize] = true;
+            }
             w.report.flips += 1;
             any = true;
         }
+        next_sweep(w);
         if !any {
             break;
         }
     }
 }
 
-/// Minimiser of `Σ_{ring edges pq} |(x − p)×(q − p)|² / |q − p|` (PMP's `minimize_squared_areas`),
-/// or `None` when the 3×3 system is (nearly) singular.
-fn minimize_squared_areas(mesh: &HalfedgeMesh, v: u32) -> Option<DVec3> {
+/// Builds the one-rings of all vertices as a CSR array: the neighbours of `v` are
+/// `ring[off[v]..off[v + 1]]`, counter-clockwise, so `(v, ring[k], ring[k + 1])` is a face.
+fn build_rings(mesh: &HalfedgeMesh, off: &mut Vec<u32>, ring: &mut Vec<u32>) {
+    off.clear();
+    ring.clear();
+    off.push(0);
+    for v in 0..mesh.n_vertices() as u32 {
+        ring.extend(mesh.outgoing(v).map(|h| mesh.to(h)));
+        off.push(ring.len() as u32);
+    }
+}
+
+/// Tangential target of an interior vertex `x` with counter-clockwise ring `ring`: the minimiser
+/// of `Σ_{ring edges pq} |(x − p)×(q − p)|² / |q − p|` (PMP's `minimize_squared_areas`), or,
+/// when that 3×3 system is (nearly) singular, the centroid of the incident faces' centroids
+/// weighted by `area / h̄²`. Also returns the area-weighted vertex normal.
+fn smoothing_target(pos: &[DVec3], h: &[f64], x: DVec3, hx: f64, ring: &[u32]) -> (DVec3, DVec3) {
     let (mut xx, mut xy, mut xz, mut yy, mut yz, mut zz) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     let mut rhs = DVec3::ZERO;
-    for h in mesh.outgoing(v) {
-        let p = mesh.position(mesh.to(h));
-        let q = mesh.position(mesh.to(mesh.next(h)));
+    let mut normal = DVec3::ZERO;
+    let Some(&last) = ring.last() else {
+        return (x, DVec3::ZERO);
+    };
+    // Ring edges (p, q) = (ring[k], ring[k + 1]), cyclically; p - x and q - x relative to x
+    // (translation-invariant system, better conditioned far from the origin).
+    let mut p = pos[last as usize] - x;
+    for &qi in ring {
+        let q = pos[qi as usize] - x;
+        normal += p.cross(q);
         let d = q - p;
         let l2 = d.length_squared();
         if !(l2 > 0.0) {
@@ -500,7 +596,9 @@ fn minimize_squared_areas(mesh: &HalfedgeMesh, v: u32) -> Option<DVec3> {
             axy * p.x + ayy * p.y + ayz * p.z,
             axz * p.x + ayz * p.y + azz * p.z,
         );
+        p = q;
     }
+    let normal = normal.normalize_or_zero();
     let m = DMat3::from_cols(
         DVec3::new(xx, xy, xz),
         DVec3::new(xy, yy, yz),
@@ -508,31 +606,55 @@ fn minimize_squared_areas(mesh: &HalfedgeMesh, v: u32) -> Option<DVec3> {
     );
     let det = m.determinant();
     let scale = (xx + yy + zz) / 3.0;
-    if !(det.abs() > 1e-6 * scale * scale * scale) {
-        return None;
+    if det.abs() > 1e-6 * scale * scale * scale {
+        let t = m.inverse() * rhs;
+        if t.is_finite() {
+            return (x + t, normal);
+        }
     }
-    let x = m.inverse() * rhs;
-    x.is_finite().then_some(x)
-}
-
-/// Fallback target: centroid of the incident faces' centroids weighted by `area / h̄²`.
-fn weighted_centroid(mesh: &HalfedgeMesh, w: &Work, v: u32) -> DVec3 {
-    let x = mesh.position(v);
     let (mut sum, mut ww) = (DVec3::ZERO, 0.0);
-    for h in mesh.outgoing(v) {
-        let (b, c) = (mesh.to(h), mesh.to(mesh.next(h)));
-        let (pb, pc) = (mesh.position(b), mesh.position(c));
+    let mut b = last as usize;
+    for &ci in ring {
+        let c = ci as usize;
+        let (pb, pc) = (pos[b], pos[c]);
         let area = 0.5 * (pb - x).cross(pc - x).length();
-        let hm = (w.h[v as usize] + w.h[b as usize] + w.h[c as usize]) / 3.0;
+        let hm = (hx + h[b] + h[c]) / 3.0;
         let wt = area / (hm * hm);
         sum += wt * (x + pb + pc) / 3.0;
         ww += wt;
+        b = c;
     }
-    if ww > 0.0 {
-        sum / ww
-    } else {
-        x
+    (if ww > 0.0 { sum / ww } else { x }, normal)
+}
+
+/// Update of a feature vertex with exactly two feature edges: towards the mean of the two
+/// feature-edge midpoints weighted by `|e| / h̄`, along the feature line's tangent only.
+fn feature_update(mesh: &HalfedgeMesh, w: &Work, v: u32) -> DVec3 {
+    let vi = v as usize;
+    let x = mesh.position(v);
+    let mut dirs = [DVec3::ZERO; 2];
+    let mut k = 0;
+    let (mut target, mut ww) = (DVec3::ZERO, 0.0);
+    for h in mesh.outgoing(v) {
+        if !w.efeat[(h >> 1) as usize] {
+            continue;
+        }
+        let u = mesh.to(h);
+        let pu = mesh.position(u);
+        let len = (pu - x).length();
+        if k < 2 {
+            dirs[k] = (pu - x) / len;
+        }
+        k += 1;
+        let wt = len / (0.5 * (w.h[vi] + w.h[u as usize]));
+        target += wt * 0.5 * (x + pu);
+        ww += wt;
     }
+    if k != 2 || !(ww > 0.0) {
+        return DVec3::ZERO;
+    }
+    let t = (dirs[0] - dirs[1]).normalize_or_zero();
+    t * t.dot(target / ww - x)
 }
 
 fn tangential_smoothing(mesh: &mut HalfedgeMesh, w: &mut Work) {
@@ -540,53 +662,26 @@ fn tangential_smoothing(mesh: &mut HalfedgeMesh, w: &mut Work) {
     if w.reference.is_some() {
         project_all(mesh, w);
     }
+    build_rings(mesh, &mut w.ring_off, &mut w.ring);
     for _ in 0..w.s.smoothing_iterations {
-        vertex_normals(mesh, &mut w.normals);
         w.upd.clear();
         w.upd.resize(nv, DVec3::ZERO);
-        for v in 0..nv as u32 {
-            let vi = v as usize;
-            if w.locked[vi] {
+        let pos = mesh.positions();
+        for v in 0..nv {
+            if w.locked[v] {
                 continue;
             }
-            let x = mesh.position(v);
-            if w.vfeat[vi] {
-                // Slide along the feature line: mean of the two feature-edge midpoints weighted
-                // by |e| / h̄, projected onto the line's tangent.
-                let mut dirs = [DVec3::ZERO; 2];
-                let mut k = 0;
-                let (mut target, mut ww) = (DVec3::ZERO, 0.0);
-                for h in mesh.outgoing(v) {
-                    if !w.efeat[(h >> 1) as usize] {
-                        continue;
-                    }
-                    let u = mesh.to(h);
-                    let pu = mesh.position(u);
-                    let len = (pu - x).length();
-                    if k < 2 {
-                        dirs[k] = (pu - x) / len;
-                    }
-                    k += 1;
-                    let wt = len / (0.5 * (w.h[vi] + w.h[u as usize]));
-                    target += wt * 0.5 * (x + pu);
-                    ww += wt;
-                }
-                if k != 2 || !(ww > 0.0) {
-                    continue;
-                }
-                let t = (dirs[0] - dirs[1]).normalize_or_zero();
-                let u = target / ww - x;
-                w.upd[vi] = t * t.dot(u);
+            w.upd[v] = if w.vfeat[v] {
+                feature_update(mesh, w, v as u32)
             } else {
-                let target = minimize_squared_areas(mesh, v)
-                    .unwrap_or_else(|| weighted_centroid(mesh, w, v));
-                let n = w.normals[vi];
+                let ring = &w.ring[w.ring_off[v] as usize..w.ring_off[v + 1] as usize];
+                let x = pos[v];
+                let (target, n) = smoothing_target(pos, &w.h, x, w.h[v], ring);
                 let u = target - x;
-                w.upd[vi] = u - n * n.dot(u);
-            }
+                u - n * n.dot(u)
+            };
         }
-        let pos = mesh.positions_mut();
-        for (p, u) in pos.iter_mut().zip(&w.upd) {
+        for (p, u) in mesh.positions_mut().iter_mut().zip(&w.upd) {
             *p += *u;
         }
     }

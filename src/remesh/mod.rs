@@ -4,13 +4,17 @@
 //!   with a curvature-adaptive sizing field ([`adaptive::remesh`]).
 //! * [`sizing`] — the sizing field and the start-size rules and schedule of §6.6 / §7.2.
 //! * [`features`] — convex crease and corner detection (mean-curvature angle, dihedral angle).
+//! * [`trigger`] — when to remesh (worst vertex-averaged κ above a bound).
 //! * [`curvature`] — principal curvatures from the edge-based curvature tensor (§8.1).
 
 pub mod adaptive;
 pub mod curvature;
 pub mod features;
 pub mod sizing;
+pub mod trigger;
 
-pub use adaptive::{remesh, remesh_with_features, RemeshError, RemeshReport, RemeshSettings};
+pub use adaptive::{
+    remesh, remesh_with_features, RemeshError, RemeshReport, RemeshSettings, RemeshTimings,
+};
 pub use features::{FeatureDetector, FeatureSettings, Features};
 pub use sizing::EdgeSizes;
