@@ -259,12 +259,15 @@ fn bunny_sized_cloud_timing() {
     let t0 = lsw::clock::now_ms();
     let f = field(&t);
     let ms = lsw::clock::now_ms() - t0;
-    println!(
+    let msg = format!(
         "bunny-sized synthetic cloud: dims {:?}, {ms:.1} ms total, {:?}, {:?}",
         f.dims(),
         f.timings(),
         f.sweep_report()
     );
+    println!("{msg}");
+    #[cfg(target_arch = "wasm32")]
+    console_log!("{msg}");
     assert_eq!(f.dims(), [133, 133, 121]);
 }
 

@@ -48,9 +48,9 @@ pub fn normalized_negative_gradient(grid: &Grid, d: &[f64]) -> Vec<[f32; 3]> {
             };
             let (gx, gy, gz) = g(row, xb0, xf0, xs0);
             store(&mut out[row], gx, gy, gz);
-            for i in row + 1..row + nx - 1 {
-                let (gx, gy, gz) = g(i, 1, 1, half_inv_c);
-                store(&mut out[i], gx, gy, gz);
+            for (i, o) in out[row + 1..row + nx - 1].iter_mut().enumerate() {
+                let (gx, gy, gz) = g(row + 1 + i, 1, 1, half_inv_c);
+                store(o, gx, gy, gz);
             }
             let last = row + nx - 1;
             let (gx, gy, gz) = g(last, xbn, xfn, xsn);

@@ -51,7 +51,7 @@ impl Grid {
         let cell = beta / settings.cells_per_min_dimension as f64;
         let margin = settings.expansion * beta;
         let grid = Self::covering(bbox.expanded(margin), cell);
-        let bytes = grid.node_count() as u64 * BYTES_PER_NODE;
+        let bytes = grid.node_count_u64().saturating_mul(BYTES_PER_NODE);
         if bytes > settings.memory_cap_bytes {
             let fit = cells_that_fit(bbox, settings);
             return Err(FieldError::TooLarge {
@@ -66,7 +66,8 @@ impl Grid {
 
     /// The smallest lattice with cell size `cell` starting at `b.min` whose nodes reach `b.max`.
     pub fn covering(b: Aabb, cell: f64) -> Self {
-        let n = |ext: f64| ((ext / cell - 1e-9).ceil().max(1.0) as usize) + 1;
+        // Capped so that absurd requests stay representable (they fail the memory cap later).
+        let n = |ext: f64| ((ext / cell - 1e-9).ceil().clamp(1.0, 1e9) as usize) + 1;
         let s = b.size();
         Self {
             origin: b.min,
@@ -75,7 +76,15 @@ impl Grid {
         }
     }
 
-    /// Total number of nodes nx·ny·nz.
+    /// Total number of nodes nx·ny·nz, in u64 (on wasm32 an over-large grid's count overflows
+    /// usize); saturates.
+    pub fn node_count_u64(&self) -> u64 {
+        self.dims
+            .iter()
+            .fold(1u64, |a, &n| a.saturating_mul(n as u64))
+    }
+
+    /// Total number of nodes nx·ny·nz (only for grids that passed the memory cap).
     pub fn node_count(&self) -> usize {
         self.dims[0] * self.dims[1] * self.dims[2]
     }
@@ -135,13 +144,13 @@ fn cells_that_fit(bbox: &Aabb, settings: &FieldSettings) -> u32 {
     let beta = reference_length(bbox);
     let nodes_for = |n: u32| {
         let c = beta / n as f64;
-        Grid::covering(bbox.expanded(settings.expansion * beta), c).node_count() as u64
+        Grid::covering(bbox.expanded(settings.expansion * beta), c).node_count_u64()
     };
     let (mut lo, mut hi) = (1u32, settings.cells_per_min_dimension);
     // Invariant: answer in [lo, hi); nodes_for is monotone in n.
     while hi - lo > 1 {
         let mid = lo + (hi - lo) / 2;
-        if nodes_for(mid) * BYTES_PER_NODE <= settings.memory_cap_bytes {
+        if nodes_for(mid).saturating_mul(BYTES_PER_NODE) <= settings.memory_cap_bytes {
             lo = mid;
         } else {
             hi = mid;

@@ -374,12 +374,15 @@ impl DistanceField {
 
     /// The isosurface `d = iso` extracted on a lattice of cell size `factor·c` over the same box,
     /// with values resampled trilinearly [method §5.3 step 1]; `factor = 1` is
-    /// [`DistanceField::isosurface`]. `factor` > 1 gives fewer, larger triangles.
+    /// [`DistanceField::isosurface`]. `factor` > 1 gives fewer, larger triangles. `factor` is
+    /// clamped to 0.5–16 (below 0.5 the resampled grid would hold over 8× the nodes); a
+    /// non-finite factor counts as 1.
     pub fn isosurface_resampled(&self, iso: f64, factor: f64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-        assert!(
-            factor > 0.0 && factor.is_finite(),
-            "resampling factor must be positive"
-        );
+        let factor = if factor.is_finite() {
+            factor.clamp(0.5, 16.0)
+        } else {
+            1.0
+        };
         if factor == 1.0 {
             return self.isosurface(iso);
         }
