@@ -4,6 +4,9 @@
 //! [`crate::metrics::quality::kappa`] (ideal exactly 1): remesh when the worst vertex average
 //! exceeds a settable bound.
 
+// `!(x <= y)` is used deliberately: it is also true when x is NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::mesh::HalfedgeMesh;
 use crate::metrics::quality::vertex_kappa;
 
