@@ -110,7 +110,7 @@ fn corpus() -> Vec<Case> {
         case("PLY without end_header", None, "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n", "io_truncated", &["ply", "end_header"]),
         case("PLY with an unknown format", None, "ply\nformat binary_middle_endian 1.0\nend_header\n", "io_syntax", &["ply", "line 2", "binary_middle_endian"]),
         case("PLY with an unknown property type", None, "ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\nend_header\n", "io_syntax", &["ply", "line 4", "float128"]),
-        case("PLY vertex without z", None, "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n1 2\n", "io_syntax", &["ply", "line 3", "no property z"]),
+        case("PLY vertex without z", None, "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n1 2\n", "io_syntax", &["ply", "line 3", "a property z"]),
         case("binary PLY face index out of range", None, {
             let mut b = tri.clone();
             let n = b.len();

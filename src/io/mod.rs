@@ -1,5 +1,5 @@
-//! Reading and writing geometry files: PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF/GLB (read and
-//! write) and legacy VTK polydata (write, with a reader for round-trips).
+//! Reading and writing geometry files. Readers: PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF/GLB
+//! and legacy VTK polydata. Writers ([`write_bytes`]): OBJ, PLY, STL, GLB and VTK.
 //!
 //! One file per format; [`detect()`] sniffs the format from the content (the file name is only a
 //! hint). Reading gives a [`Target`] (points, or triangles indexing points). Readers never panic

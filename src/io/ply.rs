@@ -321,8 +321,11 @@ fn vertex_layout(el: &Element, extra: Option<&[u8]>) -> Result<VertexLayout, IoE
             None => Err(IoError::syntax(
                 F,
                 Location::Line(el.line),
-                "properties x, y and z on element vertex",
-                format!("no property {}", String::from_utf8_lossy(name)),
+                format!(
+                    "a property {} on element vertex",
+                    String::from_utf8_lossy(name)
+                ),
+                "none",
             )),
         }
     };
