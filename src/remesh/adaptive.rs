@@ -47,6 +47,12 @@ pub struct RemeshSettings {
     pub iterations: u32,
     /// Tangential smoothing passes per outer iteration, `NTanSmoothingIters`. Default 5.
     pub smoothing_iterations: u32,
+    /// Settling tolerance of the smoothing, as a fraction of the local target edge length h:
+    /// a vertex is recomputed only while it or a neighbour moved by more than `tol·h` in the
+    /// previous pass, and an outer iteration that changes nothing (no edit, no move above the
+    /// tolerance) ends the call. 0 runs every pass on every vertex (the reference). Range
+    /// [0, 0.1]; default 0.01 (moves below 1 % of an edge change κ by well under 1 %).
+    pub smoothing_tolerance: f64,
     /// Project moved and new vertices back onto the surface as it was when the call started
     /// (`UseBackProjection`). Default false (the reference's evolution runs; true only for the
     /// initial marching-cubes remesh).
@@ -66,6 +72,7 @@ impl Default for RemeshSettings {
             approx_error: 0.0125,
             iterations: 2,
             smoothing_iterations: 5,
+            smoothing_tolerance: 0.01,
             use_projection: false,
             cap_angle_deg: 170.0,
             features: FeatureSettings::default(),
@@ -199,6 +206,9 @@ struct Work<'a> {
     vfeat: Vec<bool>,
     efeat: Vec<bool>,
     upd: Vec<DVec3>,
+    /// Smoothing work lists: vertices to recompute this pass / that moved in it.
+    active: Vec<bool>,
+    moved: Vec<bool>,
     /// One-rings as CSR (see `build_rings`), rebuilt per smoothing phase.
     ring_off: Vec<u32>,
     ring: Vec<u32>,
@@ -273,6 +283,8 @@ fn remesh_impl(
         vfeat: features.vertices,
         efeat: features.edges,
         upd: Vec::new(),
+        active: Vec::new(),
+        moved: Vec::new(),
         ring_off: Vec::new(),
         ring: Vec::new(),
         dirty: Vec::new(),
@@ -291,14 +303,18 @@ fn remesh_impl(
         t = now;
     };
     for _ in 0..s.iterations {
+        let edits = w.report.splits + w.report.collapses + w.report.flips;
         split_long_edges(mesh, &mut w);
         lap(&mut w.report.time_ms.split);
         collapse_short_edges(mesh, &mut w);
         lap(&mut w.report.time_ms.collapse);
         flip_edges(mesh, &mut w);
         lap(&mut w.report.time_ms.flip);
-        tangential_smoothing(mesh, &mut w);
+        let at_rest = tangential_smoothing(mesh, &mut w);
         lap(&mut w.report.time_ms.smooth);
+        if at_rest && edits == w.report.splits + w.report.collapses + w.report.flips {
+            break; // Nothing changed: further iterations would repeat this one.
+        }
     }
     remove_caps(mesh, &mut w);
     mesh.garbage_collect();
@@ -458,6 +474,9 @@ fn collapse_short_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
         if !any {
             break;
         }
+    }
+    if !mesh.has_garbage() {
+        return;
     }
     let maps = mesh.garbage_collect();
     remap(&mut w.h, &maps.vertices);
@@ -657,21 +676,32 @@ fn feature_update(mesh: &HalfedgeMesh, w: &Work, v: u32) -> DVec3 {
     t * t.dot(target / ww - x)
 }
 
-fn tangential_smoothing(mesh: &mut HalfedgeMesh, w: &mut Work) {
+/// Tangential smoothing passes (Jacobi: all updates computed, then applied). With a positive
+/// `smoothing_tolerance`, a vertex is recomputed only while it or a neighbour moved by more than
+/// that fraction of its target length in the previous pass. Returns true when the first pass
+/// already moved no vertex by more than the tolerance (the mesh is at rest).
+fn tangential_smoothing(mesh: &mut HalfedgeMesh, w: &mut Work) -> bool {
     let nv = mesh.n_vertices();
     if w.reference.is_some() {
         project_all(mesh, w);
     }
     build_rings(mesh, &mut w.ring_off, &mut w.ring);
-    for _ in 0..w.s.smoothing_iterations {
+    let tol = w.s.smoothing_tolerance.max(0.0);
+    w.active.clear();
+    w.active.resize(nv, true);
+    let mut at_rest = false;
+    for pass in 0..w.s.smoothing_iterations {
         w.upd.clear();
         w.upd.resize(nv, DVec3::ZERO);
+        w.moved.clear();
+        w.moved.resize(nv, false);
+        let mut any_moved = false;
         let pos = mesh.positions();
         for v in 0..nv {
-            if w.locked[v] {
+            if w.locked[v] || !w.active[v] {
                 continue;
             }
-            w.upd[v] = if w.vfeat[v] {
+            let u = if w.vfeat[v] {
                 feature_update(mesh, w, v as u32)
             } else {
                 let ring = &w.ring[w.ring_off[v] as usize..w.ring_off[v + 1] as usize];
@@ -680,14 +710,31 @@ fn tangential_smoothing(mesh: &mut HalfedgeMesh, w: &mut Work) {
                 let u = target - x;
                 u - n * n.dot(u)
             };
+            w.upd[v] = u;
+            let lim = tol * w.h[v];
+            if u.length_squared() > lim * lim {
+                w.moved[v] = true;
+                any_moved = true;
+            }
         }
         for (p, u) in mesh.positions_mut().iter_mut().zip(&w.upd) {
             *p += *u;
+        }
+        if tol > 0.0 {
+            if !any_moved {
+                at_rest = pass == 0;
+                break;
+            }
+            for v in 0..nv {
+                let ring = &w.ring[w.ring_off[v] as usize..w.ring_off[v + 1] as usize];
+                w.active[v] = w.moved[v] || ring.iter().any(|&u| w.moved[u as usize]);
+            }
         }
     }
     if w.reference.is_some() {
         project_all(mesh, w);
     }
+    at_rest
 }
 
 /// Projects every unlocked, non-feature vertex onto the reference surface and takes its sizing.
