@@ -133,46 +133,62 @@ fn signed_volume(points: &[DVec3], triangles: &[[u32; 3]]) -> f64 {
         / 6.0
 }
 
-/// Marks the exterior: nodes reachable from the grid border through non-frozen nodes.
+/// Marks the exterior: nodes reachable from the grid border through non-frozen nodes
+/// (6-connected, explicit stack).
 fn flood_exterior(grid: &Grid, frozen: &[bool]) -> Vec<bool> {
     let [nx, ny, nz] = grid.dims;
     let n = grid.node_count();
+    let sxy = nx * ny;
     let mut outside = vec![false; n];
+    // Every non-frozen border node is a seed, marked up front; hence every node pushed later is
+    // interior and all six of its neighbours exist. Seeds carry a tag bit and get bounds checks.
+    const BORDER: usize = 1 << (usize::BITS - 1);
     let mut stack: Vec<usize> = Vec::new();
-    for i in 0..n {
-        let [x, y, z] = grid.coords(i);
-        let border = x == 0 || y == 0 || z == 0 || x == nx - 1 || y == ny - 1 || z == nz - 1;
-        if border && !frozen[i] && !outside[i] {
-            outside[i] = true;
-            stack.push(i);
+    for iz in 0..nz {
+        for iy in 0..ny {
+            let whole_row = iz == 0 || iz == nz - 1 || iy == 0 || iy == ny - 1;
+            let row = nx * (iy + ny * iz);
+            let mut seed = |i: usize| {
+                if !frozen[i] && !outside[i] {
+                    outside[i] = true;
+                    stack.push(i | BORDER);
+                }
+            };
+            if whole_row {
+                (row..row + nx).for_each(&mut seed);
+            } else {
+                seed(row);
+                seed(row + nx - 1);
+            }
         }
     }
-    let sxy = nx * ny;
-    while let Some(i) = stack.pop() {
-        let [x, y, z] = grid.coords(i);
-        let mut push = |j: usize| {
+    while let Some(e) = stack.pop() {
+        let i = e & !BORDER;
+        let nb: [Option<usize>; 6] = if e & BORDER != 0 {
+            let [x, y, z] = grid.coords(i);
+            [
+                (x > 0).then(|| i - 1),
+                (x + 1 < nx).then(|| i + 1),
+                (y > 0).then(|| i - nx),
+                (y + 1 < ny).then(|| i + nx),
+                (z > 0).then(|| i - sxy),
+                (z + 1 < nz).then(|| i + sxy),
+            ]
+        } else {
+            [
+                Some(i - 1),
+                Some(i + 1),
+                Some(i - nx),
+                Some(i + nx),
+                Some(i - sxy),
+                Some(i + sxy),
+            ]
+        };
+        for j in nb.into_iter().flatten() {
             if !frozen[j] && !outside[j] {
                 outside[j] = true;
                 stack.push(j);
             }
-        };
-        if x > 0 {
-            push(i - 1);
-        }
-        if x + 1 < nx {
-            push(i + 1);
-        }
-        if y > 0 {
-            push(i - nx);
-        }
-        if y + 1 < ny {
-            push(i + nx);
-        }
-        if z > 0 {
-            push(i - sxy);
-        }
-        if z + 1 < nz {
-            push(i + sxy);
         }
     }
     outside
