@@ -1,7 +1,8 @@
 //! The `#[wasm_bindgen]` facade: converts core types to typed arrays and errors to
 //! `{code, message, hint}` objects. It holds no algorithm; everything here delegates to the core.
 
-use crate::flow::{self, exact_sphere_radius, FlowError, McfSettings};
+use crate::flow::{self, exact_sphere_radius, EvolveError, Evolver, FlowError, McfSettings, StepReport, WrapSettings};
+use crate::io::{Format, IoError, WriteInput};
 use crate::geometry::icosphere::{icosphere, IcosphereError};
 use crate::geometry::sphere::mean_radius;
 use crate::mesh::HalfedgeMesh;
@@ -49,6 +50,31 @@ impl From<FlowError> for UiError {
             message: e.to_string(),
             hint,
         }
+    }
+}
+
+impl From<IoError> for UiError {
+    fn from(e: IoError) -> Self {
+        let hint = match e {
+            IoError::Empty { .. } => "The file is empty: choose another file.",
+            IoError::UnknownFormat { .. } => "Use PLY, OBJ, STL, OFF, XYZ/CSV, glTF or GLB.",
+            _ => "The file looks damaged or is not what its name says; re-export it from its source program.",
+        };
+        UiError { code: "bad-file", message: e.to_string(), hint }
+    }
+}
+
+impl From<EvolveError> for UiError {
+    fn from(e: EvolveError) -> Self {
+        let (code, hint) = match e {
+            EvolveError::Setting(_) => ("bad-parameter", "Reset the advanced settings or pick a preset."),
+            EvolveError::Field(crate::field::FieldError::TooLarge { .. }) => ("too-large", "Lower the grid resolution (cells per minimum dimension)."),
+            EvolveError::Field(_) => ("bad-target", "The target needs points spread in 3D (not empty, not a single point or a flat sheet)."),
+            EvolveError::EmptyIsosurface { .. } | EvolveError::StartMesh(_) => ("bad-start", "Raise the isosurface level, or use the icosphere start."),
+            EvolveError::Diverged { .. } => ("diverged", "Lower the time step τ, or pick the full-wrap preset."),
+            _ => ("internal", "Try another preset; if it persists, report a bug with the share link."),
+        };
+        UiError { code, message: e.to_string(), hint }
     }
 }
 
@@ -189,4 +215,162 @@ impl McfSession {
     pub fn stats(&self) -> Result<JsValue, JsValue> {
         serde_wasm_bindgen::to_value(&self.stats).map_err(|e| JsValue::from_str(&e.to_string()))
     }
+}
+
+/// Flat `Float32Array` of 3-vectors.
+fn vec3_array(v: &[DVec3]) -> Float32Array {
+    let flat: Vec<f32> = v.iter().flat_map(|p| [p.x as f32, p.y as f32, p.z as f32]).collect();
+    Float32Array::from(flat.as_slice())
+}
+
+/// A wrap of a dropped file, advanced step by step from the worker.
+#[wasm_bindgen]
+pub struct WrapSession {
+    evolver: Evolver,
+    target: crate::target::Target,
+    format: Format,
+    settings_json: String,
+    last: Option<StepReport>,
+}
+
+#[wasm_bindgen]
+impl WrapSession {
+    /// Reads `bytes` (format sniffed from content, `file_name` breaks ties) and prepares the
+    /// wrap with `settings_json` (a `WrapSettings` JSON object; missing keys default).
+    #[wasm_bindgen(constructor)]
+    pub fn new(bytes: &[u8], file_name: Option<String>, settings_json: &str) -> Result<WrapSession, JsValue> {
+        let settings = WrapSettings::from_json(settings_json).map_err(|e| UiError {
+            code: "bad-parameter",
+            message: format!("settings: {e}"),
+            hint: "Reset the advanced settings or pick a preset.",
+        })?;
+        let read = crate::io::read_bytes(bytes, file_name.as_deref()).map_err(UiError::from)?;
+        let evolver = Evolver::new(&read.target, settings.clone()).map_err(UiError::from)?;
+        let settings_json = serde_json::to_string(&settings).unwrap_or_default();
+        Ok(WrapSession { evolver, target: read.target, format: read.format, settings_json, last: None })
+    }
+
+    /// Runs up to `n` steps; returns true when the wrap is done.
+    pub fn step(&mut self, n: u32) -> Result<bool, JsValue> {
+        for _ in 0..n {
+            if self.evolver.is_done() {
+                break;
+            }
+            self.last = Some(self.evolver.step().map_err(UiError::from)?);
+        }
+        Ok(self.evolver.is_done())
+    }
+
+    /// True when the stopping rule or the step limit has been reached.
+    #[wasm_bindgen(js_name = isDone)]
+    pub fn is_done(&self) -> bool {
+        self.evolver.is_done()
+    }
+
+    /// The last step's report (see `StepReport`), or null before the first step.
+    pub fn report(&self) -> Result<JsValue, JsValue> {
+        serde_wasm_bindgen::to_value(&self.last).map_err(|e| JsValue::from_str(&e.to_string()))
+    }
+
+    /// What was read: format, kind, counts and bounding box.
+    #[wasm_bindgen(js_name = targetInfo)]
+    pub fn target_info(&self) -> Result<JsValue, JsValue> {
+        let t = &self.target;
+        let info = serde_json::json!({
+            "format": self.format.name(),
+            "kind": t.kind(),
+            "points": t.points.len(),
+            "triangles": t.triangles.len(),
+            "bboxMin": t.bbox.min.to_array(),
+            "bboxMax": t.bbox.max.to_array(),
+            "diagonal": t.bbox.diagonal(),
+        });
+        serde_wasm_bindgen::to_value(&info).map_err(|e| JsValue::from_str(&e.to_string()))
+    }
+
+    /// Target points (or mesh vertices) as a flat `Float32Array`.
+    #[wasm_bindgen(js_name = targetPositions)]
+    pub fn target_positions(&self) -> Float32Array {
+        vec3_array(&self.target.points)
+    }
+
+    /// Target triangles as a flat `Uint32Array` (empty for a point cloud).
+    #[wasm_bindgen(js_name = targetIndices)]
+    pub fn target_indices(&self) -> Uint32Array {
+        let flat: Vec<u32> = self.target.triangles.iter().flatten().copied().collect();
+        Uint32Array::from(flat.as_slice())
+    }
+
+    /// Surface positions (target units).
+    pub fn positions(&self) -> Float32Array {
+        vec3_array(&self.evolver.positions())
+    }
+
+    /// Angle-weighted unit vertex normals.
+    pub fn normals(&self) -> Float32Array {
+        vec3_array(&crate::geometry::normals::angle_weighted_normals(self.evolver.mesh()))
+    }
+
+    /// Surface triangles as a flat `Uint32Array`.
+    pub fn indices(&self) -> Uint32Array {
+        let flat: Vec<u32> = self.evolver.triangles().into_iter().flatten().collect();
+        Uint32Array::from(flat.as_slice())
+    }
+
+    /// A per-vertex scalar for colouring: "distance" (target units), "curvature" (mean
+    /// curvature, 1/target units), "kappa" (vertex-averaged κ(J_Δ)), "covolume" (stabilised
+    /// frame) or "features" (1 for feature vertices).
+    pub fn scalar(&self, name: &str) -> Result<Float32Array, JsValue> {
+        let mesh = self.evolver.mesh();
+        let values: Vec<f64> = match name {
+            "distance" => self.evolver.vertex_distances(),
+            "curvature" => flow::mcf::mean_curvature(mesh).into_iter().map(|h| h * self.evolver.scale()).collect(),
+            "kappa" => crate::metrics::quality::vertex_kappa(mesh),
+            "covolume" => flow::CotanLaplacian::new(mesh).covolumes,
+            "features" => {
+                let f = crate::remesh::features::detect(mesh, &self.evolver.settings().features);
+                f.vertices.into_iter().map(|b| b as u8 as f64).collect()
+            }
+            other => {
+                return Err(UiError { code: "bad-parameter", message: format!("unknown scalar \"{other}\""), hint: "Use distance, curvature, kappa, covolume or features." }.into())
+            }
+        };
+        let flat: Vec<f32> = values.into_iter().map(|x| x as f32).collect();
+        Ok(Float32Array::from(flat.as_slice()))
+    }
+
+    /// The result as a file: "obj", "ply", "stl", "glb" or "vtk" (PLY, GLB and VTK carry the
+    /// per-vertex distance; PLY, OBJ, GLB and VTK record the settings).
+    pub fn export(&self, format: &str) -> Result<js_sys::Uint8Array, JsValue> {
+        let fmt = Format::from_extension(format).ok_or_else(|| UiError {
+            code: "bad-parameter",
+            message: format!("cannot export as \"{format}\""),
+            hint: "Choose OBJ, PLY, STL, GLB or VTK.",
+        })?;
+        let (positions, triangles) = (self.evolver.positions(), self.evolver.triangles());
+        let distance = self.evolver.vertex_distances();
+        let curvature: Vec<f64> = flow::mcf::mean_curvature(self.evolver.mesh()).into_iter().map(|h| h * self.evolver.scale()).collect();
+        let kappa = crate::metrics::quality::vertex_kappa(self.evolver.mesh());
+        let scalars = [("distance", distance.as_slice()), ("mean_curvature", curvature.as_slice()), ("kappa", kappa.as_slice())];
+        let input = WriteInput { positions: &positions, triangles: &triangles, scalars: &scalars, settings_json: Some(&self.settings_json) };
+        let bytes = crate::io::write_bytes(fmt, &input).map_err(UiError::from)?;
+        Ok(js_sys::Uint8Array::from(bytes.as_slice()))
+    }
+
+    /// Fingerprint of the current surface (see [`crate::mesh::fingerprint::mesh_hash`]).
+    #[wasm_bindgen(js_name = resultHash)]
+    pub fn result_hash(&self) -> String {
+        crate::mesh::fingerprint::mesh_hash(&self.evolver.positions(), &self.evolver.triangles())
+    }
+}
+
+/// The default settings of a preset ("full-wrap", "obstacle", "isosurface", "mcf") as JSON.
+#[wasm_bindgen(js_name = presetSettings)]
+pub fn preset_settings(name: &str) -> Result<String, JsValue> {
+    let p = flow::Preset::from_name(name).ok_or_else(|| UiError {
+        code: "bad-parameter",
+        message: format!("unknown preset \"{name}\""),
+        hint: "Use full-wrap, obstacle, isosurface or mcf.",
+    })?;
+    Ok(serde_json::to_string(&p.settings()).unwrap_or_default())
 }

@@ -53,7 +53,7 @@ pub fn apply_overrides(
 }
 
 /// Runs the wrap; JSON keys: input, output, preset, vertices, faces, steps, stopped_early,
-/// scale, iso_level, times_ms {read, field, start, evolve, write, total}, evolve_ms {normals,
+/// scale, result_hash, iso_level, times_ms {read, field, start, evolve, write, total}, evolve_ms {normals,
 /// assembly, solve, remesh}, distance_mean, distance_max.
 pub fn run(a: &WrapArgs) -> Result<String, String> {
     let t0 = crate::clock::now_ms();
@@ -104,6 +104,7 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
         "steps": ev.steps_done(),
         "stopped_early": ev.steps_done() < settings.steps,
         "scale": ev.scale(),
+        "result_hash": crate::mesh::fingerprint::mesh_hash(&positions, &triangles),
         "iso_level": ev.iso_level(),
         "distance_mean": last.map_or(0.0, |r| r.distance_mean),
         "distance_max": last.map_or(0.0, |r| r.distance_max),

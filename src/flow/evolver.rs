@@ -16,7 +16,7 @@ use crate::geometry::normals::angle_weighted_normals;
 use crate::mesh::{HalfedgeMesh, MeshBuildError};
 use crate::remesh::adaptive::{remesh, RemeshError, RemeshReport, RemeshSettings};
 use crate::remesh::sizing::{decayed, icosphere_sizes, isosurface_sizes, EdgeSizes};
-use crate::solve::{solve_columns, SolveError};
+use crate::solve::solve_xyz;
 use crate::target::Target;
 use glam::DVec3;
 use serde::Serialize;
@@ -308,20 +308,10 @@ impl Evolver {
             let rhs: Vec<DVec3> = (0..n)
                 .map(|i| old[i] + tau * (eta[i] * normals[i] + tangential[i]))
                 .collect();
-            let b: Vec<Vec<f64>> = (0..3).map(|k| rhs.iter().map(|q| q[k]).collect()).collect();
-            let mut x = b.clone();
+            let mut x = rhs.clone();
             let t1 = now_ms();
             times.assembly += t1 - t0;
-            let result = solve_columns(&a, &b, &mut x, &s.solver).and_then(|r| {
-                match (0..n)
-                    .find(|&i| !(x[0][i].is_finite() && x[1][i].is_finite() && x[2][i].is_finite()))
-                {
-                    Some(_) => Err(SolveError::NonFinite {
-                        iterations: r.iterations,
-                    }),
-                    None => Ok(r),
-                }
-            });
+            let result = solve_xyz(&a, &rhs, &mut x, &s.solver);
             times.solve += now_ms() - t1;
             match result {
                 Ok(r) => break (x, r),
@@ -341,11 +331,10 @@ impl Evolver {
         };
         let mut settled = 0usize;
         for (i, q) in self.mesh.positions_mut().iter_mut().enumerate() {
-            let new = DVec3::new(x[0][i], x[1][i], x[2][i]);
-            if (new - old[i]).length() < self.settle_threshold {
+            if (x[i] - old[i]).length() < self.settle_threshold {
                 settled += 1;
             }
-            *q = new;
+            *q = x[i];
         }
         let tau_used = self.tau;
         self.step += 1;

@@ -5,7 +5,7 @@
 
 use super::{CotanLaplacian, FlowError};
 use crate::mesh::HalfedgeMesh;
-use crate::solve::{solve_columns, SolveReport, SolverSettings};
+use crate::solve::{solve_xyz, SolveReport, SolverSettings};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
@@ -65,37 +65,22 @@ pub fn mcf_step(
         return Err(FlowError::BadTimeStep(tau));
     }
     let old = mesh.positions().to_vec();
-    let b: Vec<Vec<f64>> = (0..3).map(|k| old.iter().map(|q| q[k]).collect()).collect();
-    let mut x = b.clone();
+    let mut x = old.clone();
     let lap = CotanLaplacian::new(mesh);
     let (covolume_min, covolume_mean, covolume_max) = stats(&lap.covolumes);
-    let mut solve = solve_columns(
-        &lap.implicit_matrix(mesh, tau, None),
-        &b,
-        &mut x,
-        &settings.solver,
-    )?;
+    let mut solve = solve_xyz(&lap.implicit_matrix(mesh, tau, None), &old, &mut x, &settings.solver)?;
     let result = (|| {
         for pass in 0..=settings.corrector_passes {
             if pass > 0 {
                 let lap = CotanLaplacian::new(mesh);
-                let r = solve_columns(
-                    &lap.implicit_matrix(mesh, tau, None),
-                    &b,
-                    &mut x,
-                    &settings.solver,
-                )?;
+                let r = solve_xyz(&lap.implicit_matrix(mesh, tau, None), &old, &mut x, &settings.solver)?;
                 solve.iterations = solve.iterations.max(r.iterations);
                 solve.relative_residual = solve.relative_residual.max(r.relative_residual);
             }
-            if let Some(vertex) = (0..old.len())
-                .find(|&i| !(x[0][i].is_finite() && x[1][i].is_finite() && x[2][i].is_finite()))
-            {
+            if let Some(vertex) = x.iter().position(|p| !p.is_finite()) {
                 return Err(FlowError::NonFinite { vertex });
             }
-            for (i, q) in mesh.positions_mut().iter_mut().enumerate() {
-                *q = DVec3::new(x[0][i], x[1][i], x[2][i]);
-            }
+            mesh.positions_mut().copy_from_slice(&x);
         }
         Ok(())
     })();

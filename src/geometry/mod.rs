@@ -2,7 +2,7 @@
 
 pub mod aabb;
 pub mod icosphere;
-pub mod normals;
 pub mod marching_cubes;
+pub mod normals;
 pub mod primitives;
 pub mod sphere;

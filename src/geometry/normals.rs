@@ -50,17 +50,41 @@ mod tests {
     fn cube_corner_normal_is_the_diagonal() {
         // Angle weighting makes the corner normal of a cube the diagonal, however its faces are cut.
         let p = vec![
-            DVec3::new(0., 0., 0.), DVec3::new(1., 0., 0.), DVec3::new(1., 1., 0.), DVec3::new(0., 1., 0.),
-            DVec3::new(0., 0., 1.), DVec3::new(1., 0., 1.), DVec3::new(1., 1., 1.), DVec3::new(0., 1., 1.),
+            DVec3::new(0., 0., 0.),
+            DVec3::new(1., 0., 0.),
+            DVec3::new(1., 1., 0.),
+            DVec3::new(0., 1., 0.),
+            DVec3::new(0., 0., 1.),
+            DVec3::new(1., 0., 1.),
+            DVec3::new(1., 1., 1.),
+            DVec3::new(0., 1., 1.),
         ];
         let f = [
-            [0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
-            [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7],
+            [0, 2, 1],
+            [0, 3, 2],
+            [4, 5, 6],
+            [4, 6, 7],
+            [0, 1, 5],
+            [0, 5, 4],
+            [1, 2, 6],
+            [1, 6, 5],
+            [2, 3, 7],
+            [2, 7, 6],
+            [3, 0, 4],
+            [3, 4, 7],
         ];
         let m = HalfedgeMesh::from_triangles(p, &f).unwrap();
         m.validate().unwrap();
         let n = angle_weighted_normals(&m);
-        assert!((n[6] - DVec3::ONE.normalize()).length() < 1e-12, "{:?}", n[6]);
-        assert!((n[0] + DVec3::ONE.normalize()).length() < 1e-12, "{:?}", n[0]);
+        assert!(
+            (n[6] - DVec3::ONE.normalize()).length() < 1e-12,
+            "{:?}",
+            n[6]
+        );
+        assert!(
+            (n[0] + DVec3::ONE.normalize()).length() < 1e-12,
+            "{:?}",
+            n[0]
+        );
     }
 }

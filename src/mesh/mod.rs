@@ -5,6 +5,7 @@
 //! split, collapse and flip are local pointer edits on it.
 
 mod edit;
+pub mod fingerprint;
 mod halfedge;
 mod validate;
 

@@ -215,6 +215,41 @@ mod tests {
     }
 
     #[test]
+    fn three_column_solver_matches_single_columns() {
+        let n = 300;
+        let mut seed = 0x1234_5678_9abc_def1u64;
+        let mut tri = TriMat::new((n, n));
+        for i in 0..n {
+            let mut sum = 0.0;
+            for k in [1, 7, 31] {
+                let j = (i + k) % n;
+                let v = rng(&mut seed) - 0.5;
+                tri.add_triplet(i, j, v);
+                sum += v.abs();
+            }
+            tri.add_triplet(i, i, sum + 0.2);
+        }
+        let a: CsMat<f64> = tri.to_csr();
+        let b: Vec<glam::DVec3> = (0..n).map(|_| glam::DVec3::new(rng(&mut seed), rng(&mut seed) - 0.5, 0.0)).collect();
+        let settings = SolverSettings::default();
+        let mut x = b.clone();
+        let rep = crate::solve::solve_xyz(&a, &b, &mut x, &settings).unwrap();
+        assert!(rep.relative_residual <= 1e-9);
+        for c in 0..2 {
+            let bc: Vec<f64> = b.iter().map(|v| v[c]).collect();
+            let mut xc = bc.clone();
+            let pre = Jacobi::new(&a).unwrap();
+            bicgstab(&a, &bc, &mut xc, &pre, &settings).unwrap();
+            let err = xc.iter().zip(&x).map(|(p, q)| (p - q[c]).abs()).fold(0.0, f64::max);
+            assert!(err < 1e-8, "column {c}: {err}");
+        }
+        assert!(x.iter().all(|v| v.z == 0.0), "a zero column stays zero");
+        // Failure modes surface as errors here too.
+        let tight = SolverSettings { max_iterations: 1, tolerance: 1e-30 };
+        assert!(crate::solve::solve_xyz(&a, &b, &mut x.clone(), &tight).is_err());
+    }
+
+    #[test]
     fn singular_systems_give_errors_not_panics() {
         // Rank-one matrix with an inconsistent right-hand side: no solution exists.
         let mut tri = TriMat::new((2, 2));

@@ -5,9 +5,11 @@
 //! iterations (method spec §6.4).
 
 mod bicgstab;
+mod block;
 mod precond;
 
 pub use bicgstab::bicgstab;
+pub use block::bicgstab3;
 pub use precond::Jacobi;
 
 use serde::{Deserialize, Serialize};
@@ -84,6 +86,19 @@ pub fn solve_columns(
         let r = bicgstab(a, bk, xk, &pre, settings)?;
         report.iterations = report.iterations.max(r.iterations);
         report.relative_residual = report.relative_residual.max(r.relative_residual);
+    }
+    Ok(report)
+}
+
+/// Solves `A·X = B` where each row of `B` and `X` is a 3-vector (positions): the three columns
+/// share every matrix product (see [`bicgstab3`]). `x` holds the initial guess.
+pub fn solve_xyz(a: &CsMat<f64>, b: &[glam::DVec3], x: &mut [glam::DVec3], settings: &SolverSettings) -> Result<SolveReport, SolveError> {
+    let pre = Jacobi::new(a)?;
+    let bb: Vec<[f64; 3]> = b.iter().map(|v| v.to_array()).collect();
+    let mut xx: Vec<[f64; 3]> = x.iter().map(|v| v.to_array()).collect();
+    let report = bicgstab3(a, &bb, &mut xx, &pre, settings)?;
+    for (xi, v) in x.iter_mut().zip(xx) {
+        *xi = glam::DVec3::from_array(v);
     }
     Ok(report)
 }

@@ -30,6 +30,11 @@ impl Jacobi {
         Ok(Self { inv_diag })
     }
 
+    /// The inverted diagonal.
+    pub fn inv_diag(&self) -> &[f64] {
+        &self.inv_diag
+    }
+
     /// `z = M⁻¹·r`.
     pub fn apply(&self, r: &[f64], z: &mut [f64]) {
         for ((zi, ri), di) in z.iter_mut().zip(r).zip(&self.inv_diag) {

@@ -1,0 +1,39 @@
+//! Time per LSW evolution step (normals + assembly + solve, no remeshing) at 2 K, 10 K and 40 K
+//! vertices: an icosphere of level 4, 5, 6 wrapping a sphere point cloud.
+//! Run: `cargo bench --bench flow`. Results go to benches/RESULTS.md.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use lsw::flow::{Evolver, WrapSettings};
+use lsw::target::Target;
+use lsw::DVec3;
+
+fn sphere_cloud(n: usize) -> Target {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let pts = (0..n)
+        .map(|i| {
+            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+            let rho = (1.0 - z * z).sqrt();
+            let a = golden * i as f64;
+            DVec3::new(rho * a.cos(), rho * a.sin(), z)
+        })
+        .collect();
+    Target::new(pts, vec![]).unwrap()
+}
+
+fn bench_flow(c: &mut Criterion) {
+    let target = sphere_cloud(20_000);
+    let mut g = c.benchmark_group("lsw_step");
+    g.sample_size(20);
+    for level in [4u32, 5, 6] {
+        let settings = WrapSettings { icosphere_level: level, remesh: false, schedule: vec![], steps: 100_000, ..WrapSettings::default() };
+        let ev = Evolver::new(&target, settings).unwrap();
+        let n = ev.mesh().n_vertices();
+        g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            b.iter_batched_ref(|| Evolver::new(&target, ev.settings().clone()).unwrap(), |e| e.step().unwrap(), criterion::BatchSize::LargeInput)
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench_flow);
+criterion_main!(benches);
