@@ -183,6 +183,7 @@ fn corpus() -> Vec<Case> {
         case("binary legacy VTK", None, "# vtk DataFile Version 3.0\nx\nBINARY\nDATASET POLYDATA\n", "io_unsupported", &["vtk", "binary"]),
         case("VTK POINTS count exceeds the file", None, "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 5000000 float\n0 0 0\n", "io_count_too_large", &["vtk", "line 5", "5000000"]),
         case("VTK polygon index out of range", None, "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 9\n", "io_index_out_of_range", &["vtk", "line 8", "vertex 9"]),
+        case("VTK with a second POINTS section (fuzzing find)", None, "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 1 float\n0 0 0\nPOINTS 1 float\n1 1 1\n", "io_syntax", &["vtk", "line 7", "single POINTS"]),
         // --- unknown ---
         case("plain prose", None, "hello world\nthis is not geometry\n", "io_unknown_format", &["unrecognised", "hello"]),
     ];

@@ -112,6 +112,18 @@ pub fn read(bytes: &[u8]) -> Result<(RawMesh, Scalars), IoError> {
     while let Some(kw) = r.t.next_token() {
         let at = r.at();
         match kw {
+            // After POINT_DATA only attributes follow; the ones not read here (vectors,
+            // normals, cell data, fields) end the geometry. (Found by fuzzing: a second
+            // POINTS/POLYGONS after POINT_DATA made the scalars disagree with the points.)
+            _ if point_data.is_some() && kw != b"SCALARS" => break,
+            b"POINTS" if !points.is_empty() => {
+                return Err(IoError::syntax(
+                    F,
+                    at,
+                    "a single POINTS section",
+                    "a second POINTS",
+                ))
+            }
             b"POINTS" => {
                 let n = r.count("points", 6)?;
                 let _type = r.token("a data type")?;
@@ -226,8 +238,6 @@ pub fn read(bytes: &[u8]) -> Result<(RawMesh, Scalars), IoError> {
                 }
                 scalars.push((name, v));
             }
-            // Other attributes (vectors, normals, cell data, fields): the geometry is complete.
-            _ if point_data.is_some() => break,
             b"CELL_DATA" | b"FIELD" | b"METADATA" => break,
             other => {
                 return Err(IoError::syntax(
