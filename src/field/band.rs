@@ -126,6 +126,13 @@ pub fn triangles_band(
             continue;
         };
         let nrm = (b - a).cross(c - a).normalize_or_zero();
+        let centre = (a + b + c) / 3.0;
+        // Slightly enlarged so that rounding never makes the bound exceed the true distance.
+        let radius = (a - centre)
+            .length()
+            .max((b - centre).length())
+            .max((c - centre).length())
+            * (1.0 + 1e-12);
         // Slab |n·(x − a)| ≤ r cut along x when the plane is not parallel to the x axis.
         let slab_x = nrm.x.abs() > 1e-3;
         for iz in z0..=z1 {
@@ -155,6 +162,13 @@ pub fn triangles_band(
                 let row = nx * (iy + ny * iz);
                 for ix in xa..=xb {
                     let p = DVec3::new(grid.origin.x + grid.cell * ix as f64, y, z);
+                    // Cheap lower bound from the bounding sphere: skip nodes that already hold
+                    // a value no farther than the sphere (most nodes, where neighbouring
+                    // triangles' regions overlap).
+                    let lb = ((p - centre).length() - radius).max(0.0);
+                    if lb * lb >= d2[row + ix] {
+                        continue;
+                    }
                     let q = closest_point_on_triangle(p, a, b, c).0;
                     let s = (p - q).length_squared();
                     let i = row + ix;
