@@ -110,7 +110,11 @@ fn sphere_quality_volume_and_intersections() {
     let (p, t) = (m.positions().to_vec(), m.triangles());
     let q = quality_stats(&p, &t);
     // The icosphere's triangles are close to, but not exactly, equilateral.
-    assert!(q.kappa.min > 1.0 - 1e-12 && q.kappa.max < 1.1, "{:?}", q.kappa);
+    assert!(
+        q.kappa.min > 1.0 - 1e-12 && q.kappa.max < 1.1,
+        "{:?}",
+        q.kappa
+    );
     assert_eq!(q.kappa_le_1_5, 1.0);
     assert!(q.radius_ratio.mean > 0.97);
     let v = enclosed_volume(&p, &t);
