@@ -9,6 +9,7 @@
 //! The core knows nothing of the browser; [`wasm`] is a thin facade over it.
 
 pub mod clock;
+pub mod demo;
 pub mod field;
 pub mod flow;
 pub mod geometry;

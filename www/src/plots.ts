@@ -45,3 +45,91 @@ export class RadiusPlot {
     return { t: [...this.t], mesh: [...this.mesh], exact: [...this.exact] };
   }
 }
+
+const AXIS = { stroke: '#9aa3b2', grid: { stroke: '#2c303a' }, ticks: { stroke: '#2c303a' } };
+
+/** A small line plot over a shared x (step) axis; data arrive one row at a time. */
+export class LinePlot {
+  private readonly cols: number[][];
+  private readonly plot: uPlot;
+  private pending = false;
+
+  constructor(el: HTMLElement, title: string, labels: string[], colours: string[], opts: { log?: boolean; width?: number; height?: number; xLabel?: string } = {}) {
+    this.cols = [[], ...labels.map(() => [])];
+    this.plot = new uPlot(
+      {
+        width: opts.width ?? 340,
+        height: opts.height ?? 150,
+        title,
+        scales: { x: { time: false }, y: opts.log ? { distr: 3 } : {} },
+        axes: [{ ...AXIS, label: opts.xLabel ?? 'step' }, { ...AXIS, size: 56 }],
+        series: [{ label: opts.xLabel ?? 'step' }, ...labels.map((label, i) => ({ label, stroke: colours[i], width: 1.5 }))],
+        legend: { live: false },
+      },
+      this.cols as uPlot.AlignedData,
+      el,
+    );
+  }
+
+  clear(): void {
+    for (const c of this.cols) c.length = 0;
+    this.plot.setData(this.cols as uPlot.AlignedData);
+  }
+
+  push(x: number, ...ys: number[]): void {
+    const xs = this.cols[0];
+    if (xs.length && x <= xs[xs.length - 1]) return;
+    xs.push(x);
+    ys.forEach((y, i) => this.cols[i + 1].push(y));
+    // Redraw at most once per animation frame.
+    if (this.pending) return;
+    this.pending = true;
+    requestAnimationFrame(() => {
+      this.pending = false;
+      this.plot.setData(this.cols as uPlot.AlignedData);
+    });
+  }
+
+  /** Replaces all data (x plus one column per series). */
+  set(cols: number[][]): void {
+    cols.forEach((c, i) => (this.cols[i] = c.slice()));
+    this.plot.setData(this.cols as uPlot.AlignedData);
+  }
+
+  series(): number[][] {
+    return this.cols.map((c) => [...c]);
+  }
+}
+
+/** Bars of a histogram (counts per bin, from the core). */
+export class HistogramPlot {
+  private readonly plot: uPlot;
+  private data: number[][] = [[], []];
+
+  constructor(el: HTMLElement, title: string, xLabel: string) {
+    this.plot = new uPlot(
+      {
+        width: 340,
+        height: 150,
+        title,
+        scales: { x: { time: false } },
+        axes: [{ ...AXIS, label: xLabel }, { ...AXIS, size: 56 }],
+        series: [{ label: xLabel }, { label: 'triangles', stroke: '#4aa3ff', fill: 'rgba(74,163,255,0.45)', paths: uPlot.paths.bars!({ size: [0.9, 40] }) }],
+        legend: { live: false },
+      },
+      this.data as uPlot.AlignedData,
+      el,
+    );
+  }
+
+  set(lo: number, hi: number, counts: number[]): void {
+    const w = (hi - lo) / Math.max(1, counts.length);
+    this.data = [counts.map((_, i) => lo + (i + 0.5) * w), counts.slice()];
+    this.plot.setData(this.data as uPlot.AlignedData);
+  }
+
+  clear(): void {
+    this.data = [[], []];
+    this.plot.setData(this.data as uPlot.AlignedData);
+  }
+}

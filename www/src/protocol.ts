@@ -30,13 +30,81 @@ export interface McfParams {
   tau: number;
 }
 
+/** Per-vertex scalars the core can colour by (`WrapSession.scalar`), or none. */
+export type ColourMap = 'none' | 'distance' | 'curvature' | 'kappa' | 'covolume' | 'features';
+
+/** Phase times of a wrap step in ms (mirrors `PhaseTimes`). */
+export interface PhaseTimes {
+  normals: number;
+  assembly: number;
+  solve: number;
+  remesh: number;
+  total: number;
+}
+
+/** One wrap step's report (mirrors `StepReport` in src/flow/evolver.rs, snake_case via serde). */
+export interface StepReport {
+  step: number;
+  vertices: number;
+  faces: number;
+  tau: number;
+  retries: number;
+  covolume_min: number;
+  covolume_mean: number;
+  covolume_max: number;
+  distance_mean: number;
+  distance_max: number;
+  settled_fraction: number;
+  times: PhaseTimes;
+  done: boolean;
+}
+
+/** What was read (mirrors `WrapSession.targetInfo`). */
+export interface TargetInfo {
+  format: string;
+  kind: 'points' | 'mesh';
+  points: number;
+  triangles: number;
+  bboxMin: [number, number, number];
+  bboxMax: [number, number, number];
+  diagonal: number;
+}
+
+/** Histogram as produced by the core (`metrics::histogram::Histogram`). */
+export interface Histogram {
+  lo: number;
+  hi: number;
+  counts: number[];
+  below: number;
+  above: number;
+}
+
+/** ε(δ), η(δ) samples (mirrors `demo::ControlCurves`). */
+export interface ControlCurves {
+  delta: number[];
+  epsilon: number[];
+  eta_facing: number[];
+  eta_side: number[];
+}
+
+/** Where a wrap's input comes from. */
+export type Source =
+  | { kind: 'bytes'; bytes: ArrayBuffer; name: string }
+  | { kind: 'demo'; id: string }
+  | { kind: 'url'; url: string };
+
 /** UI → worker. */
 export type ToWorker =
   | { type: 'mcf-init'; params: McfParams }
+  | { type: 'wrap-load'; source: Source; settings: Record<string, unknown>; autoplay: boolean }
   | { type: 'play' }
   | { type: 'pause' }
   | { type: 'step'; n: number }
-  | { type: 'colour'; on: boolean };
+  | { type: 'reset' }
+  | { type: 'cancel' }
+  | { type: 'colour'; map: ColourMap }
+  | { type: 'export'; format: string; kept?: { positions: Float32Array; indices: Uint32Array } }
+  | { type: 'curves'; settings: Record<string, unknown> };
 
 /**
  * A frame of the evolving surface, ready to upload: the worker computes normals and colours so
@@ -44,6 +112,7 @@ export type ToWorker =
  */
 export interface Frame {
   type: 'frame';
+  mode: 'mcf' | 'wrap';
   positions: Float32Array;
   normals: Float32Array;
   indices?: Uint32Array;
@@ -51,15 +120,30 @@ export interface Frame {
   colors: Float32Array | null;
   /** Range of the coloured scalar, for the legend. */
   range: [number, number];
-  stats: McfStats;
+  colour: ColourMap;
+  /** MCF demo statistics (mode mcf). */
+  stats?: McfStats;
+  /** Wrap step report (mode wrap; null before the first step). */
+  report?: StepReport | null;
+  /** κ histogram of this frame (mode wrap). */
+  histogram?: Histogram;
+  /** Step limit of the wrap's settings (for the progress bar). */
+  stepLimit?: number;
+  /** Milliseconds since the wrap was started (load included). */
+  elapsedMs?: number;
   playing: boolean;
 }
 
 /** Worker → UI. */
 export type FromWorker =
-  | { type: 'ready' }
+  | { type: 'ready'; presets: Record<string, Record<string, unknown>>; docs: Record<string, string>; enums: Record<string, string[]> }
   | Frame
-  | { type: 'stopped'; reason: 'paused' | 'finished' }
+  | { type: 'loading'; what: string }
+  | { type: 'target'; positions: Float32Array; indices: Uint32Array; info: TargetInfo; name: string }
+  | { type: 'stopped'; reason: 'paused' | 'finished' | 'cancelled' }
+  | { type: 'result'; hash: string; name: string; positions: Float32Array; normals: Float32Array; indices: Uint32Array; elapsedMs: number; steps: number }
+  | { type: 'exported'; bytes: Uint8Array; format: string }
+  | { type: 'curves'; curves: ControlCurves }
   | { type: 'error'; error: UiError };
 
 /** Turns anything thrown (a facade error object, an Error, a string) into a UiError. */
@@ -76,12 +160,24 @@ export function toUiError(e: unknown): UiError {
 export type ToRender =
   | { type: 'init'; canvas: OffscreenCanvas; width: number; height: number; pixelRatio: number }
   | { type: 'resize'; width: number; height: number }
-  | { type: 'geometry'; positions: Float32Array; normals: Float32Array; indices?: Uint32Array; colors: Float32Array | null }
+  | { type: 'geometry'; positions: Float32Array; normals: Float32Array; indices?: Uint32Array; colors: Float32Array | null; step?: number; record?: boolean }
+  | { type: 'target'; positions: Float32Array; indices: Uint32Array | null }
+  | { type: 'clear-frames' }
+  | { type: 'show-frame'; index: number }
   | { type: 'refit' }
   | { type: 'rotate'; dx: number; dy: number }
   | { type: 'zoom'; factor: number }
+  | { type: 'set-view'; yaw: number; pitch: number; zoom: number }
   | { type: 'wireframe'; on: boolean }
+  | { type: 'smooth'; on: boolean }
+  | { type: 'show-target'; on: boolean }
   | { type: 'probe' };
+
+/** Render worker → UI: probe answers, recorded-frame counts and the camera (for share links). */
+export type FromRender =
+  | { type: 'probe'; meshPixelFraction: number }
+  | { type: 'frames'; count: number; steps: number[]; bytes: number; showing: number }
+  | { type: 'view'; yaw: number; pitch: number; zoom: number };
 
 /** Render worker → UI: the answer to a probe. */
 export interface RenderProbe {

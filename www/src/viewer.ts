@@ -61,6 +61,11 @@ export class Viewer {
     polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
   });
   private fitted = false;
+  /** A view to apply after the next fit (from a share link). */
+  pendingView: { yaw: number; pitch: number; zoom: number } | null = null;
+  private fitDistance = 3;
+  private target: THREE.Object3D | null = null;
+  private targetVisible = true;
   private width = 1;
   private height = 1;
 
@@ -108,7 +113,14 @@ export class Viewer {
       this.surfaceMaterial.needsUpdate = true;
     }
     g.computeBoundingSphere();
-    if (!this.fitted) this.fit();
+    if (!this.fitted) {
+      const keep = this.getView();
+      this.fit();
+      if (this.pendingView) {
+        this.setView(this.pendingView.yaw, this.pendingView.pitch, this.pendingView.zoom);
+        this.pendingView = null;
+      } else this.setView(keep.yaw, keep.pitch, 1);
+    }
   }
 
   /** Frames the whole surface. */
@@ -116,9 +128,57 @@ export class Viewer {
     const s = this.geometry.boundingSphere;
     if (!s) return;
     this.orbit.target.copy(s.center);
-    this.orbit.distance = (s.radius / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2))) * 1.1;
+    this.fitDistance = (s.radius / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2))) * 1.1;
+    this.orbit.distance = this.fitDistance;
     this.orbit.apply(this.camera);
     this.fitted = true;
+  }
+
+  /** Shows the target: points, or a faded mesh when it has triangles. */
+  setTarget(positions: Float32Array, indices: Uint32Array | null): void {
+    if (this.target) {
+      this.scene.remove(this.target);
+      const t = this.target as THREE.Mesh | THREE.Points;
+      t.geometry.dispose();
+      (t.material as THREE.Material).dispose();
+    }
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+    g.computeBoundingSphere();
+    const r = g.boundingSphere?.radius ?? 1;
+    if (indices && indices.length) {
+      g.setIndex(new THREE.BufferAttribute(indices, 1));
+      g.computeVertexNormals();
+      this.target = new THREE.Mesh(g, new THREE.MeshBasicMaterial({ color: 0xffc266, transparent: true, opacity: 0.22, depthWrite: false, side: THREE.DoubleSide }));
+    } else {
+      this.target = new THREE.Points(g, new THREE.PointsMaterial({ color: 0xffc266, size: Math.max(1e-6, r * 0.006), sizeAttenuation: true }));
+    }
+    this.target.visible = this.targetVisible;
+    this.scene.add(this.target);
+  }
+
+  showTarget(on: boolean): void {
+    this.targetVisible = on;
+    if (this.target) this.target.visible = on;
+  }
+
+  /** Flat (per-face) or smooth (per-vertex normal) shading. */
+  setSmooth(on: boolean): void {
+    if (this.surfaceMaterial.flatShading === !on) return;
+    this.surfaceMaterial.flatShading = !on;
+    this.surfaceMaterial.needsUpdate = true;
+  }
+
+  /** Orbit angles and zoom relative to the fitted distance (what a share link carries). */
+  getView(): { yaw: number; pitch: number; zoom: number } {
+    return { yaw: this.orbit.yaw, pitch: this.orbit.pitch, zoom: this.orbit.distance / this.fitDistance };
+  }
+
+  setView(yaw: number, pitch: number, zoom: number): void {
+    this.orbit.yaw = yaw;
+    this.orbit.pitch = Math.max(-1.5, Math.min(1.5, pitch));
+    this.orbit.distance = this.fitDistance * Math.max(1e-3, zoom);
+    this.orbit.apply(this.camera);
   }
 
   /** Forgets the framing so the next update fits the view again. */

@@ -1,42 +1,39 @@
-// The worker owns the wasm module and the step loop; the UI thread never computes.
-import init, { McfSession } from '../pkg/lsw.js';
-import type { FromWorker, McfStats, ToWorker } from './protocol';
+// The worker owns the wasm module and the step loops (MCF teaching demo and wraps); the UI thread
+// never computes. It honours pause / cancel between steps; the page terminates and restarts it
+// when a single step (or the field construction) runs too long to answer a cancel in time.
+import init, {
+  McfSession, WrapSession, presetSettings, settingsDocs, settingsEnums, demoShape, demoMesh, controlCurves, exportMesh,
+} from '../pkg/lsw.js';
+import type { ColourMap, FromWorker, Histogram, McfStats, Source, StepReport, TargetInfo, ToWorker } from './protocol';
 import { toUiError } from './protocol';
 import { batchSize } from './schedule';
 import { colorize, robustRange } from './colormap';
 
+const PRESETS = ['full-wrap', 'obstacle', 'isosurface', 'mcf'];
 const ready = init();
-let session: McfSession | null = null;
+let mode: 'mcf' | 'wrap' = 'mcf';
+let mcf: McfSession | null = null;
+let wrap: WrapSession | null = null;
+/** The last completed wrap (kept until a new one completes). */
+let result: WrapSession | null = null;
+let source: { bytes: Uint8Array; name: string } | null = null;
+let wrapSettings: Record<string, unknown> = {};
 let playing = false;
 let msPerStep = 1;
 let sentIndices = false;
-let colours = true;
+let colour: ColourMap = 'distance';
+let startedAt = 0;
+let runId = 0;
+
+/** serde_json objects arrive as Maps; the protocol carries plain objects. */
+function plain(v: unknown): unknown {
+  if (v instanceof Map) return Object.fromEntries([...v].map(([k, x]) => [k, plain(x)]));
+  if (Array.isArray(v)) return v.map(plain);
+  return v;
+}
 
 function post(msg: FromWorker, transfer: Transferable[] = []): void {
   (self as unknown as Worker).postMessage(msg, transfer);
-}
-
-function sendFrame(): void {
-  if (!session) return;
-  const positions = session.positions();
-  const normals = session.normals();
-  const scalar = session.meanCurvature();
-  const stats = session.stats() as McfStats;
-  const range = robustRange(scalar);
-  let colors: Float32Array | null = null;
-  const transfer: Transferable[] = [positions.buffer, normals.buffer];
-  if (colours) {
-    colors = new Float32Array(positions.length);
-    colorize(scalar, range[0], range[1], colors);
-    transfer.push(colors.buffer);
-  }
-  let indices: Uint32Array | undefined;
-  if (!sentIndices) {
-    indices = session.indices();
-    transfer.push(indices.buffer);
-    sentIndices = true;
-  }
-  post({ type: 'frame', positions, normals, indices, colors, range, stats, playing }, transfer);
 }
 
 function fail(e: unknown): void {
@@ -44,30 +41,194 @@ function fail(e: unknown): void {
   post({ type: 'error', error: toUiError(e) });
 }
 
-/** Runs one batch, posts a frame, and yields to the event loop so "pause" gets through. */
-function loop(): void {
-  if (!playing || !session) return;
+/** Colours for a scalar, or null for plain shading. */
+function colours(values: Float32Array | null, fixed?: [number, number]): { colors: Float32Array | null; range: [number, number] } {
+  if (!values) return { colors: null, range: [0, 1] };
+  const range = fixed ?? robustRange(values);
+  const colors = new Float32Array(values.length * 3);
+  colorize(values, range[0], range[1], colors);
+  return { colors, range };
+}
+
+// ---- MCF teaching demo -------------------------------------------------------------------------
+
+let currentR0 = 1;
+
+function sendMcfFrame(): void {
+  if (!mcf) return;
+  const positions = mcf.positions();
+  const normals = mcf.normals();
+  const stats = mcf.stats() as McfStats;
+  const { colors, range } = colours(colour === 'none' ? null : mcf.meanCurvature());
+  const transfer: Transferable[] = [positions.buffer, normals.buffer];
+  if (colors) transfer.push(colors.buffer);
+  let indices: Uint32Array | undefined;
+  if (!sentIndices) {
+    indices = mcf.indices();
+    transfer.push(indices.buffer);
+    sentIndices = true;
+  }
+  post({ type: 'frame', mode: 'mcf', positions, normals, indices, colors, range, colour: colour === 'none' ? 'none' : 'curvature', stats, playing }, transfer);
+}
+
+function mcfLoop(): void {
+  if (!playing || !mcf || mode !== 'mcf') return;
   try {
-    const n = batchSize(msPerStep);
-    session.step(n);
-    const stats = session.stats() as McfStats;
+    mcf.step(batchSize(msPerStep));
+    const stats = mcf.stats() as McfStats;
     msPerStep = stats.msPerStep;
     // Stop before the sphere collapses to a point: below 15 % of the start radius the step τ
     // is no longer small against the co-volumes and the linearised flow loses accuracy.
     if (!(stats.exactRadius > 0.15 * currentR0)) {
       playing = false;
-      sendFrame();
+      sendMcfFrame();
       post({ type: 'stopped', reason: 'finished' });
       return;
     }
-    sendFrame();
-    setTimeout(loop, 0);
+    sendMcfFrame();
+    setTimeout(mcfLoop, 0);
   } catch (e) {
     fail(e);
   }
 }
 
-let currentR0 = 1;
+// ---- Wraps -------------------------------------------------------------------------------------
+
+/** Flat typed arrays from the npm packages' nested arrays. */
+function flat(mesh: { positions: number[][]; cells: number[][] }): { p: Float32Array; c: Uint32Array } {
+  return { p: Float32Array.from(mesh.positions.flat()), c: Uint32Array.from(mesh.cells.flat()) };
+}
+
+/** Bytes and a file name for a gallery id (`demo:…`). */
+async function demoBytes(id: string): Promise<{ bytes: Uint8Array; name: string }> {
+  const name = id.replace(/^demo:/, '');
+  const sampled = name.endsWith('-points');
+  const base = name.replace(/-points$/, '');
+  if (base === 'bunny' || base === 'teapot') {
+    const mod = base === 'bunny' ? await import('bunny') : await import('teapot');
+    const { p, c } = flat((mod as unknown as { default: { positions: number[][]; cells: number[][] } }).default ?? mod);
+    return { bytes: demoMesh(p, c, sampled ? 30000 : 0, 1), name: `${name}.ply` };
+  }
+  return { bytes: demoShape(base), name: `${name}.ply` };
+}
+
+/** Downloads a URL, turning network and CORS refusals into a readable error. */
+async function fetchBytes(url: string): Promise<{ bytes: Uint8Array; name: string }> {
+  let res: Response;
+  try {
+    res = await fetch(url, { mode: 'cors' });
+  } catch {
+    throw {
+      code: 'network',
+      message: `Could not download ${url}: the network refused, or the server does not allow other sites to read the file (CORS).`,
+      hint: 'Check the address; the server must send Access-Control-Allow-Origin. Or download the file and drop it on the page.',
+    };
+  }
+  if (!res.ok) throw { code: 'http', message: `Downloading ${url} failed: HTTP ${res.status} ${res.statusText}.`, hint: 'Check the address, or download the file and drop it on the page.' };
+  const name = decodeURIComponent(new URL(url).pathname.split('/').pop() || 'download');
+  return { bytes: new Uint8Array(await res.arrayBuffer()), name };
+}
+
+async function sourceBytes(s: Source): Promise<{ bytes: Uint8Array; name: string }> {
+  if (s.kind === 'bytes') return { bytes: new Uint8Array(s.bytes), name: s.name };
+  if (s.kind === 'demo') return demoBytes(s.id);
+  return fetchBytes(s.url);
+}
+
+function scalarOf(session: WrapSession): Float32Array | null {
+  if (colour === 'none') return null;
+  return session.scalar(colour);
+}
+
+function sendWrapFrame(session: WrapSession): void {
+  const positions = session.positions();
+  const normals = session.normals();
+  const indices = session.indices();
+  const values = scalarOf(session);
+  const { colors, range } = colours(values, colour === 'features' ? [0, 1] : undefined);
+  const report = session.report() as StepReport | null;
+  const histogram = session.kappaHistogram(40, 2.0) as Histogram;
+  const transfer: Transferable[] = [positions.buffer, normals.buffer, indices.buffer];
+  if (colors) transfer.push(colors.buffer);
+  post(
+    {
+      type: 'frame', mode: 'wrap', positions, normals, indices, colors, range, colour, report, histogram, playing,
+      stepLimit: Number(wrapSettings.steps ?? 0), elapsedMs: performance.now() - startedAt,
+    },
+    transfer,
+  );
+}
+
+function finish(session: WrapSession): void {
+  playing = false;
+  if (result && result !== session) result.free();
+  result = session;
+  const positions = session.positions();
+  const normals = session.normals();
+  const indices = session.indices();
+  const report = session.report() as StepReport | null;
+  post(
+    { type: 'result', hash: session.resultHash(), name: source?.name ?? 'result', positions, normals, indices, elapsedMs: performance.now() - startedAt, steps: report?.step ?? 0 },
+    [positions.buffer, normals.buffer, indices.buffer],
+  );
+  post({ type: 'stopped', reason: 'finished' });
+}
+
+/** Runs steps for about 30 ms, posts a frame, and yields so pause / cancel get through. */
+function wrapLoop(id: number): void {
+  if (!playing || !wrap || mode !== 'wrap' || id !== runId) return;
+  const session = wrap;
+  try {
+    const t0 = performance.now();
+    let done = session.isDone();
+    while (!done && performance.now() - t0 < 30) done = session.step(1);
+    sendWrapFrame(session);
+    if (done) finish(session);
+    else setTimeout(() => wrapLoop(id), 0);
+  } catch (e) {
+    dropRun();
+    fail(e);
+  }
+}
+
+/** Forgets the running wrap (the kept result stays). */
+function dropRun(): void {
+  playing = false;
+  runId++;
+  if (wrap && wrap !== result) wrap.free();
+  wrap = null;
+}
+
+async function loadWrap(src: Source, settings: Record<string, unknown>, autoplay: boolean): Promise<void> {
+  dropRun();
+  const id = runId;
+  mode = 'wrap';
+  startedAt = performance.now();
+  post({ type: 'loading', what: src.kind === 'url' ? 'Downloading…' : 'Reading…' });
+  const input = await sourceBytes(src);
+  if (id !== runId) return;
+  source = input;
+  wrapSettings = settings;
+  await startSession(autoplay, id);
+}
+
+async function startSession(autoplay: boolean, id: number): Promise<void> {
+  if (!source) return;
+  post({ type: 'loading', what: 'Building the distance field…' });
+  // Let the status message out before the (possibly long) construction.
+  await new Promise((r) => setTimeout(r, 0));
+  if (id !== runId) return;
+  const session = new WrapSession(source.bytes, source.name, JSON.stringify(wrapSettings));
+  wrap = session;
+  const tp = session.targetPositions();
+  const ti = session.targetIndices();
+  post({ type: 'target', positions: tp, indices: ti, info: plain(session.targetInfo()) as TargetInfo, name: source.name }, [tp.buffer, ti.buffer]);
+  sendWrapFrame(session);
+  if (autoplay) {
+    playing = true;
+    wrapLoop(id);
+  } else post({ type: 'stopped', reason: 'paused' });
+}
 
 self.onmessage = async (ev: MessageEvent<ToWorker>) => {
   await ready;
@@ -75,38 +236,88 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
   try {
     switch (msg.type) {
       case 'mcf-init': {
-        playing = false;
+        dropRun();
+        mode = 'mcf';
         const next = new McfSession(msg.params.level, msg.params.radius, msg.params.tau);
-        session?.free();
-        session = next;
+        mcf?.free();
+        mcf = next;
         currentR0 = msg.params.radius;
         sentIndices = false;
-        sendFrame();
+        sendMcfFrame();
         break;
       }
+      case 'wrap-load':
+        await loadWrap(msg.source, msg.settings, msg.autoplay);
+        break;
       case 'play':
-        if (!playing) {
-          playing = true;
-          loop();
-        }
+        if (playing) break;
+        playing = true;
+        if (mode === 'mcf') mcfLoop();
+        else if (wrap) {
+          if (wrap === result || wrap.isDone()) {
+            playing = false;
+            post({ type: 'stopped', reason: 'finished' });
+          } else wrapLoop(runId);
+        } else playing = false;
         break;
       case 'pause':
         playing = false;
         post({ type: 'stopped', reason: 'paused' });
         break;
+      case 'cancel':
+        if (mode === 'wrap') dropRun();
+        playing = false;
+        post({ type: 'stopped', reason: 'cancelled' });
+        break;
+      case 'reset':
+        if (mode === 'wrap' && source) {
+          dropRun();
+          startedAt = performance.now();
+          await startSession(false, runId);
+        }
+        break;
       case 'colour':
-        colours = msg.on;
-        if (!playing) sendFrame();
+        colour = msg.map;
+        if (!playing) {
+          if (mode === 'mcf') sendMcfFrame();
+          else if (wrap ?? result) sendWrapFrame((wrap ?? result)!);
+        }
         break;
       case 'step':
         playing = false;
-        session?.step(msg.n);
-        sendFrame();
+        if (mode === 'mcf') {
+          mcf?.step(msg.n);
+          sendMcfFrame();
+        } else if (wrap && wrap !== result) {
+          const done = wrap.step(msg.n);
+          sendWrapFrame(wrap);
+          if (done) finish(wrap);
+        }
+        break;
+      case 'export': {
+        const session = result ?? wrap;
+        let bytes: Uint8Array;
+        if (session) bytes = session.export(msg.format);
+        else if (msg.kept) bytes = exportMesh(msg.kept.positions, msg.kept.indices, msg.format);
+        else throw { code: 'no-result', message: 'There is no result to export yet.', hint: 'Drop a file or pick a demo, and let the wrap finish.' };
+        post({ type: 'exported', bytes, format: msg.format }, [bytes.buffer]);
+        break;
+      }
+      case 'curves':
+        post({ type: 'curves', curves: controlCurves(JSON.stringify(msg.settings), 121) });
         break;
     }
   } catch (e) {
+    if (msg.type === 'wrap-load' || msg.type === 'reset') dropRun();
     fail(e);
   }
 };
 
-ready.then(() => post({ type: 'ready' }), (e) => fail(e));
+ready.then(
+  () => {
+    const presets: Record<string, Record<string, unknown>> = {};
+    for (const p of PRESETS) presets[p] = JSON.parse(presetSettings(p));
+    post({ type: 'ready', presets, docs: JSON.parse(settingsDocs()), enums: JSON.parse(settingsEnums()) });
+  },
+  (e) => fail(e),
+);

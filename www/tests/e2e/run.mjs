@@ -1,7 +1,8 @@
 // End-to-end tests: the built app in headless Debian Chromium, driven by playwright-core.
 // Screenshots go to www/test-results/. Prints "N passed, N failed" and exits non-zero on failure.
 import { chromium } from 'playwright-core';
-import { mkdir } from 'node:fs/promises';
+import { mkdir, readFile, writeFile } from 'node:fs/promises';
+import { execFileSync } from 'node:child_process';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { serve } from './server.mjs';
@@ -9,6 +10,8 @@ import { serve } from './server.mjs';
 const here = dirname(fileURLToPath(import.meta.url));
 const dist = join(here, '..', '..', 'dist');
 const out = join(here, '..', '..', 'test-results');
+const repo = join(here, '..', '..', '..');
+const shared = process.env.LSW_SHARED_DATA;
 await mkdir(out, { recursive: true });
 
 const tests = [];
@@ -112,6 +115,193 @@ test('bad parameters give a readable error and the page survives', async (browse
   await page.fill('#tau', '0.0005');
   await page.dispatchEvent('#tau', 'change');
   await page.waitForSelector('[data-testid=status][data-state=idle]', { timeout: 10000 });
+  await page.close();
+});
+
+
+/** Drops a file (bytes from disk) on the page as a user would: a real DataTransfer on `drop`. */
+async function dropFile(page, name, bytes) {
+  const dt = await page.evaluateHandle(({ name, b64 }) => {
+    const bin = atob(b64);
+    const u8 = new Uint8Array(bin.length);
+    for (let i = 0; i < bin.length; i++) u8[i] = bin.charCodeAt(i);
+    const dt = new DataTransfer();
+    dt.items.add(new File([u8], name));
+    return dt;
+  }, { name, b64: Buffer.from(bytes).toString('base64') });
+  await page.dispatchEvent('body', 'dragenter', { dataTransfer: dt });
+  await page.dispatchEvent('body', 'drop', { dataTransfer: dt });
+}
+
+const state = (page) => page.getAttribute('[data-testid=status]', 'data-state');
+const resultHash = (page) => page.evaluate(() => window.__lsw.resultHash());
+
+/** The native CLI binary (built by `cargo build --release`), for checking exported files. */
+function lswInfo(file) {
+  const bin = join(repo, 'target', 'release', 'lsw');
+  return JSON.parse(execFileSync(bin, ['info', file], { encoding: 'utf8' }));
+}
+
+test('drop bunnyPts_3.ply → default wrap to done → export PLY is closed genus 0; no long main-thread task', async (browser, url) => {
+  if (!shared) {
+    console.log('   SKIPPED: LSW_SHARED_DATA is not set (the bunny scan lives in ../shared/data)');
+    return;
+  }
+  const { page, errors } = await openApp(browser, url);
+  const bytes = await readFile(join(shared, 'bunnyPts_3.ply'));
+  await page.evaluate(() => (window.__longTasks.length = 0));
+  const t0 = Date.now();
+  await dropFile(page, 'bunnyPts_3.ply', bytes);
+  await page.waitForSelector('[data-testid=status][data-state=running]', { timeout: 60000 });
+  await page.waitForTimeout(1500);
+  await page.screenshot({ path: join(out, 'bunny-running.png') });
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 300000 });
+  const wallMs = Date.now() - t0;
+  const appMs = await page.evaluate(() => window.__lsw.dropToDoneMs());
+  const maxTask = Math.max(0, ...(await page.evaluate(() => window.__longTasks)));
+  const dl = page.waitForEvent('download');
+  await page.click('[data-format=ply]');
+  const download = await dl;
+  assert(/bunnyPts_3-wrapped\.ply$/.test(download.suggestedFilename()), `download named ${download.suggestedFilename()}`);
+  const file = join(out, download.suggestedFilename());
+  await download.saveAs(file);
+  const info = lswInfo(file);
+  const text = `${info.vertices} vertices, ${info.faces} faces, closed ${info.closed}, manifold ${info.manifold}, χ = ${info.euler_characteristic}`;
+  assert(info.closed === true && info.manifold === true && info.boundary_edges === 0, `exported mesh not closed/manifold: ${text}`);
+  assert(info.euler_characteristic === 2, `exported mesh is not genus 0 (χ = ${info.euler_characteristic})`);
+  const frac = await meshPixelFraction(page);
+  assert(frac > 0.02, `canvas shows almost no mesh pixels (${(100 * frac).toFixed(2)} %)`);
+  const dist = await page.evaluate(() => window.__lsw.distanceSeries());
+  assert(dist[0].length >= 5, `distance plot has ${dist[0].length} points`);
+  assert(maxTask <= 100, `main thread had a ${maxTask.toFixed(0)} ms task during the wrap`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+  await page.screenshot({ path: join(out, 'bunny-done.png') });
+  await writeFile(join(out, 'bench-bunny.json'), JSON.stringify({ dropToDoneMs: appMs, wallMs, maxTask, date: new Date().toISOString() }, null, 1));
+  console.log(`   drop → done ${(appMs / 1000).toFixed(2)} s in the app (${(wallMs / 1000).toFixed(2)} s wall); longest main-thread task ${maxTask.toFixed(0)} ms; ${text.slice(0, 160)}`);
+  await page.close();
+});
+
+test('a malformed file gives a readable error; the page and the previous result survive', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  await page.click('[data-demo=noisy-sphere]');
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
+  const before = await resultHash(page);
+  assert(before, 'no result hash after the noisy sphere wrap');
+  await page.setInputFiles('#file', { name: 'broken.ply', mimeType: 'application/octet-stream', buffer: Buffer.from('ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1 2\n') });
+  await page.waitForSelector('[data-testid=status][data-state=error]', { timeout: 20000 });
+  const text = await page.textContent('#error');
+  assert(/ply/i.test(text) && text.includes('—'), `error text is not readable: "${text}"`);
+  assert((await resultHash(page)) === before, 'the previous result was lost');
+  const shown = await page.getAttribute('[data-testid=result-hash]', 'data-hash');
+  assert(shown === before, `the UI shows hash ${shown}, expected the kept ${before}`);
+  const frac = await meshPixelFraction(page);
+  assert(frac > 0.02, `the previous result is no longer drawn (${(100 * frac).toFixed(2)} %)`);
+  // The page still works: the MCF demo runs.
+  await page.click('[data-demo=mcf]');
+  await page.waitForSelector('[data-testid=status][data-state=idle]', { timeout: 10000 });
+  assert(errors.filter((e) => !/broken/.test(e)).length === 0, `console errors: ${errors.join(' | ')}`);
+  await page.screenshot({ path: join(out, 'malformed.png') });
+  console.log(`   error shown: "${text.slice(0, 120)}"`);
+  await page.close();
+});
+
+test('a share link opened in a fresh page reproduces the same result hash; bad keys give a notice', async (browser, url) => {
+  const { page } = await openApp(browser, url);
+  await page.click('[data-demo=noisy-sphere]');
+  await page.waitForSelector('[data-testid=status][data-state=running], [data-testid=status][data-state=done]', { timeout: 60000 });
+  // Change a setting in the advanced panel (the link must carry it).
+  await page.click('#gui .lil-root > .lil-title');
+  const input = page.locator('[data-setting="steps"] input');
+  await input.fill('40');
+  await input.press('Enter');
+  await page.click('[data-demo=noisy-sphere]');
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
+  const hash1 = await resultHash(page);
+  await page.click('[data-testid=copy-link]');
+  const link = await page.inputValue('[data-testid=share-url]');
+  assert(/#v=1&/.test(link) && /s\.steps=40/.test(link) && /d=demo%3Anoisy-sphere/.test(link), `link lacks state: ${link}`);
+  const fresh = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  await fresh.goto(link + '&s.nonsense=3');
+  await fresh.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
+  const hash2 = await resultHash(fresh);
+  assert(hash1 && hash1 === hash2, `hashes differ: ${hash1} vs ${hash2}`);
+  const notice = await fresh.textContent('[data-testid=notice]');
+  assert(/nonsense/.test(notice), `no notice for the unknown key: "${notice}"`);
+  await fresh.screenshot({ path: join(out, 'share.png') });
+  console.log(`   result hash ${hash1} reproduced from ${link.replace(url, '/')}`);
+  await fresh.close();
+  await page.close();
+});
+
+test('cancel mid-run answers within 200 ms', async (browser, url) => {
+  const { page } = await openApp(browser, url);
+  await page.click('[data-demo=bunny-points]');
+  await page.waitForSelector('[data-testid=status][data-state=running]', { timeout: 60000 });
+  await page.waitForFunction(() => Number(document.querySelector('#stats').dataset.step) >= 3, null, { timeout: 60000 });
+  const ms = await page.evaluate(() => new Promise((resolve) => {
+    const el = document.querySelector('[data-testid=status]');
+    const t0 = performance.now();
+    const obs = new MutationObserver(() => {
+      if (el.dataset.state === 'idle') {
+        obs.disconnect();
+        resolve(performance.now() - t0);
+      }
+    });
+    obs.observe(el, { attributes: true });
+    document.querySelector('[data-testid=cancel]').click();
+  }));
+  assert(ms <= 200, `cancel took ${ms.toFixed(0)} ms`);
+  // Cancel during the field construction too (worker terminated if it cannot answer).
+  await page.click('[data-demo=teapot-points]');
+  await page.waitForSelector('[data-testid=status][data-state=loading], [data-testid=status][data-state=running]', { timeout: 10000 });
+  const ms2 = await page.evaluate(() => new Promise((resolve) => {
+    const el = document.querySelector('[data-testid=status]');
+    const t0 = performance.now();
+    const obs = new MutationObserver(() => {
+      if (el.dataset.state === 'idle') {
+        obs.disconnect();
+        resolve(performance.now() - t0);
+      }
+    });
+    obs.observe(el, { attributes: true });
+    document.querySelector('[data-testid=cancel]').click();
+  }));
+  assert(ms2 <= 200, `cancel during loading took ${ms2.toFixed(0)} ms`);
+  // The app still works after a possible worker restart.
+  await page.click('[data-demo=noisy-sphere]');
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
+  console.log(`   cancel while stepping ${ms.toFixed(0)} ms; while loading ${ms2.toFixed(0)} ms`);
+  await page.close();
+});
+
+test('gallery demos load; control curves and κ histogram are plotted; scrubber records frames', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  const curves = await page.evaluate(() => window.__lsw.controlSeries());
+  assert(curves[0].length > 50 && curves[1].some((v) => v > 0.5), 'ε(δ) curve missing');
+  for (const demo of ['genus2', 'box-soup', 'teapot']) {
+    await page.click(`[data-demo=${demo}]`);
+    await page.waitForSelector('[data-testid=status][data-state=running], [data-testid=status][data-state=done]', { timeout: 60000 });
+    await page.waitForFunction(() => Number(document.querySelector('#stats').dataset.step) >= 2, null, { timeout: 60000 });
+    const frac = await meshPixelFraction(page);
+    assert(frac > 0.02, `${demo}: canvas shows almost no mesh pixels`);
+    await page.screenshot({ path: join(out, `demo-${demo}.png`) });
+  }
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 180000 });
+  const max = Number(await page.getAttribute('[data-testid=scrubber]', 'max'));
+  assert(max >= 2, `scrubber has ${max + 1} frames`);
+  await page.fill('[data-testid=scrubber]', '0');
+  await page.waitForTimeout(300);
+  await page.screenshot({ path: join(out, 'scrub-first.png') });
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+  await page.close();
+});
+
+test('?src= with an unreachable server gives a clear network / CORS message', async (browser, url) => {
+  const page = await browser.newPage();
+  await page.goto(url + '?src=' + encodeURIComponent('http://127.0.0.1:9/nothing.ply'));
+  await page.waitForSelector('[data-testid=status][data-state=error]', { timeout: 20000 });
+  const text = await page.textContent('#error');
+  assert(/CORS/.test(text) && /network/i.test(text), `unclear message: "${text}"`);
   await page.close();
 });
 

@@ -1,0 +1,188 @@
+// App state <-> URL hash, versioned. The hash is plain `key=value` pairs (URLSearchParams):
+//   v=1  d=<dataset: demo id | https URL>  p=<preset>  s.<setting path>=<JSON literal>  view.<key>=<value>
+// Decoding never evaluates anything: values are parsed with JSON.parse or as plain strings and
+// checked against the defaults' types; anything unknown, old or malformed falls back to the
+// default and is reported in `notices` (shown as text, never as HTML).
+
+/** The current hash format. */
+export const SHARE_VERSION = 1;
+
+/** A JSON-like value (settings leaves). */
+export type Leaf = number | string | boolean | null | number[];
+
+/** Flattened settings: `path → value` (nested objects joined with "."). */
+export type Flat = Record<string, Leaf>;
+
+/** What the view shows (no camera matrices: orbit angles and zoom only). */
+export interface ViewState {
+  wire: boolean;
+  smooth: boolean;
+  cmap: string;
+  yaw: number;
+  pitch: number;
+  zoom: number;
+}
+
+export const DEFAULT_VIEW: ViewState = { wire: true, smooth: true, cmap: 'distance', yaw: 0.35, pitch: 0.4, zoom: 1 };
+export const COLOUR_MAPS = ['none', 'distance', 'curvature', 'kappa', 'covolume', 'features'] as const;
+
+export interface ShareState {
+  /** Dataset: a gallery id (`demo:bunny`) or an http(s) URL; null when none is shareable. */
+  dataset: string | null;
+  preset: string;
+  /** Settings that differ from the preset's defaults. */
+  changed: Flat;
+  view: ViewState;
+}
+
+export interface Decoded {
+  state: ShareState;
+  /** Human-readable notes about keys that were ignored or reset. */
+  notices: string[];
+}
+
+/** Flattens nested settings into `a.b` paths (arrays are leaves). */
+export function flatten(obj: Record<string, unknown>, prefix = '', out: Flat = {}): Flat {
+  for (const [k, v] of Object.entries(obj)) {
+    const key = prefix ? `${prefix}.${k}` : k;
+    if (v && typeof v === 'object' && !Array.isArray(v)) flatten(v as Record<string, unknown>, key, out);
+    else out[key] = v as Leaf;
+  }
+  return out;
+}
+
+/** Inverse of `flatten`. Only plain own keys are created (no prototype keys). */
+export function unflatten(flat: Flat): Record<string, unknown> {
+  const out: Record<string, unknown> = Object.create(null);
+  for (const [path, v] of Object.entries(flat)) {
+    const parts = path.split('.');
+    if (parts.some((p) => p === '__proto__' || p === 'constructor' || p === 'prototype')) continue;
+    let node = out;
+    for (const p of parts.slice(0, -1)) {
+      if (!node[p] || typeof node[p] !== 'object') node[p] = Object.create(null);
+      node = node[p] as Record<string, unknown>;
+    }
+    node[parts[parts.length - 1]] = v;
+  }
+  return JSON.parse(JSON.stringify(out));
+}
+
+/** Settings keys whose value differs from `base`. */
+export function diff(current: Flat, base: Flat): Flat {
+  const out: Flat = {};
+  for (const [k, v] of Object.entries(current)) if (JSON.stringify(v) !== JSON.stringify(base[k])) out[k] = v;
+  return out;
+}
+
+/** Whether `v` has the same JSON type as the default `d` (null defaults take number or null). */
+function sameType(v: unknown, d: Leaf): boolean {
+  if (d === null) return v === null || (typeof v === 'number' && Number.isFinite(v));
+  if (Array.isArray(d)) return Array.isArray(v) && v.every((x) => typeof x === 'number' && Number.isFinite(x));
+  if (typeof d === 'number') return typeof v === 'number' && Number.isFinite(v);
+  return typeof v === typeof d;
+}
+
+/** A dataset reference is a gallery id or an http(s) URL; anything else is refused. */
+export function validDataset(d: string): boolean {
+  if (/^demo:[a-z0-9-]{1,40}$/.test(d)) return true;
+  try {
+    const u = new URL(d);
+    return u.protocol === 'https:' || u.protocol === 'http:';
+  } catch {
+    return false;
+  }
+}
+
+/** Encodes the state as a hash (without the leading "#"). Keys are sorted for stable links. */
+export function encode(state: ShareState): string {
+  const q = new URLSearchParams();
+  q.set('v', String(SHARE_VERSION));
+  if (state.dataset) q.set('d', state.dataset);
+  q.set('p', state.preset);
+  for (const k of Object.keys(state.changed).sort()) q.set(`s.${k}`, JSON.stringify(state.changed[k]));
+  const v = state.view;
+  for (const k of Object.keys(DEFAULT_VIEW) as (keyof ViewState)[]) {
+    if (v[k] === DEFAULT_VIEW[k]) continue;
+    q.set(`view.${k}`, typeof v[k] === 'number' ? String(Math.round((v[k] as number) * 1e4) / 1e4) : String(v[k]));
+  }
+  return q.toString();
+}
+
+/**
+ * Decodes a hash against `presets` (name → flattened default settings). Never throws: whatever
+ * cannot be used is dropped and explained in `notices`.
+ */
+export function decode(hash: string, presets: Record<string, Flat>, defaultPreset = 'full-wrap'): Decoded {
+  const notices: string[] = [];
+  const state: ShareState = { dataset: null, preset: defaultPreset, changed: {}, view: { ...DEFAULT_VIEW } };
+  const raw = hash.replace(/^#/, '');
+  if (!raw) return { state, notices };
+  let q: URLSearchParams;
+  try {
+    q = new URLSearchParams(raw);
+  } catch {
+    notices.push('The link could not be read; defaults are used.');
+    return { state, notices };
+  }
+  const version = q.get('v');
+  const old = version !== String(SHARE_VERSION);
+  if (old) {
+    notices.push(
+      version === null || !/^\d{1,4}$/.test(version)
+        ? 'The link has no version mark; only its dataset and preset are used, settings are defaults.'
+        : `The link was made by version ${version} of the app (this is ${SHARE_VERSION}); only its dataset and preset are used, settings are defaults.`,
+    );
+  }
+  const d = q.get('d') ?? q.get('dataset');
+  if (d !== null) {
+    if (validDataset(d)) state.dataset = d;
+    else notices.push(`Ignored the dataset "${d.slice(0, 60)}": not a gallery id or an http(s) URL.`);
+  }
+  const p = q.get('p') ?? q.get('preset');
+  if (p !== null) {
+    if (Object.prototype.hasOwnProperty.call(presets, p)) state.preset = p;
+    else notices.push(`Unknown preset "${p.slice(0, 40)}"; using ${defaultPreset}.`);
+  }
+  const defaults = presets[state.preset] ?? {};
+  const unknown: string[] = [];
+  for (const [key, value] of q) {
+    if (key === 'v' || key === 'd' || key === 'p' || key === 'dataset' || key === 'preset') continue;
+    if (key.startsWith('s.') && !old) {
+      const path = key.slice(2);
+      if (!Object.prototype.hasOwnProperty.call(defaults, path)) {
+        unknown.push(key);
+        continue;
+      }
+      let parsed: unknown;
+      try {
+        parsed = JSON.parse(value);
+      } catch {
+        parsed = value; // bare strings (enum values) may come unquoted
+      }
+      if (sameType(parsed, defaults[path])) state.changed[path] = parsed as Leaf;
+      else notices.push(`Setting ${path} = "${value.slice(0, 40)}" has the wrong type; using the default.`);
+    } else if (key.startsWith('view.')) {
+      const k = key.slice(5) as keyof ViewState;
+      if (!Object.prototype.hasOwnProperty.call(DEFAULT_VIEW, k)) {
+        unknown.push(key);
+        continue;
+      }
+      const dv = DEFAULT_VIEW[k];
+      if (typeof dv === 'boolean') {
+        if (value === 'true' || value === 'false') (state.view[k] as boolean) = value === 'true';
+        else unknown.push(key);
+      } else if (typeof dv === 'number') {
+        const n = Number(value);
+        if (Number.isFinite(n) && Math.abs(n) < 1e6) (state.view[k] as number) = n;
+        else unknown.push(key);
+      } else if (k === 'cmap') {
+        if ((COLOUR_MAPS as readonly string[]).includes(value)) state.view.cmap = value;
+        else unknown.push(key);
+      }
+    } else if (!(key.startsWith('s.') && old)) {
+      unknown.push(key);
+    }
+  }
+  if (unknown.length) notices.push(`Ignored unknown key${unknown.length > 1 ? 's' : ''}: ${unknown.slice(0, 8).map((k) => k.slice(0, 40)).join(', ')}.`);
+  return { state, notices };
+}

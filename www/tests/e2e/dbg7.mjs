@@ -1,0 +1,14 @@
+import { chromium } from 'playwright-core';
+import { serve } from './server.mjs';
+const server = await serve(new URL('../../dist', import.meta.url).pathname);
+const browser = await chromium.launch({ executablePath: '/usr/bin/chromium', headless: true, args: ['--disable-gpu', '--enable-unsafe-swiftshader'] });
+const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+page.on('console', (m) => console.log('console', m.type(), m.text()));
+page.on('pageerror', (e) => console.log('pageerror', e.stack));
+await page.goto(server.url + (process.argv[2] ?? ''));
+await page.waitForSelector('[data-testid=status][data-state=idle]', { timeout: 30000 });
+await page.click('[data-demo=noisy-sphere]');
+await page.waitForTimeout(Number(process.argv[3] ?? 8000));
+console.log(await page.textContent('#stats'), await page.getAttribute('[data-testid=status]', 'data-state'));
+await page.screenshot({ path: 'test-results/dbg.png' });
+await browser.close(); await server.close();

@@ -1,0 +1,82 @@
+import { describe, expect, it } from 'vitest';
+import { decode, DEFAULT_VIEW, diff, encode, flatten, unflatten, type Flat, type ShareState } from '../../src/share';
+
+const base = { tau: 0.07, steps: 146, schedule: [3, 10], start: 'icosphere', remesh: true, field: { cells_per_min_dimension: 40, truncation: null } };
+const presets: Record<string, Flat> = { 'full-wrap': flatten(base), obstacle: flatten({ ...base, tau: 0.05 }) };
+
+describe('URL state codec', () => {
+  it('round-trips dataset, preset, changed settings and view', () => {
+    const state: ShareState = {
+      dataset: 'demo:bunny-points',
+      preset: 'obstacle',
+      changed: { steps: 20, schedule: [1, 2, 3], start: 'isosurface', 'field.cells_per_min_dimension': 64, 'field.truncation': 3.5, remesh: false },
+      view: { ...DEFAULT_VIEW, wire: false, cmap: 'kappa', yaw: 1.25 },
+    };
+    const hash = encode(state);
+    expect(hash.startsWith('v=1')).toBe(true);
+    const { state: back, notices } = decode('#' + hash, presets);
+    expect(notices).toEqual([]);
+    expect(back).toEqual(state);
+  });
+
+  it('round-trips source URLs with their own query strings', () => {
+    const state: ShareState = { dataset: 'https://example.org/scan.ply?x=1&y=2#frag', preset: 'full-wrap', changed: {}, view: { ...DEFAULT_VIEW } };
+    expect(decode(encode(state), presets).state).toEqual(state);
+  });
+
+  it('flatten / unflatten / diff are inverse and minimal', () => {
+    expect(unflatten(flatten(base))).toEqual(base);
+    expect(diff(flatten({ ...base, tau: 0.1 }), flatten(base))).toEqual({ tau: 0.1 });
+    expect(unflatten({ '__proto__.x': 1, 'a.b': 2 } as Flat)).toEqual({ a: { b: 2 } });
+  });
+
+  it('old versions keep dataset and preset, drop settings, and say so', () => {
+    const { state, notices } = decode('v=0&d=demo:teapot&p=obstacle&s.tau=0.5', presets);
+    expect(state.dataset).toBe('demo:teapot');
+    expect(state.preset).toBe('obstacle');
+    expect(state.changed).toEqual({});
+    expect(notices.join(' ')).toMatch(/version 0/);
+    const legacy = decode('dataset=demo:teapot&preset=obstacle', presets);
+    expect(legacy.state.dataset).toBe('demo:teapot');
+    expect(legacy.notices.join(' ')).toMatch(/no version/);
+  });
+
+  it('unknown keys, wrong types and bad values fall back to defaults with notices', () => {
+    const { state, notices } = decode('v=1&p=nope&s.bogus=1&s.tau="fast"&s.steps=1e999&view.cmap=<img>&view.zoom=abc&zzz=1', presets);
+    expect(state.preset).toBe('full-wrap');
+    expect(state.changed).toEqual({});
+    expect(state.view).toEqual(DEFAULT_VIEW);
+    const text = notices.join(' ');
+    expect(text).toMatch(/Unknown preset/);
+    expect(text).toMatch(/s\.bogus/);
+    expect(text).toMatch(/tau/);
+    expect(text).toMatch(/zzz/);
+  });
+
+  it('garbage never throws and never yields a script dataset', () => {
+    for (const g of ['%%%', '#&&&=', 'v=1&d=javascript:alert(1)', 'v=1&d=<script>', '\u0000\uffff', 'v=999999999', 'v=1&s.__proto__.x=1', 'd=data:text/html,hi']) {
+      const { state } = decode(g, presets);
+      expect(state.dataset === null || /^demo:|^https?:/.test(state.dataset)).toBe(true);
+      expect(({} as Record<string, unknown>).x).toBeUndefined();
+    }
+  });
+});
+
+import { FrameStore, frameBytes } from '../../src/frames';
+describe('frame recorder', () => {
+  const frame = (step: number, nv = 100) => ({ step, positions: new Float32Array(3 * nv), normals: new Float32Array(3 * nv), indices: new Uint32Array(6 * nv), colors: null });
+  it('keeps every k-th frame and the forced last one', () => {
+    const s = new FrameStore(3, 1e9);
+    for (let i = 0; i < 10; i++) s.offer(frame(i));
+    expect(s.frames.map((f) => f.step)).toEqual([0, 3, 6, 9]);
+    s.offer(frame(10), true);
+    expect(s.frames.map((f) => f.step)).toEqual([0, 3, 6, 9, 10]);
+  });
+  it('drops the oldest past the budget', () => {
+    const one = frameBytes(frame(0));
+    const s = new FrameStore(1, 3.5 * one);
+    for (let i = 0; i < 20; i++) s.offer(frame(i));
+    expect(s.frames.map((f) => f.step)).toEqual([17, 18, 19]);
+    expect(s.bytes).toBeLessThanOrEqual(3.5 * one);
+  });
+});
