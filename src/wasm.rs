@@ -374,3 +374,112 @@ pub fn preset_settings(name: &str) -> Result<String, JsValue> {
     })?;
     Ok(serde_json::to_string(&p.settings()).unwrap_or_default())
 }
+
+// ---------------------------------------------------------------------------------------------
+// Demo gallery, control curves and settings documentation for the browser app (issue 7).
+
+impl From<crate::demo::DemoError> for UiError {
+    fn from(e: crate::demo::DemoError) -> Self {
+        let hint = match e {
+            crate::demo::DemoError::UnknownShape(_) => "Use noisy-sphere, genus2 or box-soup.",
+            crate::demo::DemoError::BadMesh(_) => "Pass a triangle mesh with non-degenerate faces.",
+        };
+        UiError { code: "bad-parameter", message: e.to_string(), hint }
+    }
+}
+
+/// Flat f32 triples → points (a trailing partial triple is ignored).
+fn points_from_flat(flat: &[f32]) -> Vec<DVec3> {
+    flat.chunks_exact(3).map(|c| DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64)).collect()
+}
+
+/// PLY bytes of points (+ triangles), as the worker feeds to `WrapSession::new`.
+fn ply_bytes(points: &[DVec3], triangles: &[[u32; 3]]) -> Result<js_sys::Uint8Array, JsValue> {
+    let bytes = crate::io::write_bytes(Format::Ply, &WriteInput::new(points, triangles)).map_err(UiError::from)?;
+    Ok(js_sys::Uint8Array::from(bytes.as_slice()))
+}
+
+/// A procedural demo shape ("noisy-sphere", "genus2", "box-soup") as PLY bytes.
+#[wasm_bindgen(js_name = demoShape)]
+pub fn demo_shape(name: &str) -> Result<js_sys::Uint8Array, JsValue> {
+    let (points, triangles) = crate::demo::shape(name).map_err(UiError::from)?;
+    ply_bytes(&points, &triangles)
+}
+
+/// A mesh given as flat positions and triangle indices, as PLY bytes; with `samples > 0`, a
+/// point cloud (no normals) of that many points sampled uniformly by area (seeded).
+#[wasm_bindgen(js_name = demoMesh)]
+pub fn demo_mesh(positions: &[f32], indices: &[u32], samples: u32, seed: u32) -> Result<js_sys::Uint8Array, JsValue> {
+    let points = points_from_flat(positions);
+    let triangles: Vec<[u32; 3]> = indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    if samples > 0 {
+        let cloud = crate::demo::sample_mesh(&points, &triangles, samples as usize, seed as u64).map_err(UiError::from)?;
+        ply_bytes(&cloud, &[])
+    } else {
+        ply_bytes(&points, &triangles)
+    }
+}
+
+/// A mesh held by the page (flat positions and indices) written as "obj", "ply", "stl", "glb" or
+/// "vtk": exports a kept result after its session is gone.
+#[wasm_bindgen(js_name = exportMesh)]
+pub fn export_mesh(positions: &[f32], indices: &[u32], format: &str) -> Result<js_sys::Uint8Array, JsValue> {
+    let fmt = Format::from_extension(format).ok_or_else(|| UiError {
+        code: "bad-parameter",
+        message: format!("cannot export as \"{format}\""),
+        hint: "Choose OBJ, PLY, STL, GLB or VTK.",
+    })?;
+    let points = points_from_flat(positions);
+    let triangles: Vec<[u32; 3]> = indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let bytes = crate::io::write_bytes(fmt, &WriteInput::new(&points, &triangles)).map_err(UiError::from)?;
+    Ok(js_sys::Uint8Array::from(bytes.as_slice()))
+}
+
+/// ε(δ) and η(δ) (cos θ = 1 and 0) of the settings in `settings_json`, sampled at `n` points:
+/// `{delta, epsilon, eta_facing, eta_side}`.
+#[wasm_bindgen(js_name = controlCurves)]
+pub fn control_curves(settings_json: &str, n: u32) -> Result<JsValue, JsValue> {
+    let settings = WrapSettings::from_json(settings_json).map_err(|e| UiError {
+        code: "bad-parameter",
+        message: format!("settings: {e}"),
+        hint: "Reset the advanced settings or pick a preset.",
+    })?;
+    let curves = crate::demo::control_curves(&settings, n as usize);
+    serde_wasm_bindgen::to_value(&curves).map_err(|e| JsValue::from_str(&e.to_string()))
+}
+
+/// The doc comment of every settings field, as a JSON object keyed by the field's path in the
+/// settings JSON (`tau`, `field.band_cells`, …).
+#[wasm_bindgen(js_name = settingsDocs)]
+pub fn settings_docs() -> String {
+    let map: serde_json::Map<String, serde_json::Value> =
+        crate::demo::settings_docs().into_iter().map(|(k, v)| (k, serde_json::Value::String(v))).collect();
+    serde_json::Value::Object(map).to_string()
+}
+
+/// The options of every enum-valued settings field, as a JSON object keyed by the field's path.
+#[wasm_bindgen(js_name = settingsEnums)]
+pub fn settings_enums() -> String {
+    let map: serde_json::Map<String, serde_json::Value> = crate::demo::settings_enums()
+        .into_iter()
+        .map(|(k, v)| (k, serde_json::Value::from(v)))
+        .collect();
+    serde_json::Value::Object(map).to_string()
+}
+
+#[wasm_bindgen]
+impl WrapSession {
+    /// Histogram of the per-triangle κ(J_Δ) (equilateral = 1) of the current surface over
+    /// [1, `hi`) in `bins` bins: `{lo, hi, counts, below, above}`.
+    #[wasm_bindgen(js_name = kappaHistogram)]
+    pub fn kappa_histogram(&self, bins: u32, hi: f64) -> Result<JsValue, JsValue> {
+        let (p, t) = (self.evolver.positions(), self.evolver.triangles());
+        let k: Vec<f64> = t
+            .iter()
+            .map(|f| crate::metrics::quality::kappa(p[f[0] as usize], p[f[1] as usize], p[f[2] as usize]))
+            .collect();
+        let hi = if hi > 1.0 && hi.is_finite() { hi } else { 3.0 };
+        let h = crate::metrics::histogram::Histogram::new(&k, 1.0, hi, bins.clamp(1, 1000) as usize);
+        serde_wasm_bindgen::to_value(&h).map_err(|e| JsValue::from_str(&e.to_string()))
+    }
+}
