@@ -93,7 +93,7 @@ canvas.addEventListener('wheel', (e) => {
   draw({ type: 'zoom', factor: Math.exp(e.deltaY * 0.001) });
 }, { passive: false });
 canvas.addEventListener('dblclick', () => draw({ type: 'refit' }));
-$('fit').onclick = () => draw({ type: 'refit' });
+$('fit').onclick = () => draw({ type: 'fit' });
 
 let frameSteps: number[] = [];
 renderer.addEventListener('message', (ev: MessageEvent<FromRender>) => {
@@ -302,6 +302,7 @@ function onWorkerMessage(ev: MessageEvent<FromWorker>): void {
       $('hash').textContent = `result ${msg.hash.slice(0, 12)}`;
       $('hash').dataset.hash = msg.hash;
       $('hash').dataset.ms = String(Math.round(lastDoneMs));
+      draw({ type: 'fit' });
       break;
     }
     case 'stopped':

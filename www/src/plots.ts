@@ -12,7 +12,7 @@ export class RadiusPlot {
     this.plot = new uPlot(
       {
         width: 340,
-        height: 220,
+        height: 170,
         title: 'Mean radius vs exact √(r₀² − 4t)',
         scales: { x: { time: false } },
         axes: [{ label: 't', stroke: '#9aa3b2', grid: { stroke: '#2c303a' } }, { stroke: '#9aa3b2', grid: { stroke: '#2c303a' } }],
@@ -58,8 +58,8 @@ export class LinePlot {
     this.cols = [[], ...labels.map(() => [])];
     this.plot = new uPlot(
       {
-        width: opts.width ?? 340,
-        height: opts.height ?? 150,
+        width: opts.width ?? 262,
+        height: opts.height ?? 170,
         title,
         scales: { x: { time: false }, y: opts.log ? { distr: 3 } : {} },
         axes: [{ ...AXIS, label: opts.xLabel ?? 'step' }, { ...AXIS, size: 56 }],
@@ -109,8 +109,8 @@ export class HistogramPlot {
   constructor(el: HTMLElement, title: string, xLabel: string) {
     this.plot = new uPlot(
       {
-        width: 340,
-        height: 150,
+        width: 262,
+        height: 170,
         title,
         scales: { x: { time: false } },
         axes: [{ ...AXIS, label: xLabel }, { ...AXIS, size: 56 }],

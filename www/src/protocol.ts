@@ -165,6 +165,7 @@ export type ToRender =
   | { type: 'clear-frames' }
   | { type: 'show-frame'; index: number }
   | { type: 'refit' }
+  | { type: 'fit' }
   | { type: 'rotate'; dx: number; dy: number }
   | { type: 'zoom'; factor: number }
   | { type: 'set-view'; yaw: number; pitch: number; zoom: number }

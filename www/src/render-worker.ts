@@ -90,6 +90,10 @@ self.onmessage = (ev: MessageEvent<ToRender>) => {
     case 'refit':
       viewer.refit();
       break;
+    case 'fit':
+      viewer.fitKeepingAngles();
+      reportView();
+      break;
     case 'rotate':
       viewer.rotate(m.dx, m.dy);
       reportView();

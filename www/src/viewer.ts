@@ -151,7 +151,7 @@ export class Viewer {
       g.computeVertexNormals();
       this.target = new THREE.Mesh(g, new THREE.MeshBasicMaterial({ color: 0xffc266, transparent: true, opacity: 0.22, depthWrite: false, side: THREE.DoubleSide }));
     } else {
-      this.target = new THREE.Points(g, new THREE.PointsMaterial({ color: 0xffc266, size: Math.max(1e-6, r * 0.006), sizeAttenuation: true }));
+      this.target = new THREE.Points(g, new THREE.PointsMaterial({ color: 0xffc266, size: Math.max(1e-6, r * 0.0035), sizeAttenuation: true }));
     }
     this.target.visible = this.targetVisible;
     this.scene.add(this.target);
@@ -179,6 +179,13 @@ export class Viewer {
     this.orbit.pitch = Math.max(-1.5, Math.min(1.5, pitch));
     this.orbit.distance = this.fitDistance * Math.max(1e-3, zoom);
     this.orbit.apply(this.camera);
+  }
+
+  /** Frames the current surface now, keeping the orbit angles. */
+  fitKeepingAngles(): void {
+    const { yaw, pitch } = this.getView();
+    this.fit();
+    this.setView(yaw, pitch, 1);
   }
 
   /** Forgets the framing so the next update fits the view again. */

@@ -3,6 +3,7 @@
 import { chromium } from 'playwright-core';
 import { mkdir, readFile, writeFile } from 'node:fs/promises';
 import { execFileSync } from 'node:child_process';
+import { existsSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { serve } from './server.mjs';
@@ -139,7 +140,10 @@ const resultHash = (page) => page.evaluate(() => window.__lsw.resultHash());
 /** The native CLI binary (built by `cargo build --release`), for checking exported files. */
 function lswInfo(file) {
   const bin = join(repo, 'target', 'release', 'lsw');
-  return JSON.parse(execFileSync(bin, ['info', file], { encoding: 'utf8' }));
+  const outText = existsSync(bin)
+    ? execFileSync(bin, ['info', file], { encoding: 'utf8' })
+    : execFileSync('cargo', ['run', '--release', '--quiet', '--bin', 'lsw', '--', 'info', file], { cwd: repo, encoding: 'utf8' });
+  return JSON.parse(outText);
 }
 
 test('drop bunnyPts_3.ply → default wrap to done → export PLY is closed genus 0; no long main-thread task', async (browser, url) => {
@@ -296,6 +300,17 @@ test('gallery demos load; control curves and κ histogram are plotted; scrubber 
   await page.close();
 });
 
+test('?src= loads a file by URL (CORS allowed) and wraps it', async (browser, url) => {
+  const page = await browser.newPage();
+  await page.goto(url + '?src=' + encodeURIComponent(url + 'fixtures/octahedron.obj'));
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
+  const info = await page.textContent('[data-testid=target-info]');
+  assert(/octahedron\.obj: obj, 6 vertices, 8 triangles/.test(info), `target info: "${info}"`);
+  const link = await page.inputValue('[data-testid=share-url]');
+  assert(link.includes('d=' + encodeURIComponent(url + 'fixtures/octahedron.obj')), `share link lacks the source URL: ${link}`);
+  await page.close();
+});
+
 test('?src= with an unreachable server gives a clear network / CORS message', async (browser, url) => {
   const page = await browser.newPage();
   await page.goto(url + '?src=' + encodeURIComponent('http://127.0.0.1:9/nothing.ply'));
@@ -305,7 +320,8 @@ test('?src= with an unreachable server gives a clear network / CORS message', as
   await page.close();
 });
 
-const server = await serve(dist);
+const octahedron = 'v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\nf 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n';
+const server = await serve(dist, { '/fixtures/octahedron.obj': Buffer.from(octahedron) });
 const browser = await chromium.launch({
   executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
   headless: true,

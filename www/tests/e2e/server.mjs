@@ -8,10 +8,15 @@ const TYPES = {
   '.wasm': 'application/wasm', '.json': 'application/json', '.png': 'image/png', '.svg': 'image/svg+xml',
 };
 
-/** Serves `root`; resolves to { url, close }. */
-export function serve(root) {
+/** Serves `root` (and `fixtures`: URL path → bytes, sent with CORS allowed); resolves to { url, close }. */
+export function serve(root, fixtures = {}) {
   const server = createServer(async (req, res) => {
     const path = normalize(decodeURIComponent(new URL(req.url, 'http://x').pathname)).replace(/^(\.\.[/\\])+/, '');
+    if (fixtures[path]) {
+      res.writeHead(200, { 'content-type': 'application/octet-stream', 'access-control-allow-origin': '*' });
+      res.end(fixtures[path]);
+      return;
+    }
     const file = join(root, path.endsWith('/') ? path + 'index.html' : path);
     try {
       const body = await readFile(file);
