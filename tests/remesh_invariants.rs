@@ -269,3 +269,44 @@ fn back_projection_keeps_vertices_on_the_input_surface() {
         .fold(0.0, f64::max);
     assert!(drift > 1e-4, "{drift}");
 }
+
+#[wasm_bindgen_test(unsupported = test)]
+fn open_surface_keeps_its_boundary() {
+    // The upper part of a sphere: a disc-like patch with one boundary loop.
+    let s = icosphere(3, 1.0, DVec3::ZERO).unwrap();
+    let keep: Vec<[u32; 3]> = s
+        .triangles()
+        .into_iter()
+        .filter(|t| t.iter().all(|&v| s.position(v).z > -0.3))
+        .collect();
+    let mut used = vec![u32::MAX; s.n_vertices()];
+    let mut pos = Vec::new();
+    for &v in keep.iter().flatten() {
+        if used[v as usize] == u32::MAX {
+            used[v as usize] = pos.len() as u32;
+            pos.push(s.position(v));
+        }
+    }
+    let tris: Vec<[u32; 3]> = keep.iter().map(|t| t.map(|v| used[v as usize])).collect();
+    let mut m = HalfedgeMesh::from_triangles(pos, &tris).unwrap();
+    let boundary = |m: &HalfedgeMesh| -> Vec<[u64; 3]> {
+        let mut b: Vec<[u64; 3]> = (0..m.n_vertices() as u32)
+            .filter(|&v| m.is_boundary_vertex(v))
+            .map(|v| m.position(v).to_array().map(f64::to_bits))
+            .collect();
+        b.sort();
+        b
+    };
+    let before = boundary(&m);
+    for _ in 0..2 {
+        remesh(&mut m, &uniform(0.08)).unwrap();
+    }
+    // Boundary vertices are locked and boundary edges never edited.
+    assert_eq!(boundary(&m), before);
+    // Still a manifold surface without degenerate faces.
+    let rebuilt = HalfedgeMesh::from_triangles(m.positions().to_vec(), &m.triangles()).unwrap();
+    for f in 0..rebuilt.n_faces() as u32 {
+        assert!(rebuilt.face_normal_area(f).1 > 1e-8);
+    }
+    assert!(m.n_vertices() > 2 * before.len());
+}

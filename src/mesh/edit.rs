@@ -82,6 +82,11 @@ impl HalfedgeMesh {
         self.h_face[(2 * e) as usize] != INVALID && self.h_face[(2 * e + 1) as usize] != INVALID
     }
 
+    /// True when `v` has an outgoing boundary halfedge (O(valence)).
+    pub fn is_boundary_vertex(&self, v: u32) -> bool {
+        self.outgoing(v).any(|h| self.is_boundary_halfedge(h))
+    }
+
     /// True when `a` and `b` are joined by an edge (O(valence of `a`)).
     pub fn are_adjacent(&self, a: u32, b: u32) -> bool {
         self.outgoing(a).any(|h| self.to(h) == b)
@@ -174,10 +179,11 @@ impl HalfedgeMesh {
 
     /// Topological legality of collapsing halfedge `h = v0→v1` (removing `v0`, keeping `v1`).
     ///
-    /// Legal when: the edge is interior and not deleted; the opposite vertices `c ≠ d`; the link
-    /// condition holds (the only common neighbours of `v0` and `v1` are `c` and `d`, so no edge or
-    /// face is duplicated); `c` and `d` keep valence ≥ 3; and the mesh is not a tetrahedron
-    /// (both ends of valence 3), whose collapse would leave a two-face "pillow".
+    /// Legal when: the edge is interior and not deleted, and not both ends lie on the boundary;
+    /// the opposite vertices `c ≠ d`; the link condition holds (the only common neighbours of
+    /// `v0` and `v1` are `c` and `d`, so no edge or face is duplicated); `c` and `d` keep
+    /// valence ≥ 3; and the mesh is not a tetrahedron (both ends of valence 3), whose collapse
+    /// would leave a two-face "pillow".
     /// Geometry (fold-overs) is not checked here; see [`HalfedgeMesh::collapse_flips_faces`].
     pub fn is_collapse_ok(&self, h: u32) -> bool {
         let e = h >> 1;
@@ -192,6 +198,10 @@ impl HalfedgeMesh {
             return false;
         }
         if !self.valence_exceeds(c, 3) || !self.valence_exceeds(d, 3) {
+            return false;
+        }
+        // An interior edge between two boundary vertices: collapsing it pinches the surface.
+        if self.is_boundary_vertex(v0) && self.is_boundary_vertex(v1) {
             return false;
         }
         // v1's one-ring on the stack (valences are small); a huge valence takes the slow path.
@@ -311,6 +321,13 @@ impl HalfedgeMesh {
         self.v_halfedge[v1 as usize] = on;
         self.v_halfedge[vl as usize] = hp;
         self.v_halfedge[vr as usize] = on ^ 1;
+        // Keep the convention that a boundary vertex's handle is its boundary halfedge.
+        for v in [v1, vl, vr] {
+            let b = self.outgoing(v).find(|&g| self.is_boundary_halfedge(g));
+            if let Some(b) = b {
+                self.v_halfedge[v as usize] = b;
+            }
+        }
 
         self.v_deleted[v0 as usize] = true;
         self.v_halfedge[v0 as usize] = INVALID;
