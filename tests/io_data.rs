@@ -221,3 +221,37 @@ fn info_cli_reports_topology() {
     .unwrap_err();
     assert!(e.contains("unrecognised"), "{e}");
 }
+
+/// `lsw info` exits non-zero with the reader's message on bad input, and prints JSON otherwise.
+#[test]
+fn info_binary_exit_codes() {
+    let dir = std::env::temp_dir().join(format!("lsw_io_info_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("broken.ply");
+    std::fs::write(
+        &bad,
+        "ply\nformat ascii 1.0\nelement vertex 5000\nproperty float x\nend_header\n",
+    )
+    .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_lsw"))
+        .arg("info")
+        .arg(&bad)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("ply: line 3"), "{err}");
+    let good = dir.join("tri.off");
+    std::fs::write(&good, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_lsw"))
+        .arg("info")
+        .arg(&good)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["format"], "off");
+    assert_eq!(v["closed"], false);
+    assert_eq!(v["euler_characteristic"], 1);
+    std::fs::remove_dir_all(&dir).ok();
+}
