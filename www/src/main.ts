@@ -61,6 +61,7 @@ function showNotice(lines: string[]): void {
 
 function setMode(m: Mode): void {
   mode = m;
+  $('hash').hidden = m === 'mcf';
   $('mcf-box').hidden = m !== 'mcf';
   $('mcf-plots').hidden = m !== 'mcf';
   $('wrap-plots').hidden = m !== 'wrap';
@@ -339,6 +340,8 @@ function onWorkerMessage(ev: MessageEvent<FromWorker>): void {
       showError(msg.error);
       setState('error', 'Error');
       if (mode === 'wrap') restoreKept();
+      // After a panic or an allocation failure the wasm instance may be unusable: start afresh.
+      if (msg.error.code === 'internal' || msg.error.code === 'out-of-memory') restartWorker();
       break;
   }
 }
@@ -363,12 +366,18 @@ function cancel(): void {
   if (cancelTimer) return;
   cancelTimer = setTimeout(() => {
     cancelTimer = null;
-    worker.terminate();
-    restarting = true;
-    startWorker();
+    restartWorker();
     setState('idle', 'Cancelled (worker restarted)');
     restoreKept();
   }, 150);
+}
+
+/** Replaces the computation worker (the kept result lives on in this thread). */
+function restartWorker(): void {
+  worker.terminate();
+  restarting = true;
+  startWorker();
+  send({ type: 'colour', map: view.cmap as ColourMap });
 }
 
 function onReady(presets: Record<string, Record<string, unknown>>, docs: Record<string, string>, enums: Record<string, string[]>): void {
@@ -420,7 +429,7 @@ $('reset').onclick = () => {
     clearWrapPlots();
     draw({ type: 'clear-frames' });
     runStart = performance.now();
-    send({ type: 'reset' });
+    send({ type: 'reset', settings: panel!.settings() });
   }
 };
 $('level').onchange = mcfReset;

@@ -100,7 +100,7 @@ export type ToWorker =
   | { type: 'play' }
   | { type: 'pause' }
   | { type: 'step'; n: number }
-  | { type: 'reset' }
+  | { type: 'reset'; settings: Record<string, unknown> }
   | { type: 'cancel' }
   | { type: 'colour'; map: ColourMap }
   | { type: 'export'; format: string; kept?: { positions: Float32Array; indices: Uint32Array } }

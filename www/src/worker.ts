@@ -38,7 +38,12 @@ function post(msg: FromWorker, transfer: Transferable[] = []): void {
 
 function fail(e: unknown): void {
   playing = false;
-  post({ type: 'error', error: toUiError(e) });
+  const error = toUiError(e);
+  if (e instanceof RangeError || /memory|allocation/i.test(error.message)) {
+    error.code = 'out-of-memory';
+    error.hint = 'The browser ran out of memory: lower field.cells_per_min_dimension in the advanced settings, or use a smaller input.';
+  }
+  post({ type: 'error', error });
 }
 
 /** Colours for a scalar, or null for plain shading. */
@@ -258,7 +263,10 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
             playing = false;
             post({ type: 'stopped', reason: 'finished' });
           } else wrapLoop(runId);
-        } else playing = false;
+        } else {
+          playing = false;
+          post({ type: 'stopped', reason: 'paused' });
+        }
         break;
       case 'pause':
         playing = false;
@@ -272,6 +280,7 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
       case 'reset':
         if (mode === 'wrap' && source) {
           dropRun();
+          wrapSettings = msg.settings;
           startedAt = performance.now();
           await startSession(false, runId);
         }

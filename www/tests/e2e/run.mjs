@@ -181,7 +181,7 @@ test('drop bunnyPts_3.ply → default wrap to done → export PLY is closed genu
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
   await page.screenshot({ path: join(out, 'bunny-done.png') });
   await writeFile(join(out, 'bench-bunny.json'), JSON.stringify({ dropToDoneMs: appMs, wallMs, maxTask, date: new Date().toISOString() }, null, 1));
-  console.log(`   drop → done ${(appMs / 1000).toFixed(2)} s in the app (${(wallMs / 1000).toFixed(2)} s wall); longest main-thread task ${maxTask.toFixed(0)} ms; ${text.slice(0, 160)}`);
+  console.log(`   result hash ${await resultHash(page)}; drop → done ${(appMs / 1000).toFixed(2)} s in the app (${(wallMs / 1000).toFixed(2)} s wall); longest main-thread task ${maxTask.toFixed(0)} ms; ${text.slice(0, 160)}`);
   await page.close();
 });
 
@@ -328,7 +328,9 @@ const browser = await chromium.launch({
   args: ['--disable-quic', '--disable-gpu', '--enable-unsafe-swiftshader', '--disable-background-networking', '--disable-component-update', '--no-first-run'],
 });
 let passed = 0, failed = 0;
+const only = process.argv[2];
 for (const t of tests) {
+  if (only && !t.name.includes(only)) continue;
   const t0 = Date.now();
   try {
     await t.fn(browser, server.url);
