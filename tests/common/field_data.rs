@@ -1,5 +1,5 @@
-//! Test helpers for the distance-field tests: the shared-data folder, a minimal ASCII-PLY/OBJ
-//! reader (test-only, until `lsw::io` is public), synthetic targets and brute-force distances.
+//! Test helpers for the distance-field tests: the shared-data folder, loading through `lsw::io`,
+//! synthetic targets and brute-force distances.
 #![allow(dead_code)]
 
 use lsw::target::Target;
@@ -16,81 +16,11 @@ pub fn data_dir(test: &str) -> Option<std::path::PathBuf> {
     }
 }
 
-/// Reads an ASCII PLY (vertex x y z first, optional face lists) or an OBJ (v / f, polygons fanned).
+/// Reads a target through `lsw::io` (PLY, OBJ, …).
 pub fn load(path: &std::path::Path) -> Target {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
-    let (points, tris) = if path.extension().is_some_and(|e| e == "obj") {
-        parse_obj(&text)
-    } else {
-        parse_ascii_ply(&text)
-    };
-    Target::new(points, tris).unwrap()
-}
-
-fn parse_obj(text: &str) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-    let (mut pts, mut tris) = (Vec::new(), Vec::new());
-    for line in text.lines() {
-        let mut it = line.split_whitespace();
-        match it.next() {
-            Some("v") => {
-                let c: Vec<f64> = it.take(3).map(|s| s.parse().unwrap()).collect();
-                pts.push(DVec3::new(c[0], c[1], c[2]));
-            }
-            Some("f") => {
-                let n = pts.len() as i64;
-                let idx: Vec<u32> = it
-                    .map(|s| {
-                        let i: i64 = s.split('/').next().unwrap().parse().unwrap();
-                        (if i < 0 { n + i } else { i - 1 }) as u32
-                    })
-                    .collect();
-                for k in 1..idx.len() - 1 {
-                    tris.push([idx[0], idx[k], idx[k + 1]]);
-                }
-            }
-            _ => {}
-        }
-    }
-    (pts, tris)
-}
-
-fn parse_ascii_ply(text: &str) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-    let mut lines = text.lines();
-    let (mut nv, mut nf) = (0usize, 0usize);
-    for l in lines.by_ref() {
-        let w: Vec<&str> = l.split_whitespace().collect();
-        match w.as_slice() {
-            ["format", f, ..] => assert_eq!(*f, "ascii", "test reader: ASCII PLY only"),
-            ["element", "vertex", n] => nv = n.parse().unwrap(),
-            ["element", "face", n] => nf = n.parse().unwrap(),
-            ["end_header"] => break,
-            _ => {}
-        }
-    }
-    let mut pts = Vec::with_capacity(nv);
-    for _ in 0..nv {
-        let c: Vec<f64> = lines
-            .next()
-            .unwrap()
-            .split_whitespace()
-            .take(3)
-            .map(|s| s.parse().unwrap())
-            .collect();
-        pts.push(DVec3::new(c[0], c[1], c[2]));
-    }
-    let mut tris = Vec::new();
-    for _ in 0..nf {
-        let idx: Vec<u32> = lines
-            .next()
-            .unwrap()
-            .split_whitespace()
-            .map(|s| s.parse().unwrap())
-            .collect();
-        for k in 2..idx[0] as usize {
-            tris.push([idx[1], idx[k], idx[k + 1]]);
-        }
-    }
-    (pts, tris)
+    lsw::io::read_path(path)
+        .unwrap_or_else(|e| panic!("{path:?}: {e}"))
+        .target
 }
 
 /// `n` points spread evenly on the sphere of radius `r` about `c` (Fibonacci lattice).
