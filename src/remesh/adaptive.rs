@@ -62,6 +62,11 @@ pub struct RemeshSettings {
     pub cap_angle_deg: f64,
     /// Feature detection, redone on every call. Default: off.
     pub features: FeatureSettings,
+    /// After a call that split or collapsed more than 5 % of the vertices, renumber the mesh in
+    /// spatial order ([`HalfedgeMesh::reorder_spatially`]) so neighbours stay close in memory —
+    /// splits append vertices, and after many remeshes neighbouring indices lie thousands apart.
+    /// Default true.
+    pub reorder: bool,
 }
 
 impl Default for RemeshSettings {
@@ -76,6 +81,7 @@ impl Default for RemeshSettings {
             use_projection: false,
             cap_angle_deg: 170.0,
             features: FeatureSettings::default(),
+            reorder: true,
         }
     }
 }
@@ -133,6 +139,8 @@ pub struct RemeshReport {
     pub feature_edges: usize,
     /// Locked vertices at the start (features not on exactly two feature edges, boundary).
     pub locked_vertices: usize,
+    /// True when the mesh was renumbered in spatial order at the end (see `reorder`).
+    pub reordered: bool,
     /// Wall-clock time per phase.
     pub time_ms: RemeshTimings,
 }
@@ -150,7 +158,7 @@ pub struct RemeshTimings {
     pub flip: f64,
     /// Tangential smoothing (and projection).
     pub smooth: f64,
-    /// Cap removal and the final compaction.
+    /// Cap removal, the final compaction and the spatial renumbering.
     pub caps: f64,
     /// The whole call.
     pub total: f64,
@@ -318,6 +326,10 @@ fn remesh_impl(
     }
     remove_caps(mesh, &mut w);
     mesh.garbage_collect();
+    if s.reorder && (w.report.splits + w.report.collapses) * 20 > nv {
+        mesh.reorder_spatially();
+        w.report.reordered = true;
+    }
     lap(&mut w.report.time_ms.caps);
     w.report.time_ms.total = now_ms() - t_start;
     w.report.vertices_after = mesh.n_vertices();
