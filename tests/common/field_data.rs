@@ -16,9 +16,11 @@ pub fn data_dir(test: &str) -> Option<std::path::PathBuf> {
     }
 }
 
-/// Reads a target through `lsw::io` (PLY, OBJ, …).
+/// Reads a target through `lsw::io` (PLY, OBJ, …). `read_bytes` rather than `read_path`, which
+/// is native-only: these files compile for wasm32 too (where the real-data tests never get a path).
 pub fn load(path: &std::path::Path) -> Target {
-    lsw::io::read_path(path)
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
+    lsw::io::read_bytes(&bytes, path.file_name().and_then(|n| n.to_str()))
         .unwrap_or_else(|e| panic!("{path:?}: {e}"))
         .target
 }
