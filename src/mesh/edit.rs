@@ -475,15 +475,14 @@ impl HalfedgeMesh {
         };
         let mut positions = vec![glam::DVec3::ZERO; nv];
         let mut v_halfedge = vec![INVALID; nv];
-        for old in 0..nv {
-            let new = vmap[old] as usize;
-            positions[new] = self.positions[old];
-            v_halfedge[new] = hm(self.v_halfedge[old]);
+        for (old, &new) in vmap.iter().enumerate() {
+            positions[new as usize] = self.positions[old];
+            v_halfedge[new as usize] = hm(self.v_halfedge[old]);
         }
         for (_, vals) in &mut self.vertex_scalars {
             let mut out = vec![0.0; nv];
-            for old in 0..nv {
-                out[vmap[old] as usize] = vals[old];
+            for (old, &new) in vmap.iter().enumerate() {
+                out[new as usize] = vals[old];
             }
             *vals = out;
         }
