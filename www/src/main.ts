@@ -360,7 +360,7 @@ renderer.onerror = (e: ErrorEvent) => {
   setState('error', 'Error');
 };
 
-/** Stops a run: asks the worker, and terminates and restarts it if it does not answer in 150 ms. */
+/** Stops a run: asks the worker, and terminates and restarts it if it does not answer in 120 ms. */
 function cancel(): void {
   send({ type: 'cancel' });
   if (cancelTimer) return;
@@ -369,7 +369,7 @@ function cancel(): void {
     restartWorker();
     setState('idle', 'Cancelled (worker restarted)');
     restoreKept();
-  }, 150);
+  }, 120);
 }
 
 /** Replaces the computation worker (the kept result lives on in this thread). */

@@ -39,7 +39,7 @@ function post(msg: FromWorker, transfer: Transferable[] = []): void {
 function fail(e: unknown): void {
   playing = false;
   const error = toUiError(e);
-  if (e instanceof RangeError || /memory|allocation/i.test(error.message)) {
+  if (error.code === 'internal' && (e instanceof RangeError || /memory|allocation/i.test(error.message))) {
     error.code = 'out-of-memory';
     error.hint = 'The browser ran out of memory: lower field.cells_per_min_dimension in the advanced settings, or use a smaller input.';
   }
