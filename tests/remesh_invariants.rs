@@ -204,44 +204,6 @@ fn invalid_sizes_are_rejected_and_leave_the_mesh_alone() {
     assert_eq!(m.triangles(), before);
 }
 
-#[test]
-#[ignore]
-fn probe_distribution() {
-    for (lvl, amt, len) in [(2u32, 0.05, 0.1), (5, 0.01, 0.12)] {
-        let mut m = icosphere(lvl, 1.0, DVec3::ZERO).unwrap();
-        perturb(&mut m, amt, 1);
-        for call in 0..6 {
-            let rep = remesh(&mut m, &uniform(len)).unwrap();
-            let l = edge_lengths(&m);
-            let mut hist = [0usize; 8];
-            for x in &l {
-                let b = ((x / len - 0.4) / 0.15).floor().clamp(0.0, 7.0) as usize;
-                hist[b] += 1;
-            }
-            let (frac, _, _) = band(&m, 0.8 * len, 4.0 / 3.0 * len);
-            println!("lvl {lvl} call {call}: V {} frac {frac:.3} hist(0.4..1.6 step .15) {hist:?} {rep:?}", m.n_vertices());
-        }
-    }
-}
-
-#[test]
-#[ignore]
-fn probe_timing_40k() {
-    let mut m = icosphere(6, 1.0, DVec3::ZERO).unwrap(); // 40 962 vertices, edges ≈ 0.019
-    perturb(&mut m, 0.003, 5);
-    let s = RemeshSettings {
-        min_edge_length: 0.005,
-        max_edge_length: 0.02,
-        approx_error: 0.001,
-        ..Default::default()
-    };
-    for _ in 0..10 {
-        let t = std::time::Instant::now();
-        let rep = remesh(&mut m, &s).unwrap();
-        println!("remesh {:?}: {rep:?}", t.elapsed());
-    }
-}
-
 #[wasm_bindgen_test(unsupported = test)]
 fn back_projection_keeps_vertices_on_the_input_surface() {
     let mut m = icosphere(3, 1.0, DVec3::ZERO).unwrap();
