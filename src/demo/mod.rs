@@ -166,7 +166,7 @@ pub fn sample_mesh(
         }
         cumulative.push(total);
     }
-    if !(total > 0.0) {
+    if total.is_nan() || total <= 0.0 {
         return Err(DemoError::BadMesh("no triangle has a positive area".into()));
     }
     let mut rng = Rng::new(seed);
