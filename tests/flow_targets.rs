@@ -61,27 +61,45 @@ fn full_wrap_gets_closer_than_obstacle_on_spot() {
     );
 }
 
+/// The bunny bar of the remeshing issue with slightly looser limits (the benchmark in
+/// benches/RESULTS.md holds the tight ones): default settings on bunnyPts_3, scored against the
+/// scanned mesh bunny.ply.
 #[test]
-fn bunny_wrap_is_closed_genus_zero_and_close() {
-    let Some(path) = shared("bunnyPts_3.ply") else {
-        return;
-    };
-    let target = lsw::io::read_path(&path).unwrap().target;
+fn bunny_wrap_meets_the_bar() {
+    let (Some(cloud), Some(reference)) = (shared("bunnyPts_3.ply"), shared("bunny.ply")) else { return };
+    let target = lsw::io::read_path(&cloud).unwrap().target;
+    let mesh = lsw::io::read_path(&reference).unwrap().target;
     let mut ev = Evolver::new(&target, WrapSettings::default()).unwrap();
     ev.run(|_| {}).unwrap();
     let report = ev.mesh().validate().unwrap();
-    assert_eq!(report.genus, 0);
-    let d = two_sided_distances(&ev.positions(), &ev.triangles(), &target.points, &[]);
-    let diag = target.bbox.diagonal();
+    assert_eq!((report.genus, report.components), (0, 1));
+    let (pos, tris) = (ev.positions(), ev.triangles());
+    let json = lsw::cli::metrics::metrics_json_of(&pos, &tris, Some(&mesh)).unwrap();
+    let pct = &json["distances"]["percent_of_target_diagonal"];
+    let q = &json["quality"];
+    let f = |v: &serde_json::Value| v.as_f64().unwrap();
     println!(
-        "bunny: {} vertices after {} steps; surface→points mean {:.3} %, Hausdorff {:.3} %",
-        report.vertices,
-        ev.steps_done(),
-        100.0 * d.mesh_to_target.mean / diag,
-        100.0 * d.hausdorff / diag
+        "bunny: {} V; mean result→mesh {:.3} %, mesh→result {:.3} %, Hausdorff {:.3} %; 2r/R mean {:.4}; κ ≤ 1.5: {:.3} %; volume ratio {:.3}; self-intersections {}",
+        pos.len(),
+        f(&pct["mesh_to_target"]["mean"]),
+        f(&pct["target_to_mesh"]["mean"]),
+        f(&pct["hausdorff"]),
+        f(&q["radius_ratio"]["mean"]),
+        100.0 * f(&q["kappa_le_1_5"]),
+        f(&json["target"]["volume_ratio"]),
+        json["self_intersections"]
     );
-    assert!(d.mesh_to_target.mean < 0.015 * diag);
-    assert!(d.hausdorff < 0.06 * diag);
+    assert!(pos.len() <= 45_000);
+    assert!(f(&pct["mesh_to_target"]["mean"]) <= 0.30);
+    assert!(f(&pct["target_to_mesh"]["mean"]) <= 0.30);
+    // Two holes in the scan's base are wider than 2 % of the diagonal: a flat cap over them is
+    // already 3.1 % and 3.4 % from the scan (see benches/RESULTS.md), so 2 % cannot be met by a
+    // closed, single-walled surface.
+    assert!(f(&pct["hausdorff"]) <= 4.5);
+    assert!(f(&q["radius_ratio"]["mean"]) >= 0.955);
+    assert!(f(&q["kappa_le_1_5"]) >= 0.99);
+    assert!(f(&json["target"]["volume_ratio"]) <= 1.12);
+    assert_eq!(json["self_intersections"], 0);
 }
 
 #[test]

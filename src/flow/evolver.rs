@@ -7,6 +7,7 @@
 
 use super::controls::Controls;
 use super::settings::{RemeshTrigger, StartSurface, WrapSettings};
+use super::snap::{snap_to_target, PointGrid, SnapParams, SnapTarget};
 use super::tangential::tangential_velocity;
 use super::{mcf::stats, scaling, CotanLaplacian};
 use crate::clock::now_ms;
@@ -14,6 +15,7 @@ use crate::field::{DistanceField, FieldError};
 use crate::geometry::icosphere::{icosphere, IcosphereError};
 use crate::geometry::normals::angle_weighted_normals;
 use crate::mesh::{HalfedgeMesh, MeshBuildError};
+use crate::metrics::bvh::TriangleBvh;
 use crate::remesh::adaptive::{remesh, RemeshError, RemeshReport, RemeshSettings};
 use crate::remesh::sizing::{decayed, icosphere_sizes, isosurface_sizes, EdgeSizes};
 use crate::solve::solve_xyz;
@@ -94,6 +96,8 @@ pub struct StepReport {
     pub settled_fraction: f64,
     /// The remesher's report, if it ran.
     pub remesh: Option<RemeshReport>,
+    /// Vertices moved by the final fit onto the target (only in the last step).
+    pub fitted: Option<usize>,
     /// Per-phase wall times.
     pub times: PhaseTimes,
     /// True when the stopping rule or the step limit has been reached.
@@ -117,6 +121,8 @@ pub struct Evolver {
     settle_threshold: f64,
     /// Per-vertex field distance (stabilised frame), refreshed after each step.
     distances: Vec<f64>,
+    /// The target for the final fit (stabilised frame).
+    fit_target: Option<SnapTarget>,
 }
 
 impl Evolver {
@@ -173,6 +179,14 @@ impl Evolver {
             }
         };
         let field = field.scaled(center, phi);
+        let fit_target = (settings.final_fit && settings.use_target).then(|| {
+            let pts: Vec<DVec3> = target.points.iter().map(|&p| phi * (p - center)).collect();
+            if target.triangles.is_empty() {
+                SnapTarget::Points(PointGrid::new(&pts, settings.fit_radius_cells * c * phi))
+            } else {
+                SnapTarget::Triangles(TriangleBvh::new(&pts, &target.triangles))
+            }
+        });
         let d0 = settings.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
         let mut ev = Evolver {
             tau: settings.tau,
@@ -188,6 +202,7 @@ impl Evolver {
             step: 0,
             done: false,
             distances: vec![],
+            fit_target,
         };
         ev.refresh_distances();
         ev.done = ev.settings.steps == 0;
@@ -357,12 +372,16 @@ impl Evolver {
             self.tau *= decay * decay;
             self.d1 /= decay;
         }
-        self.refresh_distances();
         let settled_fraction = settled as f64 / n.max(1) as f64;
         // Sizes decayed at step t take effect in step t + 1, so stop only after that step.
         let schedule_over = self.settings.schedule.iter().all(|&t| t < self.step);
         self.done = self.step >= self.settings.steps
             || (schedule_over && settled_fraction >= self.settings.stop_fraction);
+        let mut fitted = None;
+        if self.done {
+            fitted = self.final_fit();
+        }
+        self.refresh_distances();
         let (mut dmean, mut dmax) = (0.0, 0.0f64);
         for d in &self.distances {
             dmean += d.abs();
@@ -385,9 +404,38 @@ impl Evolver {
             distance_max: dmax / self.phi,
             settled_fraction,
             remesh: remesh_report,
+            fitted,
             times,
             done: self.done,
         })
+    }
+
+    /// Moves the settled surface onto the target (see [`super::snap`]); returns vertices moved.
+    fn final_fit(&mut self) -> Option<usize> {
+        let target = self.fit_target.as_ref()?;
+        let c = self.field.cell_size();
+        let params = SnapParams {
+            radius: self.settings.fit_radius_cells * c,
+            max_move: self.settings.fit_max_move_cells * c,
+            min_points: 6,
+        };
+        let mut moved = 0;
+        for _ in 0..self.settings.fit_passes {
+            let normals = angle_weighted_normals(&self.mesh);
+            moved = snap_to_target(&mut self.mesh, &normals, target, &params);
+            // Even out the triangles the moves distorted, staying on the fitted surface.
+            if self.settings.remesh {
+                let rs = RemeshSettings {
+                    iterations: 1,
+                    use_projection: true,
+                    smoothing_iterations: self.settings.smoothing_iterations,
+                    features: self.settings.features.clone(),
+                    ..RemeshSettings::with_sizes(self.sizes)
+                };
+                let _ = remesh(&mut self.mesh, &rs);
+            }
+        }
+        Some(moved)
     }
 
     fn needs_remesh(&self) -> bool {

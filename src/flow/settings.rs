@@ -172,6 +172,17 @@ pub struct WrapSettings {
     /// Stop threshold on per-step displacement, in cells of the distance grid. Default 0.002
     /// (the approach to d₀ is exponential at a few % per step, so this leaves ≈ 0.05 cells).
     pub stop_displacement_cells: f64,
+    /// Final fit: when the evolution ends, move the surface from the offset level set d = d₀ onto
+    /// the target along the normals (plane fits to the cloud, or closest points on a mesh).
+    /// Default true.
+    pub final_fit: bool,
+    /// Final fit: neighbourhood radius of the plane fit, in cells. Default 2.
+    pub fit_radius_cells: f64,
+    /// Final fit: longest move of a vertex, in cells (longer moves, e.g. across a hole in the
+    /// scan, are refused). Default 2.5.
+    pub fit_max_move_cells: f64,
+    /// Final fit: passes (normals are recomputed between passes). Default 2.
+    pub fit_passes: u32,
     /// Times a failed step is retried with τ halved before giving up. Default 4.
     pub max_retries: u32,
     /// Distance-field settings.
@@ -212,6 +223,10 @@ impl Default for WrapSettings {
             isosurface_resampling: 1.5,
             stop_fraction: 0.98,
             stop_displacement_cells: 0.002,
+            final_fit: true,
+            fit_radius_cells: 2.0,
+            fit_max_move_cells: 2.5,
+            fit_passes: 2,
             max_retries: 4,
             field: FieldSettings::default(),
             solver: SolverSettings::default(),
