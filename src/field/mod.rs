@@ -9,8 +9,12 @@
 //! Precision: values are **f64** (8 bytes per node): the band is exact to rounding, which the
 //! tests check to 1e-9 relative, and the flow subtracts d₀ from values of order c. The gradient is
 //! a unit vector stored as **3×f32** (12 bytes per node), see [`gradient`]. With the 1-byte band
-//! flag a field holds 21 bytes per node (bunny, 134×133×122 nodes: 46 MB); mesh targets need
-//! 4 more bytes per node while building.
+//! flag a field holds 21 bytes per node (bunny, 133×133×121 nodes: 45 MB). While building, the
+//! sweep works on an f32 copy (it is memory-bound, and its O(c) error dwarfs f32 rounding) with
+//! 1 byte of state per node, and mesh targets keep a 4-byte nearest-triangle index per node.
+//!
+//! Isosurfaces ([`DistanceField::isosurface`]) come from
+//! [`crate::geometry::marching_cubes`]: closed, manifold, oriented, welded.
 
 pub mod band;
 pub mod fast_sweep;
