@@ -35,6 +35,8 @@ let cancelTimer: ReturnType<typeof setTimeout> | null = null;
 let restarting = false;
 let runStart = 0;
 let lastDoneMs = 0;
+/** Number of the current wrap run; frames of older runs still in flight are ignored. */
+let runSeq = 0;
 
 const send = (m: ToWorker, transfer: Transferable[] = []) => worker.postMessage(m, transfer);
 
@@ -184,7 +186,7 @@ function startWrap(source: Source, ds: string | null, name: string): void {
   runStart = performance.now();
   setState('loading', `Loading ${name}…`);
   $('hash').textContent = kept ? `previous result ${kept.hash.slice(0, 12)}` : '';
-  send({ type: 'wrap-load', source, settings: panel.settings(), autoplay: true }, source.kind === 'bytes' ? [source.bytes] : []);
+  send({ type: 'wrap-load', source, settings: panel.settings(), autoplay: true, run: ++runSeq }, source.kind === 'bytes' ? [source.bytes] : []);
   updateShare();
 }
 
@@ -225,6 +227,7 @@ const LEGEND: Record<ColourMap, string> = {
 };
 
 function onFrame(msg: Extract<FromWorker, { type: 'frame' }>): void {
+  if (msg.mode !== mode || (mode === 'wrap' && msg.run !== runSeq)) return; // a stale frame still in flight
   const transfer: Transferable[] = [msg.positions.buffer, msg.normals.buffer];
   if (msg.indices) transfer.push(msg.indices.buffer);
   if (msg.colors) transfer.push(msg.colors.buffer);
@@ -291,6 +294,7 @@ function onWorkerMessage(ev: MessageEvent<FromWorker>): void {
       setState('loading', msg.what);
       break;
     case 'target': {
+      if (msg.run !== runSeq) break;
       currentTarget = { positions: msg.positions.slice(), indices: msg.indices.slice() };
       draw({ type: 'target', positions: msg.positions, indices: msg.indices.length ? msg.indices : null }, [msg.positions.buffer, msg.indices.buffer]);
       const i: TargetInfo = msg.info;
@@ -298,6 +302,7 @@ function onWorkerMessage(ev: MessageEvent<FromWorker>): void {
       break;
     }
     case 'result': {
+      if (msg.run !== runSeq) break;
       kept = { positions: msg.positions, normals: msg.normals, indices: msg.indices, hash: msg.hash, name: msg.name, target: currentTarget };
       lastDoneMs = performance.now() - runStart;
       $('hash').textContent = `result ${msg.hash.slice(0, 12)}`;
@@ -429,7 +434,7 @@ $('reset').onclick = () => {
     clearWrapPlots();
     draw({ type: 'clear-frames' });
     runStart = performance.now();
-    send({ type: 'reset', settings: panel!.settings() });
+    send({ type: 'reset', settings: panel!.settings(), run: ++runSeq });
   }
 };
 $('level').onchange = mcfReset;

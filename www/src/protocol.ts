@@ -96,11 +96,11 @@ export type Source =
 /** UI → worker. */
 export type ToWorker =
   | { type: 'mcf-init'; params: McfParams }
-  | { type: 'wrap-load'; source: Source; settings: Record<string, unknown>; autoplay: boolean }
+  | { type: 'wrap-load'; source: Source; settings: Record<string, unknown>; autoplay: boolean; run: number }
   | { type: 'play' }
   | { type: 'pause' }
   | { type: 'step'; n: number }
-  | { type: 'reset'; settings: Record<string, unknown> }
+  | { type: 'reset'; settings: Record<string, unknown>; run: number }
   | { type: 'cancel' }
   | { type: 'colour'; map: ColourMap }
   | { type: 'export'; format: string; kept?: { positions: Float32Array; indices: Uint32Array } }
@@ -113,6 +113,8 @@ export type ToWorker =
 export interface Frame {
   type: 'frame';
   mode: 'mcf' | 'wrap';
+  /** The page's run number of the wrap this frame belongs to (stale frames are dropped). */
+  run: number;
   positions: Float32Array;
   normals: Float32Array;
   indices?: Uint32Array;
@@ -139,9 +141,9 @@ export type FromWorker =
   | { type: 'ready'; presets: Record<string, Record<string, unknown>>; docs: Record<string, string>; enums: Record<string, string[]> }
   | Frame
   | { type: 'loading'; what: string }
-  | { type: 'target'; positions: Float32Array; indices: Uint32Array; info: TargetInfo; name: string }
+  | { type: 'target'; run: number; positions: Float32Array; indices: Uint32Array; info: TargetInfo; name: string }
   | { type: 'stopped'; reason: 'paused' | 'finished' | 'cancelled' }
-  | { type: 'result'; hash: string; name: string; positions: Float32Array; normals: Float32Array; indices: Uint32Array; elapsedMs: number; steps: number }
+  | { type: 'result'; run: number; hash: string; name: string; positions: Float32Array; normals: Float32Array; indices: Uint32Array; elapsedMs: number; steps: number }
   | { type: 'exported'; bytes: Uint8Array; format: string }
   | { type: 'curves'; curves: ControlCurves }
   | { type: 'error'; error: UiError };

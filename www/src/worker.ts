@@ -24,6 +24,8 @@ let sentIndices = false;
 let colour: ColourMap = 'distance';
 let startedAt = 0;
 let runId = 0;
+/** The page's number for the current wrap, echoed in frames so the page can drop stale ones. */
+let pageRun = 0;
 
 /** serde_json objects arrive as Maps; the protocol carries plain objects. */
 function plain(v: unknown): unknown {
@@ -73,7 +75,7 @@ function sendMcfFrame(): void {
     transfer.push(indices.buffer);
     sentIndices = true;
   }
-  post({ type: 'frame', mode: 'mcf', positions, normals, indices, colors, range, colour: colour === 'none' ? 'none' : 'curvature', stats, playing }, transfer);
+  post({ type: 'frame', mode: 'mcf', run: pageRun, positions, normals, indices, colors, range, colour: colour === 'none' ? 'none' : 'curvature', stats, playing }, transfer);
 }
 
 function mcfLoop(): void {
@@ -157,7 +159,7 @@ function sendWrapFrame(session: WrapSession): void {
   if (colors) transfer.push(colors.buffer);
   post(
     {
-      type: 'frame', mode: 'wrap', positions, normals, indices, colors, range, colour, report, histogram, playing,
+      type: 'frame', mode: 'wrap', run: pageRun, positions, normals, indices, colors, range, colour, report, histogram, playing,
       stepLimit: Number(wrapSettings.steps ?? 0), elapsedMs: performance.now() - startedAt,
     },
     transfer,
@@ -173,7 +175,7 @@ function finish(session: WrapSession): void {
   const indices = session.indices();
   const report = session.report() as StepReport | null;
   post(
-    { type: 'result', hash: session.resultHash(), name: source?.name ?? 'result', positions, normals, indices, elapsedMs: performance.now() - startedAt, steps: report?.step ?? 0 },
+    { type: 'result', run: pageRun, hash: session.resultHash(), name: source?.name ?? 'result', positions, normals, indices, elapsedMs: performance.now() - startedAt, steps: report?.step ?? 0 },
     [positions.buffer, normals.buffer, indices.buffer],
   );
   post({ type: 'stopped', reason: 'finished' });
@@ -227,7 +229,7 @@ async function startSession(autoplay: boolean, id: number): Promise<void> {
   wrap = session;
   const tp = session.targetPositions();
   const ti = session.targetIndices();
-  post({ type: 'target', positions: tp, indices: ti, info: plain(session.targetInfo()) as TargetInfo, name: source.name }, [tp.buffer, ti.buffer]);
+  post({ type: 'target', run: pageRun, positions: tp, indices: ti, info: plain(session.targetInfo()) as TargetInfo, name: source.name }, [tp.buffer, ti.buffer]);
   sendWrapFrame(session);
   if (autoplay) {
     playing = true;
@@ -252,6 +254,7 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
         break;
       }
       case 'wrap-load':
+        pageRun = msg.run;
         await loadWrap(msg.source, msg.settings, msg.autoplay);
         break;
       case 'play':
@@ -279,6 +282,7 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
         break;
       case 'reset':
         if (mode === 'wrap' && source) {
+          pageRun = msg.run;
           dropRun();
           wrapSettings = msg.settings;
           startedAt = performance.now();

@@ -300,6 +300,18 @@ test('gallery demos load; control curves and κ histogram are plotted; scrubber 
   await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 180000 });
   const max = Number(await page.getAttribute('[data-testid=scrubber]', 'max'));
   assert(max >= 2, `scrubber has ${max + 1} frames`);
+  // Every colour map gives a legend; shading and wireframe toggle without errors.
+  for (const cmap of ['curvature', 'kappa', 'covolume', 'features', 'distance']) {
+    await page.selectOption('[data-testid=cmap]', cmap);
+    await page.waitForFunction((c) => {
+      const t = document.querySelector('#legend-title').textContent;
+      return ({ curvature: /curvature/, kappa: /κ/, covolume: /co-volume/, features: /feature/, distance: /distance/ })[c].test(t);
+    }, cmap, { timeout: 10000 });
+  }
+  await page.uncheck('#smooth');
+  await page.uncheck('#wireframe');
+  await page.screenshot({ path: join(out, 'flat-shading.png') });
+  await page.check('#smooth');
   await page.fill('[data-testid=scrubber]', '0');
   await page.waitForTimeout(300);
   await page.screenshot({ path: join(out, 'scrub-first.png') });
