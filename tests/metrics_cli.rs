@@ -41,3 +41,33 @@ fn metrics_json_has_stable_keys() {
         .unwrap();
     assert!((pc - 100.0 * d["absolute"]["hausdorff"].as_f64().unwrap() / diag).abs() < 1e-9);
 }
+
+#[test]
+fn histograms_count_every_face_and_point() {
+    use lsw::cli::metrics::metrics_json_with;
+    let m = icosphere(2, 1.0, DVec3::ZERO).unwrap();
+    let mesh = Target::new(m.positions().to_vec(), m.triangles()).unwrap();
+    let cloud: Vec<DVec3> = m.positions().iter().map(|p| *p * 1.05).collect();
+    let target = Target::new(cloud, Vec::new()).unwrap();
+    let v = metrics_json_with("m", &mesh, Some(("t", &target)), true);
+    let total = |k: &str| {
+        let h = &v["histograms"][k];
+        h["counts"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c.as_u64().unwrap())
+            .sum::<u64>()
+            + h["below"].as_u64().unwrap()
+            + h["above"].as_u64().unwrap()
+    };
+    let nf = m.n_faces() as u64;
+    assert_eq!(total("kappa"), nf);
+    assert_eq!(total("radius_ratio"), nf);
+    assert_eq!(total("min_angle_deg"), nf);
+    assert_eq!(total("mesh_to_target_percent"), m.n_vertices() as u64);
+    assert_eq!(total("target_to_mesh_percent"), m.n_vertices() as u64);
+    assert!(metrics_json_with("m", &mesh, None, false)
+        .get("histograms")
+        .is_none());
+}

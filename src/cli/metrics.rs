@@ -13,6 +13,7 @@
 //!   (`null` if the mesh is not manifold)
 //! * `volume` (signed enclosed volume), `self_intersections` (intersecting pairs of faces that
 //!   share no vertex)
+//! * with `--histograms`: `histograms` (see [`metrics_json_with`])
 //! * with `--target`: `target` {`file`, `kind`, `points`, `faces`, `bbox_diagonal`, `volume`,
 //!   `volume_ratio`} (volumes only for mesh targets) and `distances` {`absolute`,
 //!   `percent_of_target_diagonal`}, each {`mesh_to_target`, `target_to_mesh`: `count, mean, rms,
@@ -21,9 +22,10 @@
 
 use crate::io::read_path;
 use crate::mesh::{HalfedgeMesh, ValidationError};
-use crate::metrics::distance::two_sided_distances;
+use crate::metrics::distance::{two_sided_distance_values, DistanceStats, TwoSidedDistances};
+use crate::metrics::histogram::Histogram;
 use crate::metrics::intersections::count_self_intersections;
-use crate::metrics::quality::{covolume_stats, quality_stats};
+use crate::metrics::quality::{covolume_stats, face_quality, quality_stats};
 use crate::metrics::volume::enclosed_volume;
 use crate::target::{Target, TargetKind};
 use glam::DVec3;
@@ -38,6 +40,9 @@ pub struct MetricsArgs {
     /// A target (point cloud or mesh) to measure distances to, both ways.
     #[arg(long)]
     pub target: Option<PathBuf>,
+    /// Also print histograms (κ, 2·r_in/r_circ, smallest angle; distances with --target).
+    #[arg(long)]
+    pub histograms: bool,
 }
 
 /// Runs `lsw metrics`.
@@ -52,10 +57,11 @@ pub fn run(a: &MetricsArgs) -> Result<String, String> {
         )),
         None => None,
     };
-    let v = metrics_json(
+    let v = metrics_json_with(
         &a.mesh.display().to_string(),
         &mesh.target,
         target.as_ref().map(|(n, t)| (n.as_str(), t)),
+        a.histograms,
     );
     serde_json::to_string_pretty(&v).map_err(|e| e.to_string())
 }
@@ -73,6 +79,19 @@ fn boundary_edges(tris: &[[u32; 3]]) -> usize {
 
 /// The JSON of `lsw metrics` for a mesh and an optional `(file name, target)`.
 pub fn metrics_json(file: &str, mesh: &Target, target: Option<(&str, &Target)>) -> Value {
+    metrics_json_with(file, mesh, target, false)
+}
+
+/// [`metrics_json`], with `histograms` adding the key `histograms`: `kappa` (20 bins over
+/// [1, 2)), `radius_ratio` (20 over [0, 1)), `min_angle_deg` (12 over [0, 60)) and, with a
+/// target, `mesh_to_target_percent` / `target_to_mesh_percent` (20 bins from 0 to the largest
+/// distance, in % of the target's diagonal). Each is {lo, hi, counts, below, above}.
+pub fn metrics_json_with(
+    file: &str,
+    mesh: &Target,
+    target: Option<(&str, &Target)>,
+    histograms: bool,
+) -> Value {
     let (p, t) = (&mesh.points, &mesh.triangles);
     let nb = boundary_edges(t);
     let built = HalfedgeMesh::from_triangles(p.clone(), t);
@@ -109,9 +128,45 @@ pub fn metrics_json(file: &str, mesh: &Target, target: Option<(&str, &Target)>) 
         "volume": volume,
         "self_intersections": count_self_intersections(p, t),
     });
+    let mut hist = serde_json::Map::new();
+    if histograms {
+        let q = face_quality(p, t);
+        hist.insert(
+            "kappa".into(),
+            json!(Histogram::new(&q.kappa, 1.0, 2.0, 20)),
+        );
+        hist.insert(
+            "radius_ratio".into(),
+            json!(Histogram::new(&q.radius_ratio, 0.0, 1.0 + 1e-12, 20)),
+        );
+        hist.insert(
+            "min_angle_deg".into(),
+            json!(Histogram::new(&q.min_angle_deg, 0.0, 60.0 + 1e-9, 12)),
+        );
+    }
     if let Some((tfile, tg)) = target {
         let diag = tg.bbox.diagonal();
-        let d = two_sided_distances(p, t, &tg.points, &tg.triangles);
+        let (there, back) = two_sided_distance_values(p, t, &tg.points, &tg.triangles);
+        let (a, b) = (
+            DistanceStats::from_distances(&there),
+            DistanceStats::from_distances(&back),
+        );
+        let d = TwoSidedDistances {
+            mesh_to_target: a,
+            target_to_mesh: b,
+            hausdorff: a.max.max(b.max),
+        };
+        if histograms {
+            let pct = |v: &[f64]| v.iter().map(|x| 100.0 * x / diag).collect::<Vec<f64>>();
+            hist.insert(
+                "mesh_to_target_percent".into(),
+                json!(Histogram::auto(&pct(&there), 20)),
+            );
+            hist.insert(
+                "target_to_mesh_percent".into(),
+                json!(Histogram::auto(&pct(&back), 20)),
+            );
+        }
         let tvol =
             (tg.kind() == TargetKind::Mesh).then(|| enclosed_volume(&tg.points, &tg.triangles));
         let o = out.as_object_mut().expect("object");
@@ -134,6 +189,11 @@ pub fn metrics_json(file: &str, mesh: &Target, target: Option<(&str, &Target)>) 
                 "percent_of_target_diagonal": d.percent_of(diag),
             }),
         );
+    }
+    if histograms {
+        out.as_object_mut()
+            .expect("object")
+            .insert("histograms".into(), Value::Object(hist));
     }
     out
 }

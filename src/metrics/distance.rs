@@ -101,6 +101,25 @@ pub fn two_sided_distances(
     target_points: &[DVec3],
     target_triangles: &[[u32; 3]],
 ) -> TwoSidedDistances {
+    let (there, back) =
+        two_sided_distance_values(positions, triangles, target_points, target_triangles);
+    let a = DistanceStats::from_distances(&there);
+    let b = DistanceStats::from_distances(&back);
+    TwoSidedDistances {
+        mesh_to_target: a,
+        target_to_mesh: b,
+        hausdorff: a.max.max(b.max),
+    }
+}
+
+/// The per-point distances behind [`two_sided_distances`]: (mesh vertex → target, one per mesh
+/// vertex; target point → mesh, one per target point).
+pub fn two_sided_distance_values(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    target_points: &[DVec3],
+    target_triangles: &[[u32; 3]],
+) -> (Vec<f64>, Vec<f64>) {
     let mesh_bvh = TriangleBvh::new(positions, triangles);
     let there = if target_triangles.is_empty() {
         distances_to_points(positions, &PointBvh::new(target_points))
@@ -111,11 +130,5 @@ pub fn two_sided_distances(
         )
     };
     let back = distances_to_triangles(target_points, &mesh_bvh);
-    let a = DistanceStats::from_distances(&there);
-    let b = DistanceStats::from_distances(&back);
-    TwoSidedDistances {
-        mesh_to_target: a,
-        target_to_mesh: b,
-        hausdorff: a.max.max(b.max),
-    }
+    (there, back)
 }
