@@ -264,10 +264,12 @@ function onFrame(msg: Extract<FromWorker, { type: 'frame' }>): void {
   const verts = r?.vertices ?? msg.positions.length / 3;
   $('progress-text').textContent = `step ${r?.step ?? 0}/${limit} · ${verts} vertices · ${el} s`;
   $('stats').dataset.step = String(r?.step ?? 0);
+  for (const q of msg.reports ?? []) {
+    distancePlot.push(q.step, Math.max(1e-9, q.distance_mean), Math.max(1e-9, q.distance_max));
+    covolumePlot.push(q.step, Math.max(1e-12, q.covolume_min), q.covolume_mean, q.covolume_max);
+    verticesPlot.push(q.step, q.vertices);
+  }
   if (r) {
-    distancePlot.push(r.step, Math.max(1e-9, r.distance_mean), Math.max(1e-9, r.distance_max));
-    covolumePlot.push(r.step, Math.max(1e-12, r.covolume_min), r.covolume_mean, r.covolume_max);
-    verticesPlot.push(r.step, r.vertices);
     $('stats').textContent =
       `step ${r.step}   τ = ${r.tau.toPrecision(3)}${r.retries ? ` (${r.retries} retries)` : ''}\n` +
       `distance mean ${r.distance_mean.toExponential(2)}  max ${r.distance_max.toExponential(2)}\n` +

@@ -127,6 +127,8 @@ export interface Frame {
   stats?: McfStats;
   /** Wrap step report (mode wrap; null before the first step). */
   report?: StepReport | null;
+  /** Reports of every step since the previous frame (for the per-step plots). */
+  reports?: StepReport[];
   /** κ histogram of this frame (mode wrap). */
   histogram?: Histogram;
   /** Step limit of the wrap's settings (for the progress bar). */

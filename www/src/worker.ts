@@ -147,6 +147,9 @@ function scalarOf(session: WrapSession): Float32Array | null {
   return session.scalar(colour);
 }
 
+/** Reports of the steps taken since the last frame. */
+let pendingReports: StepReport[] = [];
+
 function sendWrapFrame(session: WrapSession): void {
   const positions = session.positions();
   const normals = session.normals();
@@ -159,11 +162,12 @@ function sendWrapFrame(session: WrapSession): void {
   if (colors) transfer.push(colors.buffer);
   post(
     {
-      type: 'frame', mode: 'wrap', run: pageRun, positions, normals, indices, colors, range, colour, report, histogram, playing,
+      type: 'frame', mode: 'wrap', run: pageRun, positions, normals, indices, colors, range, colour, report, reports: pendingReports, histogram, playing,
       stepLimit: Number(wrapSettings.steps ?? 0), elapsedMs: performance.now() - startedAt,
     },
     transfer,
   );
+  pendingReports = [];
 }
 
 function finish(session: WrapSession): void {
@@ -188,7 +192,10 @@ function wrapLoop(id: number): void {
   try {
     const t0 = performance.now();
     let done = session.isDone();
-    while (!done && performance.now() - t0 < 30) done = session.step(1);
+    while (!done && performance.now() - t0 < 30) {
+      done = session.step(1);
+      pendingReports.push(session.report() as StepReport);
+    }
     sendWrapFrame(session);
     if (done) finish(session);
     else setTimeout(() => wrapLoop(id), 0);
@@ -201,6 +208,7 @@ function wrapLoop(id: number): void {
 /** Forgets the running wrap (the kept result stays). */
 function dropRun(): void {
   playing = false;
+  pendingReports = [];
   runId++;
   if (wrap && wrap !== result) wrap.free();
   wrap = null;
@@ -303,6 +311,7 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
           sendMcfFrame();
         } else if (wrap && wrap !== result) {
           const done = wrap.step(msg.n);
+          pendingReports.push(wrap.report() as StepReport);
           sendWrapFrame(wrap);
           if (done) finish(wrap);
         }
