@@ -121,14 +121,16 @@ impl Bvh {
             return None;
         }
         let mut best = (u32::MAX, f64::INFINITY);
-        let mut stack: [u32; 64] = [0; 64];
+        // (node, squared distance to its box), so a popped node is pruned without recomputing.
+        let mut stack: [(u32, f64); 64] = [(0, 0.0); 64];
         let mut sp = 1usize;
         while sp > 0 {
             sp -= 1;
-            let node = &self.nodes[stack[sp] as usize];
-            if box_dist2(p, node.min, node.max) >= best.1 {
+            let (ni, d) = stack[sp];
+            if d >= best.1 {
                 continue;
             }
+            let node = &self.nodes[ni as usize];
             if node.count > 0 {
                 for &i in &self.order[node.start as usize..(node.start + node.count) as usize] {
                     let d = dist2(i);
@@ -146,12 +148,16 @@ impl Bvh {
                     let n = &self.nodes[r as usize];
                     box_dist2(p, n.min, n.max)
                 };
-                // Push the farther child first so the nearer one is popped next.
-                let (first, second) = if dl <= dr { (r, l) } else { (l, r) };
                 if sp + 2 > stack.len() {
                     // Unreachable for median-split trees (depth ≤ log2 n + 1).
                     continue;
                 }
+                // Push the farther child first so the nearer one is popped next.
+                let (first, second) = if dl <= dr {
+                    ((r, dr), (l, dl))
+                } else {
+                    ((l, dl), (r, dr))
+                };
                 stack[sp] = first;
                 stack[sp + 1] = second;
                 sp += 2;
