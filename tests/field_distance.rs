@@ -410,3 +410,39 @@ fn spot_mesh_band_is_exact_and_signed() {
     let (lo, _) = f.min_max();
     assert!(lo < -2.0 * g.cell, "no deep inside: min {lo}");
 }
+
+#[test]
+fn bunny_mesh_with_holes_is_signed() {
+    let Some(dir) = data_dir("bunny_mesh_with_holes_is_signed") else {
+        return;
+    };
+    // bunny.ply has 5 holes in its base (223 boundary edges of 104 288): the band seals them.
+    let t = load(&dir.join("bunny.ply"));
+    let f = field(&t);
+    assert_eq!(f.signedness(), Signedness::SignedWithHoles);
+    let g = f.grid();
+    let outer = t.bbox.expanded(g.cell);
+    let mut inside = 0usize;
+    for (i, &v) in f.values().iter().enumerate() {
+        let p = g.position_of(i);
+        if p.cmplt(outer.min).any() || p.cmpgt(outer.max).any() {
+            assert!(v > 0.0, "node {i} at {p:?} outside the box has {v}");
+        }
+        inside += (v < 0.0) as usize;
+    }
+    let (lo, _) = f.min_max();
+    println!(
+        "bunny.ply: {inside} inside nodes, min {:.4} = {:.1} c, {:?}",
+        lo,
+        lo / g.cell,
+        f.timings()
+    );
+    assert!(lo < -5.0 * g.cell);
+    // Its open copy with most faces removed is no longer nearly closed: unsigned.
+    let open = Target::new(
+        t.points.clone(),
+        t.triangles[..t.triangles.len() / 2].to_vec(),
+    )
+    .unwrap();
+    assert_eq!(field(&open).signedness(), Signedness::Unsigned);
+}
