@@ -289,6 +289,7 @@ test('gallery demos load; control curves and κ histogram are plotted; scrubber 
   const { page, errors } = await openApp(browser, url);
   const curves = await page.evaluate(() => window.__lsw.controlSeries());
   assert(curves[0].length > 50 && curves[1].some((v) => v > 0.5), 'ε(δ) curve missing');
+  await page.evaluate(() => (window.__longTasks.length = 0));
   for (const demo of ['genus2', 'box-soup', 'teapot']) {
     await page.click(`[data-demo=${demo}]`);
     await page.waitForSelector('[data-testid=status][data-state=running], [data-testid=status][data-state=done]', { timeout: 60000 });
@@ -315,6 +316,9 @@ test('gallery demos load; control curves and κ histogram are plotted; scrubber 
   await page.fill('[data-testid=scrubber]', '0');
   await page.waitForTimeout(300);
   await page.screenshot({ path: join(out, 'scrub-first.png') });
+  const maxTask = Math.max(0, ...(await page.evaluate(() => window.__longTasks)));
+  assert(maxTask <= 100, `main thread had a ${maxTask.toFixed(0)} ms task while the demos ran`);
+  console.log(`   genus 2, box soup and teapot wrapped; ${max + 1} recorded frames; longest main-thread task ${maxTask.toFixed(0)} ms`);
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
   await page.close();
 });
