@@ -58,7 +58,7 @@ function showError(e: UiError | null): void {
 function showNotice(lines: string[]): void {
   const el = $('notice');
   el.hidden = lines.length === 0;
-  el.textContent = lines.join(' ');
+  el.textContent = lines.length ? `${lines.join(' ')} (click to dismiss)` : '';
 }
 
 function setMode(m: Mode): void {
@@ -97,6 +97,7 @@ canvas.addEventListener('wheel', (e) => {
 }, { passive: false });
 canvas.addEventListener('dblclick', () => draw({ type: 'refit' }));
 $('fit').onclick = () => draw({ type: 'fit' });
+$('notice').onclick = () => ($('notice').hidden = true);
 
 let frameSteps: number[] = [];
 renderer.addEventListener('message', (ev: MessageEvent<FromRender>) => {
@@ -232,7 +233,7 @@ function onFrame(msg: Extract<FromWorker, { type: 'frame' }>): void {
   if (msg.indices) transfer.push(msg.indices.buffer);
   if (msg.colors) transfer.push(msg.colors.buffer);
   const step = msg.mode === 'mcf' ? msg.stats?.step ?? 0 : msg.report?.step ?? 0;
-  draw({ type: 'geometry', positions: msg.positions, normals: msg.normals, indices: msg.indices, colors: msg.colors, step, record: msg.mode === 'wrap' }, transfer);
+  draw({ type: 'geometry', positions: msg.positions, normals: msg.normals, indices: msg.indices, colors: msg.colors, step, record: msg.mode === 'wrap', final: !!msg.report?.done }, transfer);
   $('legend').hidden = !msg.colors;
   $('legend-title').textContent = LEGEND[msg.colour];
   $('legend-min').textContent = msg.range[0].toPrecision(4);

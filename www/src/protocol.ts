@@ -164,7 +164,7 @@ export function toUiError(e: unknown): UiError {
 export type ToRender =
   | { type: 'init'; canvas: OffscreenCanvas; width: number; height: number; pixelRatio: number }
   | { type: 'resize'; width: number; height: number }
-  | { type: 'geometry'; positions: Float32Array; normals: Float32Array; indices?: Uint32Array; colors: Float32Array | null; step?: number; record?: boolean }
+  | { type: 'geometry'; positions: Float32Array; normals: Float32Array; indices?: Uint32Array; colors: Float32Array | null; step?: number; record?: boolean; final?: boolean }
   | { type: 'target'; positions: Float32Array; indices: Uint32Array | null }
   | { type: 'clear-frames' }
   | { type: 'show-frame'; index: number }

@@ -58,7 +58,7 @@ self.onmessage = (ev: MessageEvent<ToRender>) => {
         // Copies: the viewer may reuse these arrays as GPU staging for later frames.
         const kept = store.offer(
           { step: m.step ?? 0, positions: m.positions.slice(), normals: m.normals.slice(), indices: lastIndices, colors: m.colors ? m.colors.slice() : null },
-          false,
+          !!m.final,
         );
         if (kept) reportFrames();
       }
