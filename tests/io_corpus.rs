@@ -179,6 +179,9 @@ fn corpus() -> Vec<Case> {
             b[12..16].copy_from_slice(&100_000u32.to_le_bytes());
             b
         }, "io_truncated", &["glb", "chunk of 100000 bytes"]),
+        case("glTF POSITION naming a missing accessor (fuzzing find)", None, {
+            String::from_utf8(gltf_json(DATA_URI, 3)).unwrap().replace("\"POSITION\":0", "\"POSITION\":5")
+        }, "io_gltf", &["gltf", "accessor 5"]),
         // --- VTK ---
         case("binary legacy VTK", None, "# vtk DataFile Version 3.0\nx\nBINARY\nDATASET POLYDATA\n", "io_unsupported", &["vtk", "binary"]),
         case("VTK POINTS count exceeds the file", None, "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 5000000 float\n0 0 0\n", "io_count_too_large", &["vtk", "line 5", "5000000"]),

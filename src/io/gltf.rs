@@ -213,6 +213,28 @@ pub fn read_with(bytes: &[u8], resolve: Resolver) -> Result<RawGeometry, IoError
             e.to_string(),
         )
     })?;
+    // gltf-json 1.4.1's validation indexes `accessors[POSITION]` before checking the index and
+    // panics on a dangling one (found by cargo-fuzz); check it here first.
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            for (sem, acc) in &prim.attributes {
+                if acc.value() >= root.accessors.len() {
+                    return Err(gltf_err(
+                        format,
+                        format!(
+                            "meshes[{m}].primitives[{p}].attributes[\"{}\"] refers to accessor {}, but there are {}",
+                            match sem {
+                                ::gltf::json::validation::Checked::Valid(s) => s.to_string(),
+                                _ => "?".into(),
+                            },
+                            acc.value(),
+                            root.accessors.len()
+                        ),
+                    ));
+                }
+            }
+        }
+    }
     let doc = ::gltf::Document::from_json(root).map_err(|e| gltf_err(format, e))?;
     let mut bin = bin;
     let mut buffers: Vec<Option<Cow<[u8]>>> = Vec::new();
