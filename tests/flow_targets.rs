@@ -1,6 +1,8 @@
 //! The evolution on real scans from `LSW_SHARED_DATA` (native only; skipped with a notice when
 //! the variable is unset), and the tangential term on a distorted sphere.
 
+#![cfg(not(target_arch = "wasm32"))]
+
 use lsw::flow::tangential::tangential_velocity;
 use lsw::flow::{CotanLaplacian, Evolver, Preset, WrapSettings};
 use lsw::geometry::icosphere::icosphere;

@@ -126,12 +126,12 @@ impl CotanLaplacian {
         let mut indices = Vec::with_capacity(n + 2 * mesh.n_edges());
         let mut data = Vec::with_capacity(n + 2 * mesh.n_edges());
         indptr.push(0);
-        for i in 0..n {
+        for (i, &sc) in scale.iter().enumerate() {
             let start = indices.len();
             let mut diag = 1.0;
-            if scale[i] != 0.0 {
+            if sc != 0.0 {
                 for h in mesh.outgoing(i as u32) {
-                    let w = scale[i] * self.edge_weights[(h >> 1) as usize];
+                    let w = sc * self.edge_weights[(h >> 1) as usize];
                     indices.push(mesh.to(h) as usize);
                     data.push(-w);
                     diag += w;

@@ -164,7 +164,8 @@ pub struct WrapSettings {
     /// Isosurface start: d_iso in cells of the distance grid (raised to 1.1·d₀ if below d₀).
     /// Default 1.5.
     pub isosurface_level_cells: f64,
-    /// Isosurface start: marching-cubes cell size as a multiple of the field's. Default 1.5.
+    /// Isosurface start: marching-cubes cell size as a multiple of the field's. Range 0.5–8;
+    /// default 1.5.
     pub isosurface_resampling: f64,
     /// Stop early when this fraction of vertices moved less than `stop_displacement_cells` in the
     /// last step (only after the last schedule step). Range (0, 1]; default 0.98.
@@ -314,8 +315,8 @@ impl WrapSettings {
             (
                 "isosurface_resampling",
                 self.isosurface_resampling,
-                (0.25..=8.0).contains(&self.isosurface_resampling),
-                "0.25–8",
+                (0.5..=8.0).contains(&self.isosurface_resampling),
+                "0.5–8",
             ),
         ];
         for (name, value, ok, range) in checks {

@@ -1,0 +1,77 @@
+//! Timed runs in headless Chromium (wasm only; natively this file has no tests): per-step cost of
+//! the LSW evolution at 2 K, 10 K and 40 K vertices and of the MCF step at level 6, and the
+//! bunny-sized distance field. Numbers are printed, never asserted (speed is measured in
+//! benchmarks, not tests). Run optimised for meaningful figures:
+//! `cargo test --release --target wasm32-unknown-unknown --test wasm_timing -- --nocapture`.
+
+#![cfg(target_arch = "wasm32")]
+
+use lsw::clock::now_ms;
+use lsw::flow::{mcf_step, Evolver, McfSettings, WrapSettings};
+use lsw::geometry::icosphere::icosphere;
+use lsw::target::Target;
+use lsw::DVec3;
+use wasm_bindgen_test::*;
+
+wasm_bindgen_test_configure!(run_in_browser);
+
+fn sphere_cloud(n: usize) -> Target {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let pts = (0..n)
+        .map(|i| {
+            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+            let rho = (1.0 - z * z).sqrt();
+            let a = golden * i as f64;
+            DVec3::new(rho * a.cos(), rho * a.sin(), z)
+        })
+        .collect();
+    Target::new(pts, vec![]).unwrap()
+}
+
+#[wasm_bindgen_test]
+fn time_lsw_steps_by_size() {
+    let target = sphere_cloud(20_000);
+    for level in [4u32, 5, 6] {
+        let settings = WrapSettings { icosphere_level: level, remesh: false, schedule: vec![], steps: 1000, ..WrapSettings::default() };
+        let mut ev = Evolver::new(&target, settings).unwrap();
+        ev.step().unwrap(); // warm-up
+        let t0 = now_ms();
+        let mut phases = [0.0; 3];
+        for _ in 0..5 {
+            let r = ev.step().unwrap();
+            phases[0] += r.times.normals;
+            phases[1] += r.times.assembly;
+            phases[2] += r.times.solve;
+        }
+        let ms = (now_ms() - t0) / 5.0;
+        console_log!(
+            "wasm LSW step, {} vertices: {ms:.2} ms (normals {:.2}, assembly {:.2}, solve {:.2})",
+            ev.mesh().n_vertices(),
+            phases[0] / 5.0,
+            phases[1] / 5.0,
+            phases[2] / 5.0
+        );
+    }
+}
+
+#[wasm_bindgen_test]
+fn time_mcf_step_level6() {
+    let mut mesh = icosphere(6, 1.0, DVec3::ZERO).unwrap();
+    let settings = McfSettings { tau: 1e-4, ..Default::default() };
+    mcf_step(&mut mesh, &settings).unwrap();
+    let t0 = now_ms();
+    for _ in 0..5 {
+        mcf_step(&mut mesh, &settings).unwrap();
+    }
+    console_log!("wasm MCF step, level 6 (40 962 vertices): {:.2} ms", (now_ms() - t0) / 5.0);
+}
+
+#[wasm_bindgen_test]
+fn time_bunny_sized_field() {
+    // 11 988 points on a sphere-like blob sized like the bunny: the same grid (≈133³ nodes at
+    // 40 cells per minimum dimension with ζ = 1 gives 120³ here).
+    let target = sphere_cloud(11_988);
+    let t0 = now_ms();
+    let f = lsw::field::DistanceField::new(&target, &lsw::field::FieldSettings::default()).unwrap();
+    console_log!("wasm distance field, {:?} nodes from 11 988 points: {:.1} ms", f.dims(), now_ms() - t0);
+}
