@@ -483,3 +483,86 @@ impl WrapSession {
         serde_wasm_bindgen::to_value(&h).map_err(|e| JsValue::from_str(&e.to_string()))
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Viewing the distance field in the app (issue 4): a plane of nodes or an isosurface.
+
+/// Sets `key` on `obj` (a fresh plain object, so this cannot fail in practice).
+fn set_key(obj: &js_sys::Object, key: &str, value: &JsValue) -> Result<(), JsValue> {
+    js_sys::Reflect::set(obj, &JsValue::from_str(key), value).map(|_| ())
+}
+
+/// The isosurface level in the scaled frame for `level` in target units: clamped to at least
+/// half a cell for unsigned fields (their zero set is the target itself, not a surface).
+fn field_iso_level(level: f64, phi: f64, cell_scaled: f64, signed: bool) -> Result<f64, UiError> {
+    if !level.is_finite() {
+        return Err(UiError { code: "bad-parameter", message: format!("isosurface level {level} is not a number"), hint: "Give a finite level in the target's units." });
+    }
+    let scaled = level * phi;
+    Ok(if signed { scaled } else { scaled.max(0.5 * cell_scaled) })
+}
+
+#[wasm_bindgen]
+impl WrapSession {
+    /// The plane of field nodes normal to `axis` (0 = x, 1 = y, 2 = z) nearest to the fraction
+    /// `t` ∈ [0, 1] along that axis: `{axis, index, width, height, coordinate, corners, values}`;
+    /// `corners` (Float32Array of 4 positions: (u₀,v₀), (u₁,v₀), (u₁,v₁), (u₀,v₁)) and the
+    /// plane's `coordinate` are in target units, `values` (Float32Array, u fastest, see
+    /// [`crate::field::slice`]) are distances in target units.
+    #[wasm_bindgen(js_name = fieldSlice)]
+    pub fn field_slice(&self, axis: u32, t: f64) -> Result<js_sys::Object, JsValue> {
+        let field = self.evolver.field();
+        let plane = crate::field::slice::node_plane(field, axis as usize, t).ok_or_else(|| UiError {
+            code: "bad-parameter",
+            message: format!("no field slice for axis {axis} at {t}"),
+            hint: "Use axis 0, 1 or 2 (x, y, z) and a position between 0 and 1.",
+        })?;
+        let (phi, center) = (self.evolver.scale(), self.target.bbox.center());
+        let corners: Vec<DVec3> = plane.corners.iter().map(|&p| p / phi + center).collect();
+        let values: Vec<f32> = plane.values.iter().map(|&d| (d / phi) as f32).collect();
+        let obj = js_sys::Object::new();
+        set_key(&obj, "axis", &JsValue::from(plane.axis as u32))?;
+        set_key(&obj, "index", &JsValue::from(plane.index as u32))?;
+        set_key(&obj, "width", &JsValue::from(plane.width as u32))?;
+        set_key(&obj, "height", &JsValue::from(plane.height as u32))?;
+        set_key(&obj, "coordinate", &JsValue::from(corners[0][plane.axis]))?;
+        set_key(&obj, "corners", &vec3_array(&corners))?;
+        set_key(&obj, "values", &Float32Array::from(values.as_slice()))?;
+        Ok(obj)
+    }
+
+    /// The isosurface d = `level` of the field (target units; for unsigned fields at least half
+    /// a cell): `{level, positions, indices}` with positions in target units.
+    #[wasm_bindgen(js_name = fieldIsosurface)]
+    pub fn field_isosurface(&self, level: f64) -> Result<js_sys::Object, JsValue> {
+        let field = self.evolver.field();
+        let phi = self.evolver.scale();
+        let iso = field_iso_level(level, phi, field.cell_size(), field.is_signed())?;
+        let (pos, tris) = field.isosurface(iso);
+        let center = self.target.bbox.center();
+        let pos: Vec<DVec3> = pos.into_iter().map(|p| p / phi + center).collect();
+        let flat: Vec<u32> = tris.into_iter().flatten().collect();
+        let obj = js_sys::Object::new();
+        set_key(&obj, "level", &JsValue::from(iso / phi))?;
+        set_key(&obj, "positions", &vec3_array(&pos))?;
+        set_key(&obj, "indices", &Uint32Array::from(flat.as_slice()))?;
+        Ok(obj)
+    }
+}
+
+#[cfg(test)]
+mod field_view_tests {
+    use super::field_iso_level;
+
+    #[test]
+    fn iso_level_is_scaled_and_clamped_for_unsigned_fields() {
+        // φ = 2, scaled cell 0.1: half a cell is 0.05 scaled.
+        assert_eq!(field_iso_level(0.0, 2.0, 0.1, false).unwrap(), 0.05);
+        assert_eq!(field_iso_level(0.3, 2.0, 0.1, false).unwrap(), 0.6);
+        assert_eq!(field_iso_level(-1.0, 2.0, 0.1, false).unwrap(), 0.05);
+        // Signed fields keep zero and negative levels.
+        assert_eq!(field_iso_level(0.0, 2.0, 0.1, true).unwrap(), 0.0);
+        assert_eq!(field_iso_level(-0.25, 2.0, 0.1, true).unwrap(), -0.5);
+        assert!(field_iso_level(f64::NAN, 2.0, 0.1, false).is_err());
+    }
+}

@@ -22,6 +22,7 @@ pub mod gradient;
 pub mod grid;
 pub mod sample;
 pub mod sign;
+pub mod slice;
 pub mod vtk;
 
 pub use grid::Grid;

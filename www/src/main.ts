@@ -1,6 +1,6 @@
 // Wiring only: UI events → worker messages; worker frames → render worker, plots and status.
 // The UI thread neither computes nor draws: the flow runs in one worker, three.js in another.
-import type { ColourMap, FromRender, FromWorker, McfParams, Source, StepReport, TargetInfo, ToRender, ToWorker, UiError } from './protocol';
+import type { ColourMap, FieldView, FromRender, FromWorker, McfParams, Source, StepReport, TargetInfo, ToRender, ToWorker, UiError } from './protocol';
 import { HistogramPlot, LinePlot, RadiusPlot } from './plots';
 import { SettingsPanel } from './panel';
 import { decode, DEFAULT_VIEW, encode, flatten, validDataset, type Flat, type ViewState } from './share';
@@ -155,8 +155,23 @@ function mcfParams(): McfParams {
   return { level: Number($<HTMLSelectElement>('level').value), radius: 1, tau: Number($<HTMLInputElement>('tau').value) };
 }
 
+/** The distance-field control: shown once a wrap's target is loaded. */
+let fieldShown: { view: FieldView; label: string; width: number; height: number; triangles: number } = { view: 'off', label: '', width: 0, height: 0, triangles: 0 };
+function fieldView(): FieldView {
+  return $<HTMLSelectElement>('field-view').value as FieldView;
+}
+function sendField(): void {
+  send({ type: 'field', view: fieldView(), t: Number($<HTMLInputElement>('field-t').value) });
+}
+function hideField(): void {
+  $('field-box').hidden = true;
+  draw({ type: 'field' });
+  fieldShown = { view: 'off', label: '', width: 0, height: 0, triangles: 0 };
+}
+
 function mcfReset(): void {
   setMode('mcf');
+  hideField();
   showError(null);
   plot.clear();
   draw({ type: 'clear-frames' });
@@ -184,6 +199,7 @@ function startWrap(source: Source, ds: string | null, name: string): void {
   clearWrapPlots();
   draw({ type: 'clear-frames' });
   draw({ type: 'refit' });
+  draw({ type: 'field' });
   runStart = performance.now();
   setState('loading', `Loading ${name}…`);
   $('hash').textContent = kept ? `previous result ${kept.hash.slice(0, 12)}` : '';
@@ -301,6 +317,7 @@ function onWorkerMessage(ev: MessageEvent<FromWorker>): void {
       currentTarget = { positions: msg.positions.slice(), indices: msg.indices.slice() };
       draw({ type: 'target', positions: msg.positions, indices: msg.indices.length ? msg.indices : null }, [msg.positions.buffer, msg.indices.buffer]);
       const i: TargetInfo = msg.info;
+      $('field-box').hidden = false;
       $('target-info').textContent = `${msg.name}: ${i.format}, ${i.kind === 'points' ? `${i.points} points` : `${i.points} vertices, ${i.triangles} triangles`}, diagonal ${i.diagonal.toPrecision(4)}`;
       break;
     }
@@ -335,6 +352,16 @@ function onWorkerMessage(ev: MessageEvent<FromWorker>): void {
       a.click();
       a.remove();
       setTimeout(() => URL.revokeObjectURL(a.href), 10000);
+      break;
+    }
+    case 'field': {
+      if (mode !== 'wrap' || msg.run !== runSeq) break;
+      const transfer: Transferable[] = [];
+      if (msg.slice) transfer.push(msg.slice.corners.buffer, msg.slice.rgba.buffer);
+      if (msg.iso) transfer.push(msg.iso.positions.buffer, msg.iso.indices.buffer);
+      fieldShown = { view: msg.view, label: msg.label, width: msg.slice?.width ?? 0, height: msg.slice?.height ?? 0, triangles: (msg.iso?.indices.length ?? 0) / 3 };
+      draw({ type: 'field', slice: msg.slice, iso: msg.iso }, transfer);
+      $('field-label').textContent = msg.label;
       break;
     }
     case 'curves':
@@ -386,6 +413,7 @@ function restartWorker(): void {
   restarting = true;
   startWorker();
   send({ type: 'colour', map: view.cmap as ColourMap });
+  sendField();
 }
 
 function onReady(presets: Record<string, Record<string, unknown>>, docs: Record<string, string>, enums: Record<string, string[]>): void {
@@ -458,6 +486,17 @@ $<HTMLInputElement>('smooth').onchange = (e) => {
   updateShare();
 };
 $<HTMLInputElement>('show-target').onchange = (e) => draw({ type: 'show-target', on: (e.target as HTMLInputElement).checked });
+$<HTMLSelectElement>('field-view').onchange = () => {
+  $('field-t-name').textContent = fieldView() === 'iso' ? 'Level' : 'Position';
+  sendField();
+};
+// Slices are cheap (one node plane): follow the slider; isosurfaces run marching cubes: on release.
+$<HTMLInputElement>('field-t').oninput = () => {
+  if (fieldView() !== 'iso' && fieldView() !== 'off') sendField();
+};
+$<HTMLInputElement>('field-t').onchange = () => {
+  if (fieldView() === 'iso') sendField();
+};
 $<HTMLSelectElement>('cmap').onchange = (e) => {
   view.cmap = (e.target as HTMLSelectElement).value;
   send({ type: 'colour', map: view.cmap as ColourMap });
@@ -531,4 +570,5 @@ function meshPixelFraction(): Promise<number> {
   resultHash: () => kept?.hash ?? null,
   dropToDoneMs: () => lastDoneMs,
   meshPixelFraction,
+  fieldShown: () => fieldShown,
 };

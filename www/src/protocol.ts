@@ -87,6 +87,25 @@ export interface ControlCurves {
   eta_side: number[];
 }
 
+/** How the distance field is shown: off, a node plane normal to x / y / z, or an isosurface. */
+export type FieldView = 'off' | 'x' | 'y' | 'z' | 'iso';
+
+/** A field slice ready to draw: a quad (4 corners, target units) with an RGBA texture. */
+export interface FieldSlice {
+  width: number;
+  height: number;
+  /** Corners (u₀,v₀), (u₁,v₀), (u₁,v₁), (u₀,v₁) as 12 floats; texture row 0 is v₀. */
+  corners: Float32Array;
+  /** width × height RGBA bytes, u fastest. */
+  rgba: Uint8Array;
+}
+
+/** A field isosurface ready to draw (target units). */
+export interface FieldIso {
+  positions: Float32Array;
+  indices: Uint32Array;
+}
+
 /** Where a wrap's input comes from. */
 export type Source =
   | { kind: 'bytes'; bytes: ArrayBuffer; name: string }
@@ -104,7 +123,9 @@ export type ToWorker =
   | { type: 'cancel' }
   | { type: 'colour'; map: ColourMap }
   | { type: 'export'; format: string; kept?: { positions: Float32Array; indices: Uint32Array } }
-  | { type: 'curves'; settings: Record<string, unknown> };
+  | { type: 'curves'; settings: Record<string, unknown> }
+  /** Show the distance field: `t` ∈ [0, 1] is the slice position or the isosurface level's fraction. */
+  | { type: 'field'; view: FieldView; t: number };
 
 /**
  * A frame of the evolving surface, ready to upload: the worker computes normals and colours so
@@ -148,6 +169,8 @@ export type FromWorker =
   | { type: 'result'; run: number; hash: string; name: string; positions: Float32Array; normals: Float32Array; indices: Uint32Array; elapsedMs: number; steps: number }
   | { type: 'exported'; bytes: Uint8Array; format: string }
   | { type: 'curves'; curves: ControlCurves }
+  /** The field view asked for (neither slice nor iso: nothing to show). `label` describes it. */
+  | { type: 'field'; run: number; view: FieldView; slice?: FieldSlice; iso?: FieldIso; range: [number, number]; label: string }
   | { type: 'error'; error: UiError };
 
 /** Turns anything thrown (a facade error object, an Error, a string) into a UiError. */
@@ -176,6 +199,8 @@ export type ToRender =
   | { type: 'wireframe'; on: boolean }
   | { type: 'smooth'; on: boolean }
   | { type: 'show-target'; on: boolean }
+  /** Shows a field slice or isosurface; neither clears the field view. */
+  | { type: 'field'; slice?: FieldSlice; iso?: FieldIso }
   | { type: 'probe' };
 
 /** Render worker → UI: probe answers, recorded-frame counts and the camera (for share links). */

@@ -115,6 +115,9 @@ self.onmessage = (ev: MessageEvent<ToRender>) => {
     case 'show-target':
       viewer.showTarget(m.on);
       break;
+    case 'field':
+      viewer.setField(m.slice, m.iso);
+      break;
     case 'probe':
       viewer.render();
       post({ type: 'probe', meshPixelFraction: viewer.meshPixelFraction() });

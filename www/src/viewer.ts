@@ -2,6 +2,7 @@
 // It draws into an OffscreenCanvas inside the render worker, so even a CPU rasteriser drawing a
 // large mesh never blocks the page; camera motion arrives as small messages from the UI thread.
 import * as THREE from 'three';
+import type { FieldIso, FieldSlice } from './protocol';
 
 /** Copies into the existing attribute when sizes match (reusing its GPU buffer), else replaces it. */
 function setOrCopy(g: THREE.BufferGeometry, name: string, data: Float32Array): void {
@@ -68,6 +69,8 @@ export class Viewer {
   private targetVisible = true;
   private width = 1;
   private height = 1;
+  /** The distance-field view: a textured slice quad or a translucent isosurface. */
+  private field: THREE.Mesh | null = null;
 
   constructor(canvas: OffscreenCanvas | HTMLCanvasElement, pixelRatio: number) {
     const probe = canvas.getContext('webgl2', { preserveDrawingBuffer: true }) as WebGL2RenderingContext | null;
@@ -155,6 +158,40 @@ export class Viewer {
     }
     this.target.visible = this.targetVisible;
     this.scene.add(this.target);
+  }
+
+  /** Shows a field slice (textured quad), an isosurface (translucent mesh), or nothing. */
+  setField(slice?: FieldSlice, iso?: FieldIso): void {
+    if (this.field) {
+      this.scene.remove(this.field);
+      this.field.geometry.dispose();
+      const m = this.field.material as THREE.MeshBasicMaterial;
+      m.map?.dispose();
+      m.dispose();
+      this.field = null;
+    }
+    if (slice) {
+      const g = new THREE.BufferGeometry();
+      g.setAttribute('position', new THREE.BufferAttribute(slice.corners, 3));
+      g.setAttribute('uv', new THREE.BufferAttribute(new Float32Array([0, 0, 1, 0, 1, 1, 0, 1]), 2));
+      g.setIndex([0, 1, 2, 0, 2, 3]);
+      const tex = new THREE.DataTexture(slice.rgba, slice.width, slice.height, THREE.RGBAFormat);
+      tex.colorSpace = THREE.SRGBColorSpace;
+      tex.magFilter = THREE.LinearFilter;
+      tex.minFilter = THREE.LinearFilter;
+      tex.needsUpdate = true;
+      this.field = new THREE.Mesh(g, new THREE.MeshBasicMaterial({ map: tex, side: THREE.DoubleSide, transparent: true, opacity: 0.85, depthWrite: false }));
+    } else if (iso && iso.indices.length) {
+      const g = new THREE.BufferGeometry();
+      g.setAttribute('position', new THREE.BufferAttribute(iso.positions, 3));
+      g.setIndex(new THREE.BufferAttribute(iso.indices, 1));
+      g.computeVertexNormals();
+      this.field = new THREE.Mesh(g, new THREE.MeshStandardMaterial({ color: 0x5fd3a0, roughness: 0.6, transparent: true, opacity: 0.4, depthWrite: false, side: THREE.DoubleSide }));
+    }
+    if (this.field) {
+      this.field.renderOrder = 2;
+      this.scene.add(this.field);
+    }
   }
 
   showTarget(on: boolean): void {

@@ -4,7 +4,7 @@
 import init, {
   McfSession, WrapSession, presetSettings, settingsDocs, settingsEnums, demoShape, demoMesh, controlCurves, exportMesh,
 } from '../pkg/lsw.js';
-import type { ColourMap, FromWorker, Histogram, McfStats, Source, StepReport, TargetInfo, ToWorker } from './protocol';
+import type { ColourMap, FieldView, FromWorker, Histogram, McfStats, Source, StepReport, TargetInfo, ToWorker } from './protocol';
 import { toUiError } from './protocol';
 import { batchSize } from './schedule';
 import { colorize, robustRange } from './colormap';
@@ -97,6 +97,47 @@ function mcfLoop(): void {
   } catch (e) {
     fail(e);
   }
+}
+
+// ---- Distance field view ----------------------------------------------------------------------
+
+let fieldView: FieldView = 'off';
+let fieldT = 0.5;
+
+/** Posts the field view asked for, of the current wrap (or the kept one). */
+function sendField(): void {
+  const session = mode === 'wrap' ? (wrap ?? result) : null;
+  if (fieldView === 'off' || !session) {
+    post({ type: 'field', run: pageRun, view: fieldView, range: [0, 1], label: '' });
+    return;
+  }
+  if (fieldView === 'iso') {
+    const diagonal = Number((plain(session.targetInfo()) as TargetInfo).diagonal) || 1;
+    const o = session.fieldIsosurface(fieldT * 0.25 * diagonal) as unknown as { level: number; positions: Float32Array; indices: Uint32Array };
+    const label = `isosurface d = ${o.level.toPrecision(3)} · ${o.indices.length / 3} triangles`;
+    post({ type: 'field', run: pageRun, view: fieldView, iso: { positions: o.positions, indices: o.indices }, range: [o.level, o.level], label }, [o.positions.buffer, o.indices.buffer]);
+    return;
+  }
+  const axis = fieldView === 'x' ? 0 : fieldView === 'y' ? 1 : 2;
+  const o = session.fieldSlice(axis, fieldT) as unknown as { index: number; width: number; height: number; coordinate: number; corners: Float32Array; values: Float32Array };
+  let lo = Infinity, hi = -Infinity;
+  for (const v of o.values) if (Number.isFinite(v)) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
+  if (!(hi > lo)) { lo = Number.isFinite(lo) ? lo : 0; hi = lo + 1; }
+  const rgb = new Float32Array(o.values.length * 3);
+  colorize(o.values, lo, hi, rgb);
+  const rgba = new Uint8Array(o.values.length * 4);
+  for (let i = 0; i < o.values.length; i++) {
+    rgba[4 * i] = Math.round(255 * rgb[3 * i]);
+    rgba[4 * i + 1] = Math.round(255 * rgb[3 * i + 1]);
+    rgba[4 * i + 2] = Math.round(255 * rgb[3 * i + 2]);
+    rgba[4 * i + 3] = 255;
+  }
+  const n = axis === 0 ? 'x' : axis === 1 ? 'y' : 'z';
+  const label = `slice ${n} = ${o.coordinate.toPrecision(4)} (${o.width}×${o.height} nodes) · d ${lo.toPrecision(3)} – ${hi.toPrecision(3)}`;
+  post(
+    { type: 'field', run: pageRun, view: fieldView, slice: { width: o.width, height: o.height, corners: o.corners, rgba }, range: [lo, hi], label },
+    [o.corners.buffer, rgba.buffer],
+  );
 }
 
 // ---- Wraps -------------------------------------------------------------------------------------
@@ -239,6 +280,7 @@ async function startSession(autoplay: boolean, id: number): Promise<void> {
   const ti = session.targetIndices();
   post({ type: 'target', run: pageRun, positions: tp, indices: ti, info: plain(session.targetInfo()) as TargetInfo, name: source.name }, [tp.buffer, ti.buffer]);
   sendWrapFrame(session);
+  if (fieldView !== 'off') sendField();
   if (autoplay) {
     playing = true;
     wrapLoop(id);
@@ -327,6 +369,11 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
       }
       case 'curves':
         post({ type: 'curves', curves: controlCurves(JSON.stringify(msg.settings), 121) });
+        break;
+      case 'field':
+        fieldView = msg.view;
+        fieldT = Math.min(1, Math.max(0, Number.isFinite(msg.t) ? msg.t : 0.5));
+        sendField();
         break;
     }
   } catch (e) {

@@ -344,6 +344,42 @@ test('?src= with an unreachable server gives a clear network / CORS message', as
   await page.close();
 });
 
+test('field view: slice z and isosurface of the noisy sphere are drawn', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  assert(await page.isHidden('#field-box'), 'the field control is shown before a target is loaded');
+  await page.click('[data-demo=noisy-sphere]');
+  await page.waitForSelector('#field-box:not([hidden])', { timeout: 60000 });
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
+  const before = await meshPixelFraction(page);
+  await page.selectOption('[data-testid=field-view]', 'z');
+  await page.waitForFunction(() => window.__lsw.fieldShown().view === 'z' && window.__lsw.fieldShown().width > 0, null, { timeout: 20000 });
+  const slice = await page.evaluate(() => window.__lsw.fieldShown());
+  const withSlice = await meshPixelFraction(page);
+  assert(withSlice > before + 0.05, `the slice adds no pixels (${(100 * before).toFixed(1)} % → ${(100 * withSlice).toFixed(1)} %)`);
+  assert(/slice z = /.test(slice.label), `slice label: "${slice.label}"`);
+  await page.screenshot({ path: join(out, 'field-slice.png') });
+  // Moving the slider moves the slice (a new plane, same size).
+  await page.fill('[data-testid=field-t]', '0.2');
+  await page.dispatchEvent('[data-testid=field-t]', 'input');
+  await page.waitForFunction((l) => window.__lsw.fieldShown().label !== l, slice.label, { timeout: 20000 });
+  await page.selectOption('[data-testid=field-view]', 'iso');
+  await page.fill('[data-testid=field-t]', '0.3');
+  await page.dispatchEvent('[data-testid=field-t]', 'change');
+  await page.waitForFunction(() => window.__lsw.fieldShown().view === 'iso' && /d = /.test(window.__lsw.fieldShown().label) && window.__lsw.fieldShown().triangles > 100, null, { timeout: 20000 });
+  const iso = await page.evaluate(() => window.__lsw.fieldShown());
+  const withIso = await meshPixelFraction(page);
+  assert(withIso > before + 0.02, `the isosurface adds no pixels (${(100 * before).toFixed(1)} % → ${(100 * withIso).toFixed(1)} %)`);
+  await page.screenshot({ path: join(out, 'field-iso.png') });
+  await page.selectOption('[data-testid=field-view]', 'off');
+  await page.waitForFunction(() => window.__lsw.fieldShown().view === 'off', null, { timeout: 20000 });
+  const after = await meshPixelFraction(page);
+  await page.screenshot({ path: join(out, 'field-off.png') });
+  assert(Math.abs(after - before) < 0.03, `field off does not restore the view (${(100 * before).toFixed(1)} % vs ${(100 * after).toFixed(1)} %)`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+  console.log(`   ${slice.label}: ${(100 * before).toFixed(1)} % → ${(100 * withSlice).toFixed(1)} % pixels; ${iso.label}: ${(100 * withIso).toFixed(1)} %`);
+  await page.close();
+});
+
 const octahedron = 'v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\nf 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n';
 const server = await serve(dist, { '/fixtures/octahedron.obj': Buffer.from(octahedron) });
 const browser = await chromium.launch({
