@@ -362,9 +362,9 @@ test('field view: slice z and isosurface of the noisy sphere are drawn', async (
   await page.fill('[data-testid=field-t]', '0.2');
   await page.dispatchEvent('[data-testid=field-t]', 'input');
   await page.waitForFunction((l) => window.__lsw.fieldShown().label !== l, slice.label, { timeout: 20000 });
-  await page.selectOption('[data-testid=field-view]', 'iso');
+  // Level first (in slice mode it moves the slice), then one isosurface request at that level.
   await page.fill('[data-testid=field-t]', '0.3');
-  await page.dispatchEvent('[data-testid=field-t]', 'change');
+  await page.selectOption('[data-testid=field-view]', 'iso');
   await page.waitForFunction(() => window.__lsw.fieldShown().view === 'iso' && /d = /.test(window.__lsw.fieldShown().label) && window.__lsw.fieldShown().triangles > 100, null, { timeout: 20000 });
   const iso = await page.evaluate(() => window.__lsw.fieldShown());
   const withIso = await meshPixelFraction(page);
