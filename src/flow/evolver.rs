@@ -123,6 +123,8 @@ pub struct Evolver {
     distances: Vec<f64>,
     /// The target for the final fit (stabilised frame).
     fit_target: Option<SnapTarget>,
+    /// The schedule changed the target edge lengths since the last remesh.
+    sizes_changed: bool,
 }
 
 impl Evolver {
@@ -203,6 +205,7 @@ impl Evolver {
             done: false,
             distances: vec![],
             fit_target,
+            sizes_changed: true,
         };
         ev.refresh_distances();
         ev.done = ev.settings.steps == 0;
@@ -319,7 +322,8 @@ impl Evolver {
         let (x, solve) = loop {
             let t0 = now_ms();
             let tau = self.tau;
-            let a = lap.implicit_matrix(&self.mesh, tau, Some(&eps));
+            // After a failed solve, retry with a smaller τ and non-negative weights.
+            let a = lap.implicit_matrix_with(&self.mesh, tau, Some(&eps), retries > 0);
             let rhs: Vec<DVec3> = (0..n)
                 .map(|i| old[i] + tau * (eta[i] * normals[i] + tangential[i]))
                 .collect();
@@ -363,12 +367,14 @@ impl Evolver {
                 features: s.features.clone(),
                 ..RemeshSettings::with_sizes(self.sizes)
             };
+            self.sizes_changed = false;
             remesh_report = Some(remesh(&mut self.mesh, &rs)?);
             times.remesh = now_ms() - t0;
         }
         if self.settings.schedule.contains(&self.step) {
             let decay = self.settings.decay;
             self.sizes = decayed(self.sizes, decay);
+            self.sizes_changed = true;
             self.tau *= decay * decay;
             self.d1 /= decay;
         }
@@ -419,6 +425,8 @@ impl Evolver {
             max_move: self.settings.fit_max_move_cells * c,
             min_points: 6,
         };
+        // The fit must never make things worse: keep the settled surface if it breaks validity.
+        let backup = self.mesh.clone();
         let mut moved = 0;
         for _ in 0..self.settings.fit_passes {
             let normals = angle_weighted_normals(&self.mesh);
@@ -435,6 +443,10 @@ impl Evolver {
                 let _ = remesh(&mut self.mesh, &rs);
             }
         }
+        if self.mesh.validate().is_err() {
+            self.mesh = backup;
+            return Some(0);
+        }
         Some(moved)
     }
 
@@ -442,7 +454,8 @@ impl Evolver {
         match self.settings.remesh_trigger {
             RemeshTrigger::Always => true,
             RemeshTrigger::QualityBand => {
-                crate::remesh::trigger::needs_remesh(&self.mesh, self.settings.remesh_max_kappa)
+                self.sizes_changed
+                    || crate::remesh::trigger::needs_remesh(&self.mesh, self.settings.remesh_max_kappa)
             }
         }
     }

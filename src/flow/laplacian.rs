@@ -102,17 +102,29 @@ impl CotanLaplacian {
     /// `eps = None` means ε ≡ 1 (pure mean-curvature flow); a vertex with `ε_i = 0` or zero
     /// co-volume gets an identity row (it does not diffuse this step). Rebuilt from scratch every
     /// call, so no stale entries survive connectivity changes.
-    pub fn implicit_matrix(
+    pub fn implicit_matrix(&self, mesh: &HalfedgeMesh, tau: f64, eps: Option<&[f64]>) -> CsMat<f64> {
+        self.implicit_matrix_with(mesh, tau, eps, false)
+    }
+
+    /// [`Self::implicit_matrix`], optionally with negative edge weights (obtuse configurations)
+    /// clamped to zero: the matrix is then strictly diagonally dominant, so the solve always
+    /// converges. The flow falls back to this when a solve on a badly shaped mesh fails.
+    pub fn implicit_matrix_with(
         &self,
         mesh: &HalfedgeMesh,
         tau: f64,
         eps: Option<&[f64]>,
+        clamp_negative: bool,
     ) -> CsMat<f64> {
         let n = mesh.n_vertices();
+        // Co-volumes are floored at 1 % of their mean: a vertex whose faces have (nearly)
+        // collapsed would otherwise get an enormous row (τ/A_i → ∞) and stall the solver, while
+        // on any reasonable mesh the floor never binds.
+        let floor = 0.01 * self.covolumes.iter().sum::<f64>() / n.max(1) as f64;
         let scale: Vec<f64> = (0..n)
             .map(|i| {
                 let e = eps.map_or(1.0, |e| e[i]);
-                let a = self.covolumes[i];
+                let a = self.covolumes[i].max(floor);
                 if a > 0.0 && e != 0.0 {
                     tau * e / a
                 } else {
@@ -131,7 +143,10 @@ impl CotanLaplacian {
             let mut diag = 1.0;
             if sc != 0.0 {
                 for h in mesh.outgoing(i as u32) {
-                    let w = sc * self.edge_weights[(h >> 1) as usize];
+                    let mut w = sc * self.edge_weights[(h >> 1) as usize];
+                    if clamp_negative {
+                        w = w.max(0.0);
+                    }
                     indices.push(mesh.to(h) as usize);
                     data.push(-w);
                     diag += w;

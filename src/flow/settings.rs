@@ -23,7 +23,8 @@ pub enum StartSurface {
 pub enum RemeshTrigger {
     /// After every step from `remesh_from_step` on (what the reference does in effect).
     Always,
-    /// Only when some vertex's mean κ(J_Δ) exceeds `remesh_max_kappa`.
+    /// When some vertex's mean κ(J_Δ) exceeds `remesh_max_kappa`, or the schedule has changed
+    /// the target edge lengths since the last remesh.
     QualityBand,
 }
 
@@ -147,7 +148,10 @@ pub struct WrapSettings {
     pub remesh: bool,
     /// First step after which remeshing may run. Default 4 (the fresh icosphere needs none).
     pub remesh_from_step: u32,
-    /// When to remesh. Default always.
+    /// When to remesh. Default always (from `remesh_from_step`). Measured on the bunny: the
+    /// quality band alone remeshes 18 times instead of 143 (remesh time 0.12 s vs 0.85 s) and ends
+    /// closer to the scan, but lets slivers live long enough to stall the solver on spot; with
+    /// the schedule also triggering it remeshes after every size change and matches `always`.
     pub remesh_trigger: RemeshTrigger,
     /// Vertex-averaged κ(J_Δ) (equilateral = 1) above which [`RemeshTrigger::QualityBand`]
     /// remeshes. Default 1.5.

@@ -83,11 +83,14 @@ pub fn bicgstab3(a: &CsMat<f64>, b: &[V3], x: &mut [V3], pre: &Jacobi, settings:
     }
     let mut iterations = 0;
     while active.iter().any(|&a| a) {
-        iterations += 1;
-        if iterations > settings.max_iterations {
-            let c = (0..3).find(|&c| active[c]).unwrap_or(0);
-            return Err(SolveError::NotConverged { iterations: settings.max_iterations, residual: res[c], tolerance: tol });
+        // Near round-off the recursive residual can stall just above the tolerance: stop at the
+        // cap, or earlier once every column is within the 10× acceptance band, and let the true
+        // residual below decide.
+        let stalled = iterations >= 50 && (0..3).all(|c| !active[c] || res[c] <= 10.0 * tol);
+        if iterations >= settings.max_iterations || stalled {
+            break;
         }
+        iterations += 1;
         let rho = dot3(&r0, &r);
         let mut beta = [0.0; 3];
         for c in 0..3 {
