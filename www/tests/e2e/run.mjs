@@ -137,12 +137,13 @@ async function dropFile(page, name, bytes) {
 const state = (page) => page.getAttribute('[data-testid=status]', 'data-state');
 const resultHash = (page) => page.evaluate(() => window.__lsw.resultHash());
 
-/** The native CLI binary (built by `cargo build --release`), for checking exported files. */
+/** The native CLI binary, for checking exported files: a release build if there is one, else
+ * the debug build `cargo test` leaves behind (no extra compile in CI), else `cargo run`. */
 function lswInfo(file) {
-  const bin = join(repo, 'target', 'release', 'lsw');
-  const outText = existsSync(bin)
+  const bin = ['release', 'debug'].map((p) => join(repo, 'target', p, 'lsw')).find((b) => existsSync(b));
+  const outText = bin
     ? execFileSync(bin, ['info', file], { encoding: 'utf8' })
-    : execFileSync('cargo', ['run', '--release', '--quiet', '--bin', 'lsw', '--', 'info', file], { cwd: repo, encoding: 'utf8' });
+    : execFileSync('cargo', ['run', '--quiet', '--bin', 'lsw', '--', 'info', file], { cwd: repo, encoding: 'utf8' });
   return JSON.parse(outText);
 }
 
@@ -183,6 +184,34 @@ test('drop bunnyPts_3.ply → default wrap to done → export PLY is closed genu
   await page.screenshot({ path: join(out, 'bunny-done.png') });
   await writeFile(join(out, 'bench-bunny.json'), JSON.stringify({ dropToDoneMs: appMs, wallMs, maxTask, date: new Date().toISOString() }, null, 1));
   console.log(`   result hash ${await resultHash(page)}; drop → done ${(appMs / 1000).toFixed(2)} s in the app (${(wallMs / 1000).toFixed(2)} s wall); longest main-thread task ${maxTask.toFixed(0)} ms; ${text.slice(0, 160)}`);
+  await page.close();
+});
+
+test('exported binary PLY, STL, OBJ and GLB drop back in and load as meshes', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  await page.click('[data-demo=noisy-sphere]');
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
+  const files = {};
+  for (const fmt of ['ply', 'stl', 'obj', 'glb']) {
+    const dl = page.waitForEvent('download');
+    await page.click(`[data-format=${fmt}]`);
+    const download = await dl;
+    files[fmt] = join(out, `roundtrip.${fmt}`);
+    await download.saveAs(files[fmt]);
+  }
+  const seen = [];
+  for (const fmt of ['ply', 'stl', 'obj', 'glb']) {
+    const bytes = await readFile(files[fmt]);
+    await dropFile(page, `roundtrip.${fmt}`, bytes);
+    await page.waitForFunction((f) => (document.querySelector('#target-info').textContent || '').startsWith(`roundtrip.${f}:`), fmt, { timeout: 60000 });
+    const info = await page.textContent('#target-info');
+    const state = await page.getAttribute('[data-testid=status]', 'data-state');
+    assert(state !== 'error', `dropping the exported ${fmt} failed: ${await page.textContent('#error')}`);
+    assert(new RegExp(`: ${fmt}, \\d+ vertices, \\d+ triangles`).test(info), `unexpected target info for ${fmt}: "${info}"`);
+    seen.push(info.split(',').slice(0, 3).join(','));
+  }
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+  console.log(`   ${seen.join(' | ')}`);
   await page.close();
 });
 
