@@ -1,25 +1,16 @@
 //! The LSW evolution end to end on analytic targets. Runs natively and in headless Chromium.
 
 use lsw::flow::{Evolver, Preset, WrapSettings};
-use lsw::geometry::sphere::mean_radius;
+use lsw::geometry::sphere::{fibonacci_sphere, mean_radius};
 use lsw::target::Target;
 use lsw::DVec3;
 use wasm_bindgen_test::*;
 
 wasm_bindgen_test_configure!(run_in_browser);
 
-/// `n` points spread evenly on a sphere (Fibonacci lattice).
+/// `n` points spread evenly on a sphere of radius `r`.
 fn sphere_cloud(n: usize, r: f64) -> Target {
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    let pts = (0..n)
-        .map(|i| {
-            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
-            let rho = (1.0 - z * z).sqrt();
-            let a = golden * i as f64;
-            r * DVec3::new(rho * a.cos(), rho * a.sin(), z)
-        })
-        .collect();
-    Target::new(pts, vec![]).unwrap()
+    Target::new(fibonacci_sphere(n).into_iter().map(|p| r * p).collect(), vec![]).unwrap()
 }
 
 #[wasm_bindgen_test(unsupported = test)]

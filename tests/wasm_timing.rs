@@ -16,16 +16,7 @@ use wasm_bindgen_test::*;
 wasm_bindgen_test_configure!(run_in_browser);
 
 fn sphere_cloud(n: usize) -> Target {
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    let pts = (0..n)
-        .map(|i| {
-            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
-            let rho = (1.0 - z * z).sqrt();
-            let a = golden * i as f64;
-            DVec3::new(rho * a.cos(), rho * a.sin(), z)
-        })
-        .collect();
-    Target::new(pts, vec![]).unwrap()
+    Target::new(lsw::geometry::sphere::fibonacci_sphere(n), vec![]).unwrap()
 }
 
 #[wasm_bindgen_test]

@@ -211,16 +211,7 @@ mod tests {
     #[test]
     fn offset_sphere_snaps_onto_sampled_sphere() {
         // Points on the unit sphere; the mesh is the sphere of radius 1.05.
-        let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-        let n = 20_000;
-        let pts: Vec<DVec3> = (0..n)
-            .map(|i| {
-                let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
-                let r = (1.0 - z * z).sqrt();
-                let a = golden * i as f64;
-                DVec3::new(r * a.cos(), r * a.sin(), z)
-            })
-            .collect();
+        let pts = crate::geometry::sphere::fibonacci_sphere(20_000);
         let grid = PointGrid::new(&pts, 0.05);
         let mut mesh = icosphere(4, 1.05, DVec3::ZERO).unwrap();
         let normals: Vec<DVec3> = mesh.positions().iter().map(|p| p.normalize()).collect();
