@@ -286,6 +286,13 @@ impl DistanceField {
         sample::trilinear_vec(&self.grid, &self.gradient, p)
     }
 
+    /// [`Self::sample`] and [`Self::sample_gradient`] at once (one cell lookup); both values are
+    /// the same values as from the separate calls.
+    #[inline]
+    pub fn sample_with_gradient(&self, p: DVec3) -> (f64, DVec3) {
+        sample::trilinear_both(&self.grid, &self.values, &self.gradient, p)
+    }
+
     /// Cell size c (node spacing).
     pub fn cell_size(&self) -> f64 {
         self.grid.cell

@@ -72,3 +72,53 @@ pub fn trilinear_vec(grid: &Grid, values: &[[f32; 3]], p: DVec3) -> DVec3 {
     }
     s
 }
+
+/// [`trilinear`] of `values` and [`trilinear_vec`] of `vectors` at the same point, locating the
+/// cell once (the flow needs d and −∇d at every vertex every step).
+#[inline]
+pub fn trilinear_both(grid: &Grid, values: &[f64], vectors: &[[f32; 3]], p: DVec3) -> (f64, DVec3) {
+    let (i, f) = locate(grid, p);
+    let w = weights(f);
+    let o = corner_offsets(grid);
+    let (mut d, mut s) = (0.0, DVec3::ZERO);
+    for k in 0..8 {
+        let (j, wk) = (i + o[k], w[k]);
+        d += wk * values[j];
+        let v = vectors[j];
+        s += wk * DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64);
+    }
+    (d, s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn both_at_once_equals_the_separate_lookups() {
+        let grid = Grid {
+            origin: DVec3::new(-1.0, 0.5, 2.0),
+            cell: 0.25,
+            dims: [5, 4, 6],
+        };
+        let values: Vec<f64> = (0..grid.node_count())
+            .map(|i| (i as f64 * 0.37).sin())
+            .collect();
+        let vectors: Vec<[f32; 3]> = (0..grid.node_count())
+            .map(|i| [(i as f32).cos(), 0.5, -(i as f32 * 0.1)])
+            .collect();
+        // Inside, on nodes, and outside the box (clamped).
+        for k in 0..200 {
+            let t = k as f64;
+            let p = grid.origin
+                + DVec3::new(
+                    (t * 0.13).fract() * 1.4 - 0.2,
+                    (t * 0.29).fract() * 1.0,
+                    (t * 0.07).fract() * 1.6 - 0.1,
+                );
+            let (d, g) = trilinear_both(&grid, &values, &vectors, p);
+            assert_eq!(d, trilinear(&grid, &values, p), "{p:?}");
+            assert_eq!(g, trilinear_vec(&grid, &vectors, p), "{p:?}");
+        }
+    }
+}

@@ -8,8 +8,8 @@
 use super::controls::Controls;
 use super::settings::{RemeshTrigger, StartSurface, WrapSettings};
 use super::snap::{snap_to_target, PointGrid, SnapParams, SnapTarget};
-use super::tangential::tangential_velocity;
-use super::{mcf::stats, scaling, CotanLaplacian};
+use super::surface_terms::SurfaceTerms;
+use super::{mcf::stats, scaling};
 use crate::clock::now_ms;
 use crate::field::{DistanceField, FieldError};
 use crate::geometry::icosphere::{icosphere, IcosphereError};
@@ -57,9 +57,10 @@ pub enum EvolveError {
 /// Wall time of the phases of one step, in milliseconds.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct PhaseTimes {
-    /// Normals, distance sampling and control functions.
+    /// Surface terms (normals, cotangent weights, co-volumes, tangential sums, in one pass
+    /// over the faces) and control functions.
     pub normals: f64,
-    /// Laplacian, matrix and right-hand sides.
+    /// Matrix and right-hand sides.
     pub assembly: f64,
     /// Linear solves (all retries).
     pub solve: f64,
@@ -121,6 +122,8 @@ pub struct Evolver {
     settle_threshold: f64,
     /// Per-vertex field distance (stabilised frame), refreshed after each step.
     distances: Vec<f64>,
+    /// Per-vertex −∇d/|∇d| at the same positions.
+    gradients: Vec<DVec3>,
     /// The target for the final fit (stabilised frame).
     fit_target: Option<SnapTarget>,
     /// The schedule changed the target edge lengths since the last remesh.
@@ -204,6 +207,7 @@ impl Evolver {
             step: 0,
             done: false,
             distances: vec![],
+            gradients: vec![],
             fit_target,
             sizes_changed: true,
         };
@@ -212,13 +216,15 @@ impl Evolver {
         Ok(ev)
     }
 
+    /// Samples d and −∇d at every vertex (the step reads both at these positions).
     fn refresh_distances(&mut self) {
-        self.distances = self
+        let field = &self.field;
+        (self.distances, self.gradients) = self
             .mesh
             .positions()
             .iter()
-            .map(|&p| self.field.sample(p))
-            .collect();
+            .map(|&p| field.sample_with_gradient(p))
+            .unzip();
     }
 
     /// True when the step limit or the stopping rule has been reached.
@@ -289,33 +295,26 @@ impl Evolver {
             mcf_positive_support: s.mcf_positive_support,
             advection_positive_support: s.advection_positive_support,
         };
-        let normals = angle_weighted_normals(&self.mesh);
+        // One pass over the faces gives normals, the Laplacian and the tangential sums.
+        let terms = SurfaceTerms::new(&self.mesh);
+        let normals = &terms.normals;
         let (mut eps, mut eta) = (vec![1.0; n], vec![0.0; n]);
         if s.use_target {
             for i in 0..n {
-                let p = self.mesh.positions()[i];
                 let delta = self.distances[i] - self.d0;
                 eps[i] = controls.epsilon(delta);
                 if eps[i] != 0.0 || !s.advection_positive_support || delta >= 0.0 {
-                    let g = self.field.sample_gradient(p);
-                    eta[i] = controls.eta(delta, g.dot(normals[i]));
+                    eta[i] = controls.eta(delta, self.gradients[i].dot(normals[i]));
                 }
             }
         }
-        let tangential: Vec<DVec3> = (0..n as u32)
-            .map(|v| {
-                tangential_velocity(
-                    &self.mesh,
-                    v,
-                    normals[v as usize],
-                    s.tangential_weight * eps[v as usize],
-                )
-            })
+        let tangential: Vec<DVec3> = (0..n)
+            .map(|v| terms.tangential(v, s.tangential_weight * eps[v]))
             .collect();
         let t_normals = now_ms();
         times.normals = t_normals - t_start;
 
-        let lap = CotanLaplacian::new(&self.mesh);
+        let lap = &terms.laplacian;
         let (covolume_min, covolume_mean, covolume_max) = stats(&lap.covolumes);
         let old = self.mesh.positions().to_vec();
         let mut retries = 0;

@@ -21,14 +21,31 @@ pub struct CotanLaplacian {
     pub edge_weights: Vec<f64>,
 }
 
-/// Cotangent of the angle between `u` and `v`, clamped; `None` for a degenerate pair.
+/// The clamped cotangents of a face's corners from twice its area `c = |a × b|` and the dot
+/// products of each corner's two edge vectors; `None` for a degenerate face.
 #[inline]
-fn cot(u: DVec3, v: DVec3) -> Option<f64> {
-    let c = u.cross(v).length();
+pub(crate) fn cot_of(c: f64, dots: [f64; 3]) -> Option<[f64; 3]> {
     if c <= f64::MIN_POSITIVE {
         return None;
     }
-    Some((u.dot(v) / c).clamp(-COT_CLAMP, COT_CLAMP))
+    Some(dots.map(|d| (d / c).clamp(-COT_CLAMP, COT_CLAMP)))
+}
+
+/// Each corner's share of the mixed Voronoi area of a face: the Voronoi part for non-obtuse
+/// triangles, else T/2 at the obtuse corner and T/4 at the others. `len2[k]` is the squared
+/// length of the edge from corner k to corner k+1.
+#[inline]
+pub(crate) fn corner_covolumes(cots: [f64; 3], len2: [f64; 3], area: f64) -> [f64; 3] {
+    let obtuse = (0..3).find(|&k| cots[k] < 0.0);
+    std::array::from_fn(|k| match obtuse {
+        Some(o) if o == k => 0.5 * area,
+        Some(_) => 0.25 * area,
+        None => {
+            // |p_k p_l|² opposite corner j, |p_k p_j|² opposite corner l.
+            let (j, l) = ((k + 1) % 3, (k + 2) % 3);
+            (len2[l] * cots[j] + len2[k] * cots[l]) / 8.0
+        }
+    })
 }
 
 impl CotanLaplacian {
@@ -42,36 +59,18 @@ impl CotanLaplacian {
             // Corner k sits at from(hs[k]); the edge opposite corner k is hs[(k+1)%3].
             let vs = hs.map(|h| mesh.from(h));
             let ps = vs.map(|v| mesh.position(v));
-            let area = 0.5 * (ps[1] - ps[0]).cross(ps[2] - ps[0]).length();
-            let mut cots = [0.0; 3];
-            let mut degenerate = false;
-            for k in 0..3 {
-                let (a, b) = (ps[(k + 1) % 3] - ps[k], ps[(k + 2) % 3] - ps[k]);
-                match cot(a, b) {
-                    Some(c) => cots[k] = c,
-                    None => degenerate = true,
-                }
-            }
-            if degenerate {
+            let e = [ps[1] - ps[0], ps[2] - ps[1], ps[0] - ps[2]];
+            let c = e[0].cross(-e[2]).length();
+            let dots = [-e[0].dot(e[2]), -e[1].dot(e[0]), -e[2].dot(e[1])];
+            let Some(cots) = cot_of(c, dots) else {
                 continue;
-            }
+            };
             for k in 0..3 {
                 edge_weights[(hs[(k + 1) % 3] >> 1) as usize] += 0.5 * cots[k];
             }
-            // Mixed Voronoi area: Voronoi part for non-obtuse triangles, else T/2 or T/4.
-            let obtuse = (0..3).find(|&k| cots[k] < 0.0);
+            let shares = corner_covolumes(cots, e.map(|v| v.length_squared()), 0.5 * c);
             for k in 0..3 {
-                covolumes[vs[k] as usize] += match obtuse {
-                    Some(o) if o == k => 0.5 * area,
-                    Some(_) => 0.25 * area,
-                    None => {
-                        let (j, l) = ((k + 1) % 3, (k + 2) % 3);
-                        // |p_k p_l|² opposite corner j, |p_k p_j|² opposite corner l.
-                        ((ps[l] - ps[k]).length_squared() * cots[j]
-                            + (ps[j] - ps[k]).length_squared() * cots[l])
-                            / 8.0
-                    }
-                };
+                covolumes[vs[k] as usize] += shares[k];
             }
         }
         Self {
@@ -132,29 +131,46 @@ impl CotanLaplacian {
                 }
             })
             .collect();
-        // Rows are assembled directly in CSR order from each vertex's one-ring (sorted by
-        // column with an insertion sort: rows have ~7 entries), avoiding a triplet sort.
-        let mut indptr = Vec::with_capacity(n + 1);
-        let mut indices = Vec::with_capacity(n + 2 * mesh.n_edges());
-        let mut data = Vec::with_capacity(n + 2 * mesh.n_edges());
-        indptr.push(0);
-        for (i, &sc) in scale.iter().enumerate() {
-            let start = indices.len();
-            let mut diag = 1.0;
-            if sc != 0.0 {
-                for h in mesh.outgoing(i as u32) {
-                    let mut w = sc * self.edge_weights[(h >> 1) as usize];
-                    if clamp_negative {
-                        w = w.max(0.0);
-                    }
-                    indices.push(mesh.to(h) as usize);
-                    data.push(-w);
-                    diag += w;
-                }
+        // Assembled straight into CSR from a linear pass over the halfedges (one-ring walks
+        // chase pointers and were the slow part): count the row lengths, scatter each outgoing
+        // halfedge into its row, append the diagonal, sort each short row by column.
+        let nh = 2 * mesh.n_edges();
+        let mut indptr = vec![0usize; n + 1];
+        for h in 0..nh as u32 {
+            let i = mesh.from(h) as usize;
+            if scale[i] != 0.0 {
+                indptr[i + 1] += 1;
             }
-            indices.push(i);
-            data.push(diag);
-            for k in start + 1..indices.len() {
+        }
+        for i in 0..n {
+            indptr[i + 1] += indptr[i] + 1;
+        }
+        let nnz = indptr[n];
+        let mut indices = vec![0usize; nnz];
+        let mut data = vec![0.0; nnz];
+        let mut fill: Vec<usize> = indptr[..n].to_vec();
+        let mut diag = vec![1.0; n];
+        for h in 0..nh as u32 {
+            let i = mesh.from(h) as usize;
+            let sc = scale[i];
+            if sc == 0.0 {
+                continue;
+            }
+            let mut w = sc * self.edge_weights[(h >> 1) as usize];
+            if clamp_negative {
+                w = w.max(0.0);
+            }
+            indices[fill[i]] = mesh.to(h) as usize;
+            data[fill[i]] = -w;
+            fill[i] += 1;
+            diag[i] += w;
+        }
+        for i in 0..n {
+            let (start, last) = (indptr[i], fill[i]);
+            indices[last] = i;
+            data[last] = diag[i];
+            // Rows have ~7 entries: insertion sort.
+            for k in start + 1..=last {
                 let mut j = k;
                 while j > start && indices[j - 1] > indices[j] {
                     indices.swap(j - 1, j);
@@ -162,7 +178,6 @@ impl CotanLaplacian {
                     j -= 1;
                 }
             }
-            indptr.push(indices.len());
         }
         CsMat::new((n, n), indptr, indices, data)
     }

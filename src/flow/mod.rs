@@ -6,6 +6,7 @@ pub mod laplacian;
 pub mod mcf;
 pub mod scaling;
 pub mod settings;
+pub mod surface_terms;
 pub mod snap;
 pub mod tangential;
 

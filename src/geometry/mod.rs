@@ -1,6 +1,7 @@
 //! Geometric primitives and starting surfaces.
 
 pub mod aabb;
+pub mod angle;
 pub mod icosphere;
 pub mod marching_cubes;
 pub mod normals;

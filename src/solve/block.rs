@@ -8,6 +8,13 @@ use sprs::CsMat;
 type V3 = [f64; 3];
 
 fn spmv3(a: &CsMat<f64>, x: &[V3], y: &mut [V3]) {
+    spmv3_then(a, x, y, |_, _| {});
+}
+
+/// `y = A·x`, calling `then(row, y_row)` as each row is done, so that dot products with `y`
+/// need no second pass over it.
+#[inline(always)]
+fn spmv3_then(a: &CsMat<f64>, x: &[V3], y: &mut [V3], mut then: impl FnMut(usize, &V3)) {
     let (ip, indices, data) = (a.indptr(), a.indices(), a.data());
     let ip = ip.raw_storage();
     for (row, yr) in y.iter_mut().enumerate() {
@@ -19,23 +26,23 @@ fn spmv3(a: &CsMat<f64>, x: &[V3], y: &mut [V3]) {
             s[2] += v * xj[2];
         }
         *yr = s;
+        then(row, yr);
+    }
+}
+
+#[inline(always)]
+fn add_products(acc: &mut V3, a: &V3, b: &V3) {
+    for c in 0..3 {
+        acc[c] += a[c] * b[c];
     }
 }
 
 fn dot3(a: &[V3], b: &[V3]) -> V3 {
     let mut s = [0.0; 3];
     for (p, q) in a.iter().zip(b) {
-        for c in 0..3 {
-            s[c] += p[c] * q[c];
-        }
+        add_products(&mut s, p, q);
     }
     s
-}
-
-fn precond3(inv_diag: &[f64], r: &[V3], z: &mut [V3]) {
-    for ((zi, ri), d) in z.iter_mut().zip(r).zip(inv_diag) {
-        *zi = [ri[0] * d, ri[1] * d, ri[2] * d];
-    }
 }
 
 /// Solves `A·X = B` for the three columns of `b` (rows as `[x, y, z]`), starting from `x`.
@@ -81,7 +88,11 @@ pub fn bicgstab3(a: &CsMat<f64>, b: &[V3], x: &mut [V3], pre: &Jacobi, settings:
     for c in 0..3 {
         res[c] = if bn[c] > 0.0 { rr[c].sqrt() / bn[c] } else { 0.0 };
     }
+    let mut rho = dot3(&r0, &r);
     let mut iterations = 0;
+    // Every vector update is fused with the products that read it (one pass instead of two or
+    // three: the vectors outgrow the cache at 40 K vertices). A finished column keeps iterating
+    // with zero coefficients, which leaves its x and r unchanged, so the loops need no branches.
     while active.iter().any(|&a| a) {
         // Near round-off the recursive residual can stall just above the tolerance: stop at the
         // cap, or earlier once every column is within the 10× acceptance band, and let the true
@@ -91,7 +102,6 @@ pub fn bicgstab3(a: &CsMat<f64>, b: &[V3], x: &mut [V3], pre: &Jacobi, settings:
             break;
         }
         iterations += 1;
-        let rho = dot3(&r0, &r);
         let mut beta = [0.0; 3];
         for c in 0..3 {
             if active[c] {
@@ -101,15 +111,19 @@ pub fn bicgstab3(a: &CsMat<f64>, b: &[V3], x: &mut [V3], pre: &Jacobi, settings:
                 beta[c] = (rho[c] / rho_old[c]) * (alpha[c] / omega[c]);
             }
         }
+        // p = r + β(p − ωv), p̂ = M⁻¹p.
+        let om = omega;
         for i in 0..n {
             for c in 0..3 {
-                p[i][c] = r[i][c] + beta[c] * (p[i][c] - omega[c] * v[i][c]);
+                p[i][c] = r[i][c] + beta[c] * (p[i][c] - om[c] * v[i][c]);
+                phat[i][c] = p[i][c] * inv[i];
             }
         }
-        precond3(inv, &p, &mut phat);
-        spmv3(a, &phat, &mut v);
-        let r0v = dot3(&r0, &v);
+        // v = A p̂ and r₀·v.
+        let mut r0v = [0.0; 3];
+        spmv3_then(a, &phat, &mut v, |i, vi| add_products(&mut r0v, &r0[i], vi));
         for c in 0..3 {
+            alpha[c] = 0.0;
             if active[c] {
                 if r0v[c].abs() <= tiny * bn[c] * bn[c] {
                     return Err(SolveError::Breakdown { iterations, residual: res[c] });
@@ -117,43 +131,48 @@ pub fn bicgstab3(a: &CsMat<f64>, b: &[V3], x: &mut [V3], pre: &Jacobi, settings:
                 alpha[c] = rho[c] / r0v[c];
             }
         }
+        // s = r − αv, ŝ = M⁻¹s and s·s.
+        let mut ss = [0.0; 3];
         for i in 0..n {
             for c in 0..3 {
                 s[i][c] = r[i][c] - alpha[c] * v[i][c];
+                shat[i][c] = s[i][c] * inv[i];
             }
+            add_products(&mut ss, &s[i], &s[i]);
         }
-        let ss = dot3(&s, &s);
         let mut half_done = [false; 3];
         for c in 0..3 {
             if active[c] && ss[c].sqrt() / bn[c] <= tol {
                 half_done[c] = true;
             }
         }
-        precond3(inv, &s, &mut shat);
-        spmv3(a, &shat, &mut t);
-        let (ts, tt) = (dot3(&t, &s), dot3(&t, &t));
+        // t = A ŝ with t·s and t·t.
+        let (mut ts, mut tt) = ([0.0; 3], [0.0; 3]);
+        spmv3_then(a, &shat, &mut t, |i, ti| {
+            add_products(&mut ts, ti, &s[i]);
+            add_products(&mut tt, ti, ti);
+        });
+        let mut om = [0.0; 3];
         for c in 0..3 {
             if active[c] && !half_done[c] {
                 if tt[c] == 0.0 {
                     return Err(SolveError::Breakdown { iterations, residual: res[c] });
                 }
                 omega[c] = ts[c] / tt[c];
+                om[c] = omega[c];
             }
         }
+        // x += αp̂ + ωŝ, r = s − ωt (a half-done column takes x += αp̂ and stops), with r·r
+        // and the next ρ = r₀·r.
+        let (mut rr, mut rho_next) = ([0.0; 3], [0.0; 3]);
         for i in 0..n {
             for c in 0..3 {
-                if !active[c] {
-                    continue;
-                }
-                if half_done[c] {
-                    x[i][c] += alpha[c] * phat[i][c];
-                } else {
-                    x[i][c] += alpha[c] * phat[i][c] + omega[c] * shat[i][c];
-                    r[i][c] = s[i][c] - omega[c] * t[i][c];
-                }
+                x[i][c] += alpha[c] * phat[i][c] + om[c] * shat[i][c];
+                r[i][c] = s[i][c] - om[c] * t[i][c];
             }
+            add_products(&mut rr, &r[i], &r[i]);
+            add_products(&mut rho_next, &r0[i], &r[i]);
         }
-        let rr = dot3(&r, &r);
         for c in 0..3 {
             if !active[c] {
                 continue;
@@ -173,6 +192,7 @@ pub fn bicgstab3(a: &CsMat<f64>, b: &[V3], x: &mut [V3], pre: &Jacobi, settings:
             }
             rho_old[c] = rho[c];
         }
+        rho = rho_next;
     }
     // The recursive residual drifts: check the true one.
     let mut ax = vec![[0.0; 3]; n];
