@@ -28,7 +28,8 @@ pub(crate) fn cot_of(c: f64, dots: [f64; 3]) -> Option<[f64; 3]> {
     if c <= f64::MIN_POSITIVE {
         return None;
     }
-    Some(dots.map(|d| (d / c).clamp(-COT_CLAMP, COT_CLAMP)))
+    let inv = 1.0 / c;
+    Some(dots.map(|d| (d * inv).clamp(-COT_CLAMP, COT_CLAMP)))
 }
 
 /// Each corner's share of the mixed Voronoi area of a face: the Voronoi part for non-obtuse

@@ -24,23 +24,33 @@ pub struct SurfaceTerms {
     pub normals: Vec<DVec3>,
     /// Cotangent weights and co-volumes.
     pub laplacian: CotanLaplacian,
-    /// Per vertex, `Σ (1 + ê_a·ê_b)(e_a + e_b)` over its corners, `e_a`, `e_b` the corner's two
+    /// Per-vertex sums for the tangential term.
+    sums: Vec<VertexSums>,
+}
+
+/// What the face pass accumulates per vertex, in one cache line: each corner then updates one
+/// line instead of four scattered arrays.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(64))]
+struct VertexSums {
+    /// Σ angle · face normal.
+    normal: DVec3,
+    /// `Σ (1 + ê_a·ê_b)(e_a + e_b)` over the vertex's corners, `e_a`, `e_b` the corner's two
     /// spokes. On a closed mesh the corners around a vertex are exactly its consecutive spoke
     /// pairs, so this is the cyclic sum of method spec §6.3.
-    tangential_sums: Vec<DVec3>,
-    /// Corners (incident faces) per vertex: the spoke count `m` on a closed mesh.
-    corners: Vec<u32>,
+    tangential: DVec3,
+    /// Mixed Voronoi area.
+    covolume: f64,
+    /// Corners (incident faces): the spoke count `m` on a closed mesh.
+    corners: f64,
 }
 
 impl SurfaceTerms {
     /// One pass over the faces of `mesh` (which must be free of deleted elements).
     pub fn new(mesh: &HalfedgeMesh) -> Self {
         let nv = mesh.n_vertices();
-        let mut normals = vec![DVec3::ZERO; nv];
-        let mut covolumes = vec![0.0; nv];
+        let mut sums = vec![VertexSums::default(); nv];
         let mut edge_weights = vec![0.0; mesh.n_edges()];
-        let mut tangential_sums = vec![DVec3::ZERO; nv];
-        let mut corners = vec![0u32; nv];
         for f in 0..mesh.n_faces() as u32 {
             let h0 = mesh.face_halfedge(f);
             let h1 = mesh.next(h0);
@@ -57,47 +67,51 @@ impl SurfaceTerms {
             let c = cross.length();
             // At corner k the spokes are a = e[k] and b = −e[k+2].
             let dots = [-e[0].dot(e[2]), -e[1].dot(e[0]), -e[2].dot(e[1])];
+            // 1/(|e_a|·|e_b|) for the corner's spokes = |third edge| / (product of all three),
+            // one division per face instead of three.
+            let prod = len[0] * len[1] * len[2];
+            let inv_prod = if prod > 0.0 { 1.0 / prod } else { 0.0 };
             for k in 0..3 {
                 let (ka, kb) = (k, (k + 2) % 3);
-                let inv = if len[ka] > 0.0 && len[kb] > 0.0 {
+                let inv = if prod > 0.0 {
+                    len[(k + 1) % 3] * inv_prod
+                } else if len[ka] > 0.0 && len[kb] > 0.0 {
                     1.0 / (len[ka] * len[kb])
                 } else {
                     0.0
                 };
-                let v = vs[k] as usize;
-                tangential_sums[v] += (1.0 + dots[k] * inv) * (e[ka] - e[kb]);
-                corners[v] += 1;
+                let acc = &mut sums[vs[k] as usize];
+                acc.tangential += (1.0 + dots[k] * inv) * (e[ka] - e[kb]);
+                acc.corners += 1.0;
             }
             let Some(cots) = cot_of(c, dots) else {
                 continue;
             };
-            let n = cross / c;
+            let n = cross * (1.0 / c);
             // Two angles by atan2, the third from the angle sum (clamped against rounding).
             let a0 = corner_angle(c, dots[0]);
             let a1 = corner_angle(c, dots[1]);
             let a2 = (PI - a0 - a1).max(0.0);
             for (k, a) in [a0, a1, a2].into_iter().enumerate() {
-                normals[vs[k] as usize] += a * n;
+                sums[vs[k] as usize].normal += a * n;
             }
             for k in 0..3 {
                 edge_weights[(hs[(k + 1) % 3] >> 1) as usize] += 0.5 * cots[k];
             }
             let shares = corner_covolumes(cots, len2, 0.5 * c);
             for k in 0..3 {
-                covolumes[vs[k] as usize] += shares[k];
+                sums[vs[k] as usize].covolume += shares[k];
             }
         }
-        for n in &mut normals {
-            *n = n.normalize_or_zero();
-        }
+        let normals = sums.iter().map(|s| s.normal.normalize_or_zero()).collect();
+        let covolumes = sums.iter().map(|s| s.covolume).collect();
         Self {
             normals,
             laplacian: CotanLaplacian {
                 covolumes,
                 edge_weights,
             },
-            tangential_sums,
-            corners,
+            sums,
         }
     }
 
@@ -105,11 +119,11 @@ impl SurfaceTerms {
     /// [`super::tangential::tangential_velocity`]); `weight` is ω·ε_v.
     #[inline]
     pub fn tangential(&self, v: usize, weight: f64) -> DVec3 {
-        let m = self.corners[v];
-        if weight <= 0.0 || m == 0 {
+        let m = self.sums[v].corners;
+        if weight <= 0.0 || m == 0.0 {
             return DVec3::ZERO;
         }
-        let u = self.tangential_sums[v] * (weight / m as f64);
+        let u = self.sums[v].tangential * (weight / m);
         let n = self.normals[v];
         u - u.dot(n) * n
     }

@@ -94,13 +94,8 @@ pub fn solve_columns(
 /// share every matrix product (see [`bicgstab3`]). `x` holds the initial guess.
 pub fn solve_xyz(a: &CsMat<f64>, b: &[glam::DVec3], x: &mut [glam::DVec3], settings: &SolverSettings) -> Result<SolveReport, SolveError> {
     let pre = Jacobi::new(a)?;
-    let bb: Vec<[f64; 3]> = b.iter().map(|v| v.to_array()).collect();
-    let mut xx: Vec<[f64; 3]> = x.iter().map(|v| v.to_array()).collect();
-    let report = bicgstab3(a, &bb, &mut xx, &pre, settings)?;
-    for (xi, v) in x.iter_mut().zip(xx) {
-        *xi = glam::DVec3::from_array(v);
-    }
-    Ok(report)
+    // DVec3 is three f64 in a row: the solver works on the same memory, no copies.
+    bicgstab3(a, bytemuck::cast_slice(b), bytemuck::cast_slice_mut(x), &pre, settings)
 }
 
 /// `y = A·x` for a CSR matrix, without allocation.

@@ -20,12 +20,17 @@ impl Jacobi {
             });
         }
         let mut inv_diag = vec![0.0; a.rows()];
-        for (row, vec) in a.outer_iterator().enumerate() {
-            let d = vec.get(row).copied().unwrap_or(0.0);
+        let (indptr, indices, data) = (a.indptr(), a.indices(), a.data());
+        for (row, inv) in inv_diag.iter_mut().enumerate() {
+            let range = indptr.outer_inds_sz(row);
+            let d = indices[range.clone()]
+                .iter()
+                .position(|&j| j == row)
+                .map_or(0.0, |k| data[range.start + k]);
             if d == 0.0 || !d.is_finite() {
                 return Err(SolveError::BadDiagonal { row });
             }
-            inv_diag[row] = 1.0 / d;
+            *inv = 1.0 / d;
         }
         Ok(Self { inv_diag })
     }
