@@ -12,16 +12,17 @@ use glam::DVec3;
 /// local coordinates `f ∈ [0, 1]³` of `p` in that cell.
 #[inline]
 pub fn locate(grid: &Grid, p: DVec3) -> (usize, DVec3) {
-    let t = (p - grid.origin) / grid.cell;
+    let t = (p - grid.origin) * (1.0 / grid.cell);
     let mut base = [0usize; 3];
     let mut f = [0f64; 3];
     for k in 0..3 {
         let n1 = (grid.dims[k] - 1) as f64;
         // NaN clamps to 0 via max/min on f64 (max(NaN, 0) = 0).
         let tk = t[k].max(0.0).min(n1);
-        let ik = tk.floor().min(n1 - 1.0);
-        base[k] = ik as usize;
-        f[k] = tk - ik;
+        // tk ≥ 0, so truncation is floor (and, unlike `floor` on baseline x86-64, no libm call).
+        let ik = (tk as usize).min(grid.dims[k] - 2);
+        base[k] = ik;
+        f[k] = tk - ik as f64;
     }
     (grid.index(base[0], base[1], base[2]), DVec3::from_array(f))
 }
