@@ -3,7 +3,6 @@
 use lsw::flow::{Evolver, Preset, WrapSettings};
 use lsw::geometry::sphere::{fibonacci_sphere, mean_radius};
 use lsw::target::Target;
-use lsw::DVec3;
 use wasm_bindgen_test::*;
 
 wasm_bindgen_test_configure!(run_in_browser);

@@ -18,7 +18,7 @@ use crate::mesh::{HalfedgeMesh, MeshBuildError};
 use crate::metrics::bvh::TriangleBvh;
 use crate::remesh::adaptive::{remesh, RemeshError, RemeshReport, RemeshSettings};
 use crate::remesh::sizing::{decayed, icosphere_sizes, isosurface_sizes, EdgeSizes};
-use crate::solve::solve_xyz;
+use crate::solve::solve_xyz_scaled;
 use crate::target::Target;
 use glam::DVec3;
 use serde::Serialize;
@@ -322,14 +322,14 @@ impl Evolver {
             let t0 = now_ms();
             let tau = self.tau;
             // After a failed solve, retry with a smaller τ and non-negative weights.
-            let a = lap.implicit_matrix_with(&self.mesh, tau, Some(&eps), retries > 0);
+            let system = lap.implicit_system(&self.mesh, tau, Some(&eps), retries > 0);
             let rhs: Vec<DVec3> = (0..n)
                 .map(|i| old[i] + tau * (eta[i] * normals[i] + tangential[i]))
                 .collect();
             let mut x = rhs.clone();
             let t1 = now_ms();
             times.assembly += t1 - t0;
-            let result = solve_xyz(&a, &rhs, &mut x, &s.solver);
+            let result = system.and_then(|a| solve_xyz_scaled(&a, &rhs, &mut x, &s.solver));
             times.solve += now_ms() - t1;
             match result {
                 Ok(r) => break (x, r),
@@ -454,7 +454,10 @@ impl Evolver {
             RemeshTrigger::Always => true,
             RemeshTrigger::QualityBand => {
                 self.sizes_changed
-                    || crate::remesh::trigger::needs_remesh(&self.mesh, self.settings.remesh_max_kappa)
+                    || crate::remesh::trigger::needs_remesh(
+                        &self.mesh,
+                        self.settings.remesh_max_kappa,
+                    )
             }
         }
     }

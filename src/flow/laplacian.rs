@@ -2,8 +2,8 @@
 //! with the reference's clamping (method spec §6.2).
 
 use crate::mesh::HalfedgeMesh;
+use crate::solve::{ScaledRows, SolveError};
 use glam::DVec3;
-use sprs::CsMat;
 
 /// Cotangents are clamped to ±19.1, i.e. angles are treated as lying in [3°, 177°], so needle
 /// triangles cannot produce huge weights.
@@ -97,25 +97,22 @@ impl CotanLaplacian {
     }
 
     /// The implicit-diffusion matrix `I + τ·diag(ε)·(−L)`:
-    /// `A_ii = 1 + τ ε_i Σ_j w_ij/A_i`, `A_ij = −τ ε_i w_ij/A_i`.
+    /// `A_ii = 1 + τ ε_i Σ_j w_ij/A_i`, `A_ij = −τ ε_i w_ij/A_i`, in the solver's row-scaled form
+    /// (see [`ScaledRows`]; `to_csr()` gives it as a plain matrix).
     ///
     /// `eps = None` means ε ≡ 1 (pure mean-curvature flow); a vertex with `ε_i = 0` or zero
-    /// co-volume gets an identity row (it does not diffuse this step). Rebuilt from scratch every
-    /// call, so no stale entries survive connectivity changes.
-    pub fn implicit_matrix(&self, mesh: &HalfedgeMesh, tau: f64, eps: Option<&[f64]>) -> CsMat<f64> {
-        self.implicit_matrix_with(mesh, tau, eps, false)
-    }
-
-    /// [`Self::implicit_matrix`], optionally with negative edge weights (obtuse configurations)
-    /// clamped to zero: the matrix is then strictly diagonally dominant, so the solve always
-    /// converges. The flow falls back to this when a solve on a badly shaped mesh fails.
-    pub fn implicit_matrix_with(
+    /// co-volume gets an identity row (it does not diffuse this step). With `clamp_negative`,
+    /// negative edge weights (obtuse configurations) are clamped to zero: the matrix is then
+    /// strictly diagonally dominant, so the solve always converges; the flow falls back to this
+    /// when a solve on a badly shaped mesh fails. Rebuilt from scratch every call, so no stale
+    /// entries survive connectivity changes.
+    pub fn implicit_system(
         &self,
         mesh: &HalfedgeMesh,
         tau: f64,
         eps: Option<&[f64]>,
         clamp_negative: bool,
-    ) -> CsMat<f64> {
+    ) -> Result<ScaledRows, SolveError> {
         let n = mesh.n_vertices();
         // Co-volumes are floored at 1 % of their mean: a vertex whose faces have (nearly)
         // collapsed would otherwise get an enormous row (τ/A_i → ∞) and stall the solver, while
@@ -132,11 +129,11 @@ impl CotanLaplacian {
                 }
             })
             .collect();
-        // Assembled straight into CSR from a linear pass over the halfedges (one-ring walks
-        // chase pointers and were the slow part): count the row lengths, scatter each outgoing
-        // halfedge into its row, append the diagonal, sort each short row by column.
+        // Assembled from a linear pass over the halfedges (one-ring walks chase pointers and were
+        // the slow part): count the row lengths, scatter each outgoing halfedge into its row,
+        // then divide each row by its diagonal. Row order is halfedge order (deterministic).
         let nh = 2 * mesh.n_edges();
-        let mut indptr = vec![0usize; n + 1];
+        let mut indptr = vec![0u32; n + 1];
         for h in 0..nh as u32 {
             let i = mesh.from(h) as usize;
             if scale[i] != 0.0 {
@@ -144,12 +141,12 @@ impl CotanLaplacian {
             }
         }
         for i in 0..n {
-            indptr[i + 1] += indptr[i] + 1;
+            indptr[i + 1] += indptr[i];
         }
-        let nnz = indptr[n];
-        let mut indices = vec![0usize; nnz];
-        let mut data = vec![0.0; nnz];
-        let mut fill: Vec<usize> = indptr[..n].to_vec();
+        let nnz = indptr[n] as usize;
+        let mut cols = vec![0u32; nnz];
+        let mut vals = vec![0.0; nnz];
+        let mut fill: Vec<u32> = indptr[..n].to_vec();
         let mut diag = vec![1.0; n];
         for h in 0..nh as u32 {
             let i = mesh.from(h) as usize;
@@ -161,26 +158,19 @@ impl CotanLaplacian {
             if clamp_negative {
                 w = w.max(0.0);
             }
-            indices[fill[i]] = mesh.to(h) as usize;
-            data[fill[i]] = -w;
+            let k = fill[i] as usize;
+            cols[k] = mesh.to(h);
+            vals[k] = -w;
             fill[i] += 1;
             diag[i] += w;
         }
-        for i in 0..n {
-            let (start, last) = (indptr[i], fill[i]);
-            indices[last] = i;
-            data[last] = diag[i];
-            // Rows have ~7 entries: insertion sort.
-            for k in start + 1..=last {
-                let mut j = k;
-                while j > start && indices[j - 1] > indices[j] {
-                    indices.swap(j - 1, j);
-                    data.swap(j - 1, j);
-                    j -= 1;
-                }
+        for (i, d) in diag.iter().enumerate() {
+            let inv = 1.0 / d;
+            for v in &mut vals[indptr[i] as usize..indptr[i + 1] as usize] {
+                *v *= inv;
             }
         }
-        CsMat::new((n, n), indptr, indices, data)
+        ScaledRows::from_parts(diag, indptr, cols, vals)
     }
 }
 

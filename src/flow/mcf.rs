@@ -5,7 +5,7 @@
 
 use super::{CotanLaplacian, FlowError};
 use crate::mesh::HalfedgeMesh;
-use crate::solve::{solve_xyz, SolveReport, SolverSettings};
+use crate::solve::{solve_xyz_scaled, SolveReport, SolverSettings};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
@@ -68,12 +68,22 @@ pub fn mcf_step(
     let mut x = old.clone();
     let lap = CotanLaplacian::new(mesh);
     let (covolume_min, covolume_mean, covolume_max) = stats(&lap.covolumes);
-    let mut solve = solve_xyz(&lap.implicit_matrix(mesh, tau, None), &old, &mut x, &settings.solver)?;
+    let mut solve = solve_xyz_scaled(
+        &lap.implicit_system(mesh, tau, None, false)?,
+        &old,
+        &mut x,
+        &settings.solver,
+    )?;
     let result = (|| {
         for pass in 0..=settings.corrector_passes {
             if pass > 0 {
                 let lap = CotanLaplacian::new(mesh);
-                let r = solve_xyz(&lap.implicit_matrix(mesh, tau, None), &old, &mut x, &settings.solver)?;
+                let r = solve_xyz_scaled(
+                    &lap.implicit_system(mesh, tau, None, false)?,
+                    &old,
+                    &mut x,
+                    &settings.solver,
+                )?;
                 solve.iterations = solve.iterations.max(r.iterations);
                 solve.relative_residual = solve.relative_residual.max(r.relative_residual);
             }

@@ -230,7 +230,9 @@ mod tests {
             tri.add_triplet(i, i, sum + 0.2);
         }
         let a: CsMat<f64> = tri.to_csr();
-        let b: Vec<glam::DVec3> = (0..n).map(|_| glam::DVec3::new(rng(&mut seed), rng(&mut seed) - 0.5, 0.0)).collect();
+        let b: Vec<glam::DVec3> = (0..n)
+            .map(|_| glam::DVec3::new(rng(&mut seed), rng(&mut seed) - 0.5, 0.0))
+            .collect();
         let settings = SolverSettings::default();
         let mut x = b.clone();
         let rep = crate::solve::solve_xyz(&a, &b, &mut x, &settings).unwrap();
@@ -240,12 +242,19 @@ mod tests {
             let mut xc = bc.clone();
             let pre = Jacobi::new(&a).unwrap();
             bicgstab(&a, &bc, &mut xc, &pre, &settings).unwrap();
-            let err = xc.iter().zip(&x).map(|(p, q)| (p - q[c]).abs()).fold(0.0, f64::max);
+            let err = xc
+                .iter()
+                .zip(&x)
+                .map(|(p, q)| (p - q[c]).abs())
+                .fold(0.0, f64::max);
             assert!(err < 1e-8, "column {c}: {err}");
         }
         assert!(x.iter().all(|v| v.z == 0.0), "a zero column stays zero");
         // Failure modes surface as errors here too.
-        let tight = SolverSettings { max_iterations: 1, tolerance: 1e-30 };
+        let tight = SolverSettings {
+            max_iterations: 1,
+            tolerance: 1e-30,
+        };
         assert!(crate::solve::solve_xyz(&a, &b, &mut x.clone(), &tight).is_err());
     }
 

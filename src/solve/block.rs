@@ -9,45 +9,9 @@
 //! that read it. Convergence is still judged on the true residual `‖b − Ax‖ = ‖D·r‖`, whose
 //! norm falls out of the same passes.
 
-use super::{Jacobi, SolveError, SolveReport, SolverSettings};
-use sprs::CsMat;
+use super::{ScaledRows, SolveError, SolveReport, SolverSettings};
 
 type V3 = [f64; 3];
-
-/// A CSR matrix as borrowed slices (the scaled copy shares `a`'s pattern).
-#[derive(Clone, Copy)]
-struct Csr<'a> {
-    indptr: &'a [usize],
-    indices: &'a [usize],
-    data: &'a [f64],
-}
-
-impl<'a> Csr<'a> {
-    fn of(a: &'a CsMat<f64>) -> Self {
-        Csr {
-            indptr: a.indptr().into_raw_storage(),
-            indices: a.indices(),
-            data: a.data(),
-        }
-    }
-
-    /// `y = A·x`, calling `then(row, y_row)` as each row is done, so that dot products with `y`
-    /// need no second pass over it.
-    #[inline(always)]
-    fn mul_then(self, x: &[V3], y: &mut [V3], mut then: impl FnMut(usize, &V3)) {
-        for (row, yr) in y.iter_mut().enumerate() {
-            let mut s = [0.0; 3];
-            for k in self.indptr[row]..self.indptr[row + 1] {
-                let (v, xj) = (self.data[k], &x[self.indices[k]]);
-                s[0] += v * xj[0];
-                s[1] += v * xj[1];
-                s[2] += v * xj[2];
-            }
-            *yr = s;
-            then(row, yr);
-        }
-    }
-}
 
 #[inline(always)]
 fn add_products(acc: &mut V3, a: &V3, b: &V3) {
@@ -56,56 +20,80 @@ fn add_products(acc: &mut V3, a: &V3, b: &V3) {
     }
 }
 
-/// Adds `(d·a)²` per column: the squared norm of the unscaled residual.
-#[inline(always)]
-fn add_scaled_squares(acc: &mut V3, d: f64, a: &V3) {
-    for c in 0..3 {
-        let v = d * a[c];
-        acc[c] += v * v;
+/// A dot product over rows in four interleaved partial sums (row i in lane i mod 4): with one
+/// accumulator the n additions form a single dependency chain, which costs more than the memory
+/// traffic of the fused passes. The lanes are combined in a fixed order, so results stay
+/// deterministic (and identical natively and in wasm).
+#[derive(Clone, Copy, Default)]
+struct Dot {
+    lanes: [V3; 4],
+}
+
+impl Dot {
+    /// Adds `a·b` (per column) for row `i`.
+    #[inline(always)]
+    fn add(&mut self, i: usize, a: &V3, b: &V3) {
+        add_products(&mut self.lanes[i & 3], a, b);
+    }
+
+    /// Adds `(d·a)²` (per column) for row `i`: the squared norm of an unscaled residual.
+    #[inline(always)]
+    fn add_scaled_square(&mut self, i: usize, d: f64, a: &V3) {
+        let l = &mut self.lanes[i & 3];
+        for c in 0..3 {
+            let v = d * a[c];
+            l[c] += v * v;
+        }
+    }
+
+    fn total(&self) -> V3 {
+        let l = &self.lanes;
+        std::array::from_fn(|c| (l[0][c] + l[1][c]) + (l[2][c] + l[3][c]))
     }
 }
 
 fn dot3(a: &[V3], b: &[V3]) -> V3 {
-    let mut s = [0.0; 3];
-    for (p, q) in a.iter().zip(b) {
-        add_products(&mut s, p, q);
+    let mut s = Dot::default();
+    for (i, (p, q)) in a.iter().zip(b).enumerate() {
+        s.add(i, p, q);
     }
-    s
+    s.total()
 }
 
 /// Solves `A·X = B` for the three columns of `b` (rows as `[x, y, z]`), starting from `x`.
 /// Same contract as [`super::bicgstab`]: true relative residual per column ≤ 10× tolerance,
 /// typed errors, never NaN.
-pub fn bicgstab3(a: &CsMat<f64>, b: &[V3], x: &mut [V3], pre: &Jacobi, settings: &SolverSettings) -> Result<SolveReport, SolveError> {
-    let n = a.rows();
-    if a.cols() != n || b.len() != n || x.len() != n || pre.inv_diag().len() != n {
-        return Err(SolveError::Dimension { rows: n, cols: a.cols(), len: b.len().min(x.len()) });
+pub fn bicgstab3(
+    a: &ScaledRows,
+    b: &[V3],
+    x: &mut [V3],
+    settings: &SolverSettings,
+) -> Result<SolveReport, SolveError> {
+    let n = a.n();
+    if b.len() != n || x.len() != n {
+        return Err(SolveError::Dimension {
+            rows: n,
+            cols: n,
+            len: b.len().min(x.len()),
+        });
     }
     if !b.iter().chain(x.iter()).flatten().all(|v| v.is_finite()) {
         return Err(SolveError::NonFinite { iterations: 0 });
     }
-    let inv = pre.inv_diag();
-    let full = Csr::of(a);
-    // The row-scaled system D⁻¹A·x = D⁻¹b; `diag` maps its residuals back to A's.
-    let diag: Vec<f64> = inv.iter().map(|d| 1.0 / d).collect();
-    let mut scaled_data = full.data.to_vec();
-    for row in 0..n {
-        for v in &mut scaled_data[full.indptr[row]..full.indptr[row + 1]] {
-            *v *= inv[row];
-        }
-    }
-    let m = Csr { data: &scaled_data, ..full };
+    let diag = a.diag();
+    let inv: Vec<f64> = diag.iter().map(|d| 1.0 / d).collect();
+    let m = a;
     let bn = dot3(b, b).map(f64::sqrt);
     let tol = settings.tolerance;
     // r = D⁻¹(b − A x).
     let mut r = vec![[0.0; 3]; n];
-    let mut rr_true = [0.0; 3];
-    m.mul_then(x, &mut r, |_, _| {});
+    let mut rr_true = Dot::default();
+    m.mul_unit_then(x, &mut r, |_, _| {});
     for (i, (ri, bi)) in r.iter_mut().zip(b).enumerate() {
         for c in 0..3 {
             ri[c] = bi[c] * inv[i] - ri[c];
         }
-        add_scaled_squares(&mut rr_true, diag[i], ri);
+        rr_true.add_scaled_square(i, diag[i], ri);
     }
     let relative = |sq: V3, c: usize| sq[c].sqrt() / bn[c];
     // A column is active until its residual meets the tolerance; a zero column is solved by 0.
@@ -118,7 +106,7 @@ pub fn bicgstab3(a: &CsMat<f64>, b: &[V3], x: &mut [V3], pre: &Jacobi, settings:
             }
             active[c] = false;
         } else {
-            res[c] = relative(rr_true, c);
+            res[c] = relative(rr_true.total(), c);
             active[c] = res[c] > tol;
         }
     }
@@ -128,11 +116,11 @@ pub fn bicgstab3(a: &CsMat<f64>, b: &[V3], x: &mut [V3], pre: &Jacobi, settings:
     let (mut rho_old, mut alpha, mut omega) = ([1.0f64; 3], [1.0f64; 3], [1.0f64; 3]);
     // Breakdown thresholds, in the scaled system's units.
     let bsn = {
-        let mut q = [0.0; 3];
-        for (bi, d) in b.iter().zip(inv) {
-            add_scaled_squares(&mut q, *d, bi);
+        let mut q = Dot::default();
+        for (i, (bi, d)) in b.iter().zip(&inv).enumerate() {
+            q.add_scaled_square(i, *d, bi);
         }
-        q
+        q.total()
     };
     let tiny = f64::EPSILON * f64::EPSILON;
     let mut rho = dot3(&r0, &r);
@@ -152,7 +140,10 @@ pub fn bicgstab3(a: &CsMat<f64>, b: &[V3], x: &mut [V3], pre: &Jacobi, settings:
         for c in 0..3 {
             if active[c] {
                 if rho[c].abs() <= tiny * bsn[c] {
-                    return Err(SolveError::Breakdown { iterations, residual: res[c] });
+                    return Err(SolveError::Breakdown {
+                        iterations,
+                        residual: res[c],
+                    });
                 }
                 beta[c] = (rho[c] / rho_old[c]) * (alpha[c] / omega[c]);
             }
@@ -165,25 +156,30 @@ pub fn bicgstab3(a: &CsMat<f64>, b: &[V3], x: &mut [V3], pre: &Jacobi, settings:
             }
         }
         // v = M p and r₀·v.
-        let mut r0v = [0.0; 3];
-        m.mul_then(&p, &mut v, |i, vi| add_products(&mut r0v, &r0[i], vi));
+        let mut r0v = Dot::default();
+        m.mul_unit_then(&p, &mut v, |i, vi| r0v.add(i, &r0[i], vi));
+        let r0v = r0v.total();
         for c in 0..3 {
             alpha[c] = 0.0;
             if active[c] {
                 if r0v[c].abs() <= tiny * bsn[c] {
-                    return Err(SolveError::Breakdown { iterations, residual: res[c] });
+                    return Err(SolveError::Breakdown {
+                        iterations,
+                        residual: res[c],
+                    });
                 }
                 alpha[c] = rho[c] / r0v[c];
             }
         }
         // s = r − αv, with the true norm ‖D s‖².
-        let mut ss = [0.0; 3];
+        let mut ss = Dot::default();
         for i in 0..n {
             for c in 0..3 {
                 s[i][c] = r[i][c] - alpha[c] * v[i][c];
             }
-            add_scaled_squares(&mut ss, diag[i], &s[i]);
+            ss.add_scaled_square(i, diag[i], &s[i]);
         }
+        let ss = ss.total();
         let mut half_done = [false; 3];
         for c in 0..3 {
             if active[c] && relative(ss, c) <= tol {
@@ -191,16 +187,20 @@ pub fn bicgstab3(a: &CsMat<f64>, b: &[V3], x: &mut [V3], pre: &Jacobi, settings:
             }
         }
         // t = M s with t·s and t·t.
-        let (mut ts, mut tt) = ([0.0; 3], [0.0; 3]);
-        m.mul_then(&s, &mut t, |i, ti| {
-            add_products(&mut ts, ti, &s[i]);
-            add_products(&mut tt, ti, ti);
+        let (mut ts, mut tt) = (Dot::default(), Dot::default());
+        m.mul_unit_then(&s, &mut t, |i, ti| {
+            ts.add(i, ti, &s[i]);
+            tt.add(i, ti, ti);
         });
+        let (ts, tt) = (ts.total(), tt.total());
         let mut om = [0.0; 3];
         for c in 0..3 {
             if active[c] && !half_done[c] {
                 if tt[c] == 0.0 {
-                    return Err(SolveError::Breakdown { iterations, residual: res[c] });
+                    return Err(SolveError::Breakdown {
+                        iterations,
+                        residual: res[c],
+                    });
                 }
                 omega[c] = ts[c] / tt[c];
                 om[c] = omega[c];
@@ -208,15 +208,16 @@ pub fn bicgstab3(a: &CsMat<f64>, b: &[V3], x: &mut [V3], pre: &Jacobi, settings:
         }
         // x += αp + ωs, r = s − ωt (a half-done column takes x += αp and stops), with the true
         // ‖D r‖² and the next ρ = r₀·r.
-        let (mut rr, mut rho_next) = ([0.0; 3], [0.0; 3]);
+        let (mut rr, mut rho_next) = (Dot::default(), Dot::default());
         for i in 0..n {
             for c in 0..3 {
                 x[i][c] += alpha[c] * p[i][c] + om[c] * s[i][c];
                 r[i][c] = s[i][c] - om[c] * t[i][c];
             }
-            add_scaled_squares(&mut rr, diag[i], &r[i]);
-            add_products(&mut rho_next, &r0[i], &r[i]);
+            rr.add_scaled_square(i, diag[i], &r[i]);
+            rho_next.add(i, &r0[i], &r[i]);
         }
+        let (rr, rho_next) = (rr.total(), rho_next.total());
         for c in 0..3 {
             if !active[c] {
                 continue;
@@ -232,18 +233,22 @@ pub fn bicgstab3(a: &CsMat<f64>, b: &[V3], x: &mut [V3], pre: &Jacobi, settings:
             if res[c] <= tol {
                 active[c] = false;
             } else if omega[c] == 0.0 {
-                return Err(SolveError::Breakdown { iterations, residual: res[c] });
+                return Err(SolveError::Breakdown {
+                    iterations,
+                    residual: res[c],
+                });
             }
             rho_old[c] = rho[c];
         }
         rho = rho_next;
     }
-    // The recursive residual drifts: check the true one.
-    let mut err = [0.0; 3];
+    // The recursive residual drifts: check the true one, b − A x = b − D(x + M x).
+    let mut err = Dot::default();
     let mut finite = true;
-    full.mul_then(x, &mut r, |i, axi| {
-        let d = [b[i][0] - axi[0], b[i][1] - axi[1], b[i][2] - axi[2]];
-        add_products(&mut err, &d, &d);
+    m.mul_unit_then(x, &mut r, |i, y| {
+        let d = diag[i];
+        let e = [b[i][0] - d * y[0], b[i][1] - d * y[1], b[i][2] - d * y[2]];
+        err.add(i, &e, &e);
         finite &= x[i].iter().all(|v| v.is_finite());
     });
     let mut worst = 0.0f64;
@@ -251,7 +256,7 @@ pub fn bicgstab3(a: &CsMat<f64>, b: &[V3], x: &mut [V3], pre: &Jacobi, settings:
         if bn[c] == 0.0 {
             continue;
         }
-        let e = relative(err, c);
+        let e = relative(err.total(), c);
         if !e.is_finite() {
             return Err(SolveError::NonFinite { iterations });
         }
@@ -261,7 +266,14 @@ pub fn bicgstab3(a: &CsMat<f64>, b: &[V3], x: &mut [V3], pre: &Jacobi, settings:
         return Err(SolveError::NonFinite { iterations });
     }
     if worst > 10.0 * tol {
-        return Err(SolveError::NotConverged { iterations, residual: worst, tolerance: tol });
+        return Err(SolveError::NotConverged {
+            iterations,
+            residual: worst,
+            tolerance: tol,
+        });
     }
-    Ok(SolveReport { iterations, relative_residual: worst })
+    Ok(SolveReport {
+        iterations,
+        relative_residual: worst,
+    })
 }

@@ -7,10 +7,12 @@
 mod bicgstab;
 mod block;
 mod precond;
+mod scaled;
 
 pub use bicgstab::bicgstab;
 pub use block::bicgstab3;
 pub use precond::Jacobi;
+pub use scaled::ScaledRows;
 
 use serde::{Deserialize, Serialize};
 use sprs::CsMat;
@@ -92,10 +94,29 @@ pub fn solve_columns(
 
 /// Solves `A·X = B` where each row of `B` and `X` is a 3-vector (positions): the three columns
 /// share every matrix product (see [`bicgstab3`]). `x` holds the initial guess.
-pub fn solve_xyz(a: &CsMat<f64>, b: &[glam::DVec3], x: &mut [glam::DVec3], settings: &SolverSettings) -> Result<SolveReport, SolveError> {
-    let pre = Jacobi::new(a)?;
+pub fn solve_xyz(
+    a: &CsMat<f64>,
+    b: &[glam::DVec3],
+    x: &mut [glam::DVec3],
+    settings: &SolverSettings,
+) -> Result<SolveReport, SolveError> {
+    solve_xyz_scaled(&ScaledRows::from_csr(a)?, b, x, settings)
+}
+
+/// [`solve_xyz`] for a matrix already in the solver's row-scaled form (as the flow assembles it).
+pub fn solve_xyz_scaled(
+    a: &ScaledRows,
+    b: &[glam::DVec3],
+    x: &mut [glam::DVec3],
+    settings: &SolverSettings,
+) -> Result<SolveReport, SolveError> {
     // DVec3 is three f64 in a row: the solver works on the same memory, no copies.
-    bicgstab3(a, bytemuck::cast_slice(b), bytemuck::cast_slice_mut(x), &pre, settings)
+    bicgstab3(
+        a,
+        bytemuck::cast_slice(b),
+        bytemuck::cast_slice_mut(x),
+        settings,
+    )
 }
 
 /// `y = A·x` for a CSR matrix, without allocation.

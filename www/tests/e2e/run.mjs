@@ -147,6 +147,17 @@ function lswInfo(file) {
   return JSON.parse(outText);
 }
 
+/** `lsw wrap FILE` natively with defaults; returns its JSON report. Prefers the debug build that
+ * `cargo test` has just made (a release build lying around may be older than the sources). */
+function lswWrap(file, outFile) {
+  const bin = ['debug', 'release'].map((p) => join(repo, 'target', p, 'lsw')).find((b) => existsSync(b));
+  const args = ['wrap', file, '-o', outFile];
+  const outText = bin
+    ? execFileSync(bin, args, { encoding: 'utf8' })
+    : execFileSync('cargo', ['run', '--quiet', '--bin', 'lsw', '--', ...args], { cwd: repo, encoding: 'utf8' });
+  return JSON.parse(outText);
+}
+
 test('drop bunnyPts_3.ply → default wrap to done → export PLY is closed genus 0; no long main-thread task', async (browser, url) => {
   if (!shared) {
     console.log('   SKIPPED: LSW_SHARED_DATA is not set (the bunny scan lives in ../shared/data)');
@@ -183,7 +194,11 @@ test('drop bunnyPts_3.ply → default wrap to done → export PLY is closed genu
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
   await page.screenshot({ path: join(out, 'bunny-done.png') });
   await writeFile(join(out, 'bench-bunny.json'), JSON.stringify({ dropToDoneMs: appMs, wallMs, maxTask, date: new Date().toISOString() }, null, 1));
-  console.log(`   result hash ${await resultHash(page)}; drop → done ${(appMs / 1000).toFixed(2)} s in the app (${(wallMs / 1000).toFixed(2)} s wall); longest main-thread task ${maxTask.toFixed(0)} ms; ${text.slice(0, 160)}`);
+  // Determinism across platforms: the browser's mesh is the native CLI's, bit for bit (f32 hash).
+  const browserHash = await resultHash(page);
+  const native = lswWrap(join(shared, 'bunnyPts_3.ply'), join(out, 'bunny-native.ply'));
+  assert(browserHash === native.result_hash, `browser result hash ${browserHash} differs from the native CLI's ${native.result_hash}`);
+  console.log(`   result hash ${browserHash} (native CLI: the same); drop → done ${(appMs / 1000).toFixed(2)} s in the app (${(wallMs / 1000).toFixed(2)} s wall); longest main-thread task ${maxTask.toFixed(0)} ms; ${text.slice(0, 160)}`);
   await page.close();
 });
 
