@@ -177,4 +177,21 @@ mod tests {
         }
         assert_eq!(t.tangential(0, 0.0), DVec3::ZERO);
     }
+
+    #[test]
+    fn tangential_term_vanishes_at_the_centre_of_a_regular_star() {
+        let mut p = vec![DVec3::ZERO];
+        p.extend((0..6).map(|k| {
+            let a = k as f64 * std::f64::consts::TAU / 6.0;
+            DVec3::new(a.cos(), a.sin(), 0.0)
+        }));
+        let faces: Vec<[u32; 3]> = (0..6).map(|k| [0, 1 + k, 1 + (k + 1) % 6]).collect();
+        let star = HalfedgeMesh::from_triangles(p.clone(), &faces).unwrap();
+        assert!(SurfaceTerms::new(&star).tangential(0, 1.0).length() < 1e-14);
+        // Moving the centre off-centre makes it pull back (towards the narrow wedges' side).
+        p[0] = DVec3::new(0.2, 0.0, 0.0);
+        let star = HalfedgeMesh::from_triangles(p, &faces).unwrap();
+        let v = SurfaceTerms::new(&star).tangential(0, 1.0);
+        assert!(v.x < -0.01 && v.z.abs() < 1e-14, "{v:?}");
+    }
 }
