@@ -1,4 +1,5 @@
-//! Sparse linear solvers on `sprs` CSR matrices.
+//! Sparse linear solvers on `sprs` CSR matrices, and on the row-scaled form the flow assembles
+//! directly ([`ScaledRows`]).
 //!
 //! The LSW system `I + τ·ε·L` is non-symmetric (rows scaled by ε_i/A_i) but strongly diagonally
 //! dominant for the time steps used, so Jacobi-preconditioned BiCGStab converges in a handful of
