@@ -123,16 +123,18 @@ impl ScaledRows {
     /// with `y` need no second pass over it.
     #[inline(always)]
     pub(crate) fn mul_unit_then(&self, x: &[V3], y: &mut [V3], mut then: impl FnMut(usize, &V3)) {
-        for (row, yr) in y.iter_mut().enumerate() {
+        // Rows run from one end offset to the next: one slice check per row.
+        let mut start = 0usize;
+        for (row, (yr, &end)) in y.iter_mut().zip(&self.indptr[1..]).enumerate() {
+            let end = end as usize;
             let mut s = x[row];
-            let range = self.indptr[row] as usize..self.indptr[row + 1] as usize;
-            // Zipped slices: one bounds check per row for the matrix, one per entry for x.
-            for (&v, &j) in self.vals[range.clone()].iter().zip(&self.cols[range]) {
+            for (&v, &j) in self.vals[start..end].iter().zip(&self.cols[start..end]) {
                 let xj = &x[j as usize];
                 s[0] += v * xj[0];
                 s[1] += v * xj[1];
                 s[2] += v * xj[2];
             }
+            start = end;
             *yr = s;
             then(row, yr);
         }
