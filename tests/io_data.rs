@@ -104,14 +104,7 @@ const EXPECTED: &[Expected] = &[
 ];
 
 fn euler(points: usize, tris: &[[u32; 3]]) -> i64 {
-    let mut e: Vec<(u32, u32)> = tris
-        .iter()
-        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
-        .map(|(a, b)| (a.min(b), a.max(b)))
-        .collect();
-    e.sort_unstable();
-    e.dedup();
-    points as i64 - e.len() as i64 + tris.len() as i64
+    points as i64 - lsw::mesh::edge_counts(tris).edges as i64 + tris.len() as i64
 }
 
 #[test]

@@ -14,26 +14,6 @@ pub struct InfoArgs {
     pub file: PathBuf,
 }
 
-/// Edge statistics of a triangle list: (edges, boundary edges, edges with > 2 faces).
-fn edge_counts(tris: &[[u32; 3]]) -> (usize, usize, usize) {
-    let mut e: Vec<(u32, u32)> = tris
-        .iter()
-        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
-        .map(|(a, b)| (a.min(b), a.max(b)))
-        .collect();
-    e.sort_unstable();
-    let (mut edges, mut boundary, mut over) = (0, 0, 0);
-    for run in e.chunk_by(|a, b| a == b) {
-        edges += 1;
-        match run.len() {
-            1 => boundary += 1,
-            2 => {}
-            _ => over += 1,
-        }
-    }
-    (edges, boundary, over)
-}
-
 /// The JSON `lsw info` prints for a read file. Keys: file, format, encoding, kind, vertices,
 /// faces, bbox {min, max, diagonal}; for meshes also closed, manifold, manifold_problem,
 /// euler_characteristic, edges, boundary_edges, non_manifold_edges, isolated_vertices.
@@ -53,7 +33,8 @@ pub fn info_json(file: &str, r: &ReadResult) -> serde_json::Value {
         },
     });
     if t.kind() == TargetKind::Mesh {
-        let (edges, boundary, over) = edge_counts(&t.triangles);
+        let crate::mesh::EdgeCounts { edges, boundary, non_manifold: over } =
+            crate::mesh::edge_counts(&t.triangles);
         let mut used = vec![false; t.points.len()];
         for &i in t.triangles.iter().flatten() {
             used[i as usize] = true;

@@ -66,17 +66,6 @@ pub fn run(a: &MetricsArgs) -> Result<String, String> {
     serde_json::to_string_pretty(&v).map_err(|e| e.to_string())
 }
 
-/// Number of edges used by exactly one face.
-fn boundary_edges(tris: &[[u32; 3]]) -> usize {
-    let mut e: Vec<(u32, u32)> = tris
-        .iter()
-        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
-        .map(|(a, b)| (a.min(b), a.max(b)))
-        .collect();
-    e.sort_unstable();
-    e.chunk_by(|a, b| a == b).filter(|r| r.len() == 1).count()
-}
-
 /// The JSON of `lsw metrics` for a mesh and an optional `(file name, target)`.
 pub fn metrics_json(file: &str, mesh: &Target, target: Option<(&str, &Target)>) -> Value {
     metrics_json_with(file, mesh, target, false)
@@ -93,7 +82,7 @@ pub fn metrics_json_with(
     histograms: bool,
 ) -> Value {
     let (p, t) = (&mesh.points, &mesh.triangles);
-    let nb = boundary_edges(t);
+    let nb = crate::mesh::edge_counts(t).boundary;
     let built = HalfedgeMesh::from_triangles(p.clone(), t);
     let (manifold, oriented, problem, report, covol) = match &built {
         Err(e) => (false, false, Some(e.to_string()), None, None),

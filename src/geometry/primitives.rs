@@ -29,40 +29,64 @@ pub fn closest_point_on_triangle(
     b: DVec3,
     c: DVec3,
 ) -> (DVec3, TriangleFeature) {
+    let (q, _, feature) = closest_point_barycentric(p, a, b, c);
+    (q, feature)
+}
+
+/// [`closest_point_on_triangle`] with the point's barycentric coordinates `(u, v, w)` too,
+/// `point = u·a + v·b + w·c` (for interpolating per-vertex data at the closest point).
+pub fn closest_point_barycentric(
+    p: DVec3,
+    a: DVec3,
+    b: DVec3,
+    c: DVec3,
+) -> (DVec3, DVec3, TriangleFeature) {
     let ab = b - a;
     let ac = c - a;
     let ap = p - a;
     let d1 = ab.dot(ap);
     let d2 = ac.dot(ap);
     if d1 <= 0.0 && d2 <= 0.0 {
-        return (a, TriangleFeature::Vertex(0));
+        return (a, DVec3::X, TriangleFeature::Vertex(0));
     }
     let bp = p - b;
     let d3 = ab.dot(bp);
     let d4 = ac.dot(bp);
     if d3 >= 0.0 && d4 <= d3 {
-        return (b, TriangleFeature::Vertex(1));
+        return (b, DVec3::Y, TriangleFeature::Vertex(1));
     }
     let vc = d1 * d4 - d3 * d2;
     if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
         let v = d1 / (d1 - d3);
-        return (a + v * ab, TriangleFeature::Edge(0));
+        return (
+            a + v * ab,
+            DVec3::new(1.0 - v, v, 0.0),
+            TriangleFeature::Edge(0),
+        );
     }
     let cp = p - c;
     let d5 = ab.dot(cp);
     let d6 = ac.dot(cp);
     if d6 >= 0.0 && d5 <= d6 {
-        return (c, TriangleFeature::Vertex(2));
+        return (c, DVec3::Z, TriangleFeature::Vertex(2));
     }
     let vb = d5 * d2 - d1 * d6;
     if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
         let w = d2 / (d2 - d6);
-        return (a + w * ac, TriangleFeature::Edge(2));
+        return (
+            a + w * ac,
+            DVec3::new(1.0 - w, 0.0, w),
+            TriangleFeature::Edge(2),
+        );
     }
     let va = d3 * d6 - d5 * d4;
     if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
         let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return (b + w * (c - b), TriangleFeature::Edge(1));
+        return (
+            b + w * (c - b),
+            DVec3::new(0.0, 1.0 - w, w),
+            TriangleFeature::Edge(1),
+        );
     }
     let denom = va + vb + vc;
     if denom <= 0.0 || !denom.is_finite() {
@@ -71,33 +95,43 @@ pub fn closest_point_on_triangle(
     }
     let v = vb / denom;
     let w = vc / denom;
-    (a + ab * v + ac * w, TriangleFeature::Face)
+    (
+        a + ab * v + ac * w,
+        DVec3::new(1.0 - v - w, v, w),
+        TriangleFeature::Face,
+    )
 }
 
 /// Fallback for degenerate triangles: the closest point on the three edges.
-fn closest_on_edges(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> (DVec3, TriangleFeature) {
-    let mut best = (a, TriangleFeature::Vertex(0));
+fn closest_on_edges(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> (DVec3, DVec3, TriangleFeature) {
+    let mut best = (a, DVec3::X, TriangleFeature::Vertex(0));
     let mut best_d = f64::INFINITY;
     for (k, (s, e)) in [(a, b), (b, c), (c, a)].into_iter().enumerate() {
-        let q = closest_point_on_segment(p, s, e);
+        let t = segment_parameter(p, s, e);
+        let q = s + t * (e - s);
         let d = (p - q).length_squared();
         if d < best_d {
             best_d = d;
-            best = (q, TriangleFeature::Edge(k as u8));
+            let bary = match k {
+                0 => DVec3::new(1.0 - t, t, 0.0),
+                1 => DVec3::new(0.0, 1.0 - t, t),
+                _ => DVec3::new(t, 0.0, 1.0 - t),
+            };
+            best = (q, bary, TriangleFeature::Edge(k as u8));
         }
     }
     best
 }
 
-/// The closest point on segment `[s, e]` to `p`.
-pub fn closest_point_on_segment(p: DVec3, s: DVec3, e: DVec3) -> DVec3 {
+/// The parameter `t ∈ [0, 1]` of the point of segment `[s, e]` closest to `p` (0 for a
+/// zero-length segment).
+fn segment_parameter(p: DVec3, s: DVec3, e: DVec3) -> f64 {
     let d = e - s;
     let l2 = d.length_squared();
     if l2 <= 0.0 {
-        return s;
+        return 0.0;
     }
-    let t = ((p - s).dot(d) / l2).clamp(0.0, 1.0);
-    s + t * d
+    ((p - s).dot(d) / l2).clamp(0.0, 1.0)
 }
 
 /// Squared distance from `p` to triangle `[a, b, c]`.

@@ -7,8 +7,10 @@
 mod edit;
 pub mod fingerprint;
 mod halfedge;
+mod soup;
 mod validate;
 
 pub use edit::GarbageMaps;
 pub use halfedge::{HalfedgeMesh, MeshBuildError, INVALID};
+pub use soup::{edge_counts, EdgeCounts};
 pub use validate::{MeshReport, ValidationError};

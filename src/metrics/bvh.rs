@@ -193,72 +193,11 @@ impl Bvh {
 }
 
 /// The closest point on triangle `[a, b, c]` to `p` and its barycentric coordinates
-/// `(u, v, w)` with `point = u·a + v·b + w·c` (Ericson, Real-Time Collision Detection §5.1.5).
-/// Exact up to rounding; degenerate triangles fall back to their edges.
+/// `(u, v, w)` with `point = u·a + v·b + w·c` (see
+/// [`crate::geometry::primitives::closest_point_barycentric`]).
 pub fn closest_point_on_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> (DVec3, DVec3) {
-    let ab = b - a;
-    let ac = c - a;
-    let ap = p - a;
-    let d1 = ab.dot(ap);
-    let d2 = ac.dot(ap);
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return (a, DVec3::X);
-    }
-    let bp = p - b;
-    let d3 = ab.dot(bp);
-    let d4 = ac.dot(bp);
-    if d3 >= 0.0 && d4 <= d3 {
-        return (b, DVec3::Y);
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        let v = d1 / (d1 - d3);
-        return (a + v * ab, DVec3::new(1.0 - v, v, 0.0));
-    }
-    let cp = p - c;
-    let d5 = ab.dot(cp);
-    let d6 = ac.dot(cp);
-    if d6 >= 0.0 && d5 <= d6 {
-        return (c, DVec3::Z);
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        let w = d2 / (d2 - d6);
-        return (a + w * ac, DVec3::new(1.0 - w, 0.0, w));
-    }
-    let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return (b + w * (c - b), DVec3::new(0.0, 1.0 - w, w));
-    }
-    let denom = va + vb + vc;
-    if !(denom > 0.0) || !denom.is_finite() {
-        // Degenerate triangle: nearest point on the three edges.
-        let mut best = (a, DVec3::X, f64::INFINITY);
-        for (s, e, k) in [(a, b, 0), (b, c, 1), (c, a, 2)] {
-            let d = e - s;
-            let l2 = d.length_squared();
-            let t = if l2 > 0.0 {
-                ((p - s).dot(d) / l2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let q = s + t * d;
-            let dq = (p - q).length_squared();
-            if dq < best.2 {
-                let bary = match k {
-                    0 => DVec3::new(1.0 - t, t, 0.0),
-                    1 => DVec3::new(0.0, 1.0 - t, t),
-                    _ => DVec3::new(t, 0.0, 1.0 - t),
-                };
-                best = (q, bary, dq);
-            }
-        }
-        return (best.0, best.1);
-    }
-    let v = vb / denom;
-    let w = vc / denom;
-    (a + ab * v + ac * w, DVec3::new(1.0 - v - w, v, w))
+    let (q, bary, _) = crate::geometry::primitives::closest_point_barycentric(p, a, b, c);
+    (q, bary)
 }
 
 /// Result of a closest-point query on a triangle set.
