@@ -245,17 +245,21 @@ const DOC_SOURCES: [(&str, &str, &str); 4] = [
     ),
 ];
 
+/// The text of `pub struct name { … }` in `src`, from its header to before the closing brace.
+fn struct_body<'a>(src: &'a str, name: &str) -> Option<&'a str> {
+    let body = &src[src.find(&format!("pub struct {name} {{"))?..];
+    Some(&body[..body.find("\n}").unwrap_or(body.len())])
+}
+
 /// The doc comment of every public field of the settings structs, keyed by its path in the
 /// settings JSON (`tau`, `field.band_cells`, …). Read from the Rust sources at compile time, so
 /// the panel's help text is the code's own documentation.
 pub fn settings_docs() -> Vec<(String, String)> {
     let mut out = Vec::new();
     for (prefix, name, src) in DOC_SOURCES {
-        let Some(start) = src.find(&format!("pub struct {name} {{")) else {
+        let Some(body) = struct_body(src, name) else {
             continue;
         };
-        let body = &src[start..];
-        let body = &body[..body.find("\n}").unwrap_or(body.len())];
         let mut doc = String::new();
         for line in body.lines().skip(1) {
             let t = line.trim();
@@ -307,11 +311,9 @@ pub fn settings_enums() -> Vec<(String, Vec<String>)> {
     let all_src: String = DOC_SOURCES.iter().map(|s| s.2).collect();
     let mut out = Vec::new();
     for (prefix, name, src) in DOC_SOURCES {
-        let Some(start) = src.find(&format!("pub struct {name} {{")) else {
+        let Some(body) = struct_body(src, name) else {
             continue;
         };
-        let body = &src[start..];
-        let body = &body[..body.find("\n}").unwrap_or(body.len())];
         for line in body.lines().skip(1) {
             let Some(rest) = line.trim().strip_prefix("pub ") else {
                 continue;
