@@ -27,6 +27,16 @@ fn check_closed(pos: Vec<DVec3>, tris: &[[u32; 3]], what: &str) -> (i64, i64, us
     (r.euler_characteristic, r.genus, r.components, vol)
 }
 
+/// The n³ grid of `analytic` as a view for marching cubes.
+fn cube_view(origin: DVec3, cell: f64, n: usize, values: &[f64]) -> ScalarGridView<'_> {
+    ScalarGridView {
+        origin,
+        cell,
+        dims: [n; 3],
+        values,
+    }
+}
+
 fn analytic(n: usize, lo: f64, hi: f64, f: impl Fn(DVec3) -> f64) -> (DVec3, f64, Vec<f64>) {
     let cell = (hi - lo) / (n - 1) as f64;
     let origin = DVec3::splat(lo);
@@ -47,12 +57,7 @@ fn analytic(n: usize, lo: f64, hi: f64, f: impl Fn(DVec3) -> f64) -> (DVec3, f64
 fn sphere_field_gives_a_closed_sphere() {
     let n = 40;
     let (origin, cell, v) = analytic(n, -1.5, 1.5, |p| p.length() - 1.0);
-    let view = ScalarGridView {
-        origin,
-        cell,
-        dims: [n; 3],
-        values: &v,
-    };
+    let view = cube_view(origin, cell, n, &v);
     for iso in [0.0, 0.2, -0.3] {
         let (pos, tris) = marching_cubes(&view, iso);
         let worst = pos
@@ -80,12 +85,7 @@ fn torus_field_gives_a_torus() {
     };
     for n in [24, 41, 64] {
         let (origin, cell, v) = analytic(n, -1.6, 1.6, torus);
-        let view = ScalarGridView {
-            origin,
-            cell,
-            dims: [n; 3],
-            values: &v,
-        };
+        let view = cube_view(origin, cell, n, &v);
         let (pos, tris) = marching_cubes(&view, 0.0);
         let (chi, genus, comps, vol) = check_closed(pos, &tris, &format!("torus n = {n}"));
         assert_eq!((chi, genus, comps), (0, 1, 1));
@@ -98,24 +98,14 @@ fn level_set_leaving_the_grid_is_closed_by_the_border() {
     // A plane z = 0.1 crosses the whole grid: the border closes it into a box-like surface.
     let n = 12;
     let (origin, cell, v) = analytic(n, -1.0, 1.0, |p| p.z - 0.1);
-    let view = ScalarGridView {
-        origin,
-        cell,
-        dims: [n; 3],
-        values: &v,
-    };
+    let view = cube_view(origin, cell, n, &v);
     let (pos, tris) = marching_cubes(&view, 0.0);
     let (chi, _, comps, vol) = check_closed(pos, &tris, "plane");
     assert_eq!((chi, comps), (2, 1));
     assert!(vol > 0.0);
     // Values exactly at the iso level (a node lattice plane) do not break manifoldness.
     let (origin, cell, v) = analytic(11, -1.0, 1.0, |p| (p.z * 5.0).round() / 5.0);
-    let view = ScalarGridView {
-        origin,
-        cell,
-        dims: [11; 3],
-        values: &v,
-    };
+    let view = cube_view(origin, cell, 11, &v);
     let (pos, tris) = marching_cubes(&view, 0.0);
     assert_eq!(check_closed(pos, &tris, "steps").0, 2);
 }

@@ -239,9 +239,8 @@ fn every_malformed_input_gives_a_clear_typed_error() {
     println!("{} corpus cases gave the expected errors", cases.len());
 }
 
-/// Every prefix of valid files (truncation at every byte) gives `Ok` or an error, never a panic.
-#[wasm_bindgen_test(unsupported = test)]
-fn every_truncation_of_valid_files_is_handled() {
+/// A tetrahedron with a scalar layer, written in every writable format.
+fn tetrahedron_files(settings_json: &str) -> Vec<(Format, Vec<u8>)> {
     let p = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
     let t = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
     let d = [1.0, 2.0, 3.0, 4.0];
@@ -250,16 +249,18 @@ fn every_truncation_of_valid_files_is_handled() {
         positions: &p,
         triangles: &t,
         scalars: &s,
-        settings_json: Some("{}"),
+        settings_json: Some(settings_json),
     };
-    for f in [
-        Format::Obj,
-        Format::Ply,
-        Format::Stl,
-        Format::Glb,
-        Format::Vtk,
-    ] {
-        let bytes = write_bytes(f, &input).unwrap();
+    Format::WRITABLE
+        .into_iter()
+        .map(|f| (f, write_bytes(f, &input).unwrap()))
+        .collect()
+}
+
+/// Every prefix of valid files (truncation at every byte) gives `Ok` or an error, never a panic.
+#[wasm_bindgen_test(unsupported = test)]
+fn every_truncation_of_valid_files_is_handled() {
+    for (f, bytes) in tetrahedron_files("{}") {
         let mut errors = 0;
         for n in 0..bytes.len() {
             if let Err(e) = read_bytes(&bytes[..n], Some("cut.bin")) {
@@ -296,23 +297,7 @@ fn write_fuzz_seeds() {
         seeds.push((format!("case{i}"), c.bytes, t));
     }
     let p = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
-    let t = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
-    let d = [1.0, 2.0, 3.0, 4.0];
-    let s = [("d", &d[..])];
-    let input = WriteInput {
-        positions: &p,
-        triangles: &t,
-        scalars: &s,
-        settings_json: Some("{\"a\":1}"),
-    };
-    for f in [
-        Format::Obj,
-        Format::Ply,
-        Format::Stl,
-        Format::Glb,
-        Format::Vtk,
-    ] {
-        let b = write_bytes(f, &input).unwrap();
+    for (f, b) in tetrahedron_files("{\"a\":1}") {
         seeds.push((
             format!("written_{f}"),
             b.clone(),

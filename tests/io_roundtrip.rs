@@ -58,13 +58,7 @@ fn every_writer_round_trips_a_mesh() {
         scalars: &scalars,
         settings_json: Some(SETTINGS),
     };
-    for f in [
-        Format::Obj,
-        Format::Ply,
-        Format::Stl,
-        Format::Glb,
-        Format::Vtk,
-    ] {
+    for f in Format::WRITABLE {
         let bytes = write_bytes(f, &input).unwrap();
         let name = format!("out.{}", ext(f));
         let r = read_bytes(&bytes, Some(&name)).unwrap_or_else(|e| panic!("{f}: {e}"));
@@ -148,13 +142,7 @@ fn writers_reject_inconsistent_input() {
     let bad_scalars = [("d", &short[..])];
     let bad_tri = [[0, 1, p.len() as u32]];
     let nan = [DVec3::new(f64::NAN, 0.0, 0.0)];
-    for f in [
-        Format::Obj,
-        Format::Ply,
-        Format::Stl,
-        Format::Glb,
-        Format::Vtk,
-    ] {
+    for f in Format::WRITABLE {
         let e = write_bytes(
             f,
             &WriteInput {

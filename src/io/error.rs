@@ -27,6 +27,15 @@ pub enum Format {
 }
 
 impl Format {
+    /// The formats `io::write_bytes` can write.
+    pub const WRITABLE: [Format; 5] = [
+        Format::Obj,
+        Format::Ply,
+        Format::Stl,
+        Format::Glb,
+        Format::Vtk,
+    ];
+
     /// Short lower-case name, as printed by `lsw info` and used in error messages.
     pub fn name(self) -> &'static str {
         match self {

@@ -25,16 +25,12 @@ pub fn load(path: &std::path::Path) -> Target {
         .target
 }
 
-/// `n` points spread evenly on the sphere of radius `r` about `c` (Fibonacci lattice).
+/// `n` points spread evenly on the sphere of radius `r` about `c` (the library's Fibonacci
+/// lattice with its pole on the y axis).
 pub fn fibonacci_sphere(n: usize, r: f64, c: DVec3) -> Vec<DVec3> {
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    (0..n)
-        .map(|i| {
-            let y = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
-            let s = (1.0 - y * y).sqrt();
-            let t = golden * i as f64;
-            c + r * DVec3::new(s * t.cos(), y, s * t.sin())
-        })
+    lsw::geometry::sphere::fibonacci_sphere(n)
+        .into_iter()
+        .map(|p| c + r * DVec3::new(p.x, p.z, p.y))
         .collect()
 }
 

@@ -134,6 +134,20 @@ async function dropFile(page, name, bytes) {
   await page.dispatchEvent('body', 'drop', { dataTransfer: dt });
 }
 
+/** Clicks Cancel and resolves with the milliseconds until the status turns idle. */
+const cancelLatency = (page) => page.evaluate(() => new Promise((resolve) => {
+  const el = document.querySelector('[data-testid=status]');
+  const t0 = performance.now();
+  const obs = new MutationObserver(() => {
+    if (el.dataset.state === 'idle') {
+      obs.disconnect();
+      resolve(performance.now() - t0);
+    }
+  });
+  obs.observe(el, { attributes: true });
+  document.querySelector('[data-testid=cancel]').click();
+}));
+
 const state = (page) => page.getAttribute('[data-testid=status]', 'data-state');
 const resultHash = (page) => page.evaluate(() => window.__lsw.resultHash());
 
@@ -287,18 +301,7 @@ test('cancel mid-run answers within 200 ms', async (browser, url) => {
   await page.click('[data-demo=bunny-points]');
   await page.waitForSelector('[data-testid=status][data-state=running]', { timeout: 60000 });
   await page.waitForFunction(() => Number(document.querySelector('#stats').dataset.step) >= 3, null, { timeout: 60000 });
-  const ms = await page.evaluate(() => new Promise((resolve) => {
-    const el = document.querySelector('[data-testid=status]');
-    const t0 = performance.now();
-    const obs = new MutationObserver(() => {
-      if (el.dataset.state === 'idle') {
-        obs.disconnect();
-        resolve(performance.now() - t0);
-      }
-    });
-    obs.observe(el, { attributes: true });
-    document.querySelector('[data-testid=cancel]').click();
-  }));
+  const ms = await cancelLatency(page);
   assert(ms <= 200, `cancel took ${ms.toFixed(0)} ms`);
   // Cancel while the distance field is built (one long wasm call: the page must terminate the
   // worker and start a fresh one). A fine grid makes the construction take seconds.
@@ -308,18 +311,7 @@ test('cancel mid-run answers within 200 ms', async (browser, url) => {
   await page.waitForSelector('[data-testid=status][data-state=loading]', { timeout: 30000 });
   await page.waitForFunction(() => /distance field/.test(document.querySelector('[data-testid=status]').textContent), null, { timeout: 30000 });
   await page.waitForTimeout(300);
-  const ms2 = await page.evaluate(() => new Promise((resolve) => {
-    const el = document.querySelector('[data-testid=status]');
-    const t0 = performance.now();
-    const obs = new MutationObserver(() => {
-      if (el.dataset.state === 'idle') {
-        obs.disconnect();
-        resolve(performance.now() - t0);
-      }
-    });
-    obs.observe(el, { attributes: true });
-    document.querySelector('[data-testid=cancel]').click();
-  }));
+  const ms2 = await cancelLatency(page);
   const restarted = await page.textContent('[data-testid=status]');
   assert(ms2 <= 200, `cancel during the field construction took ${ms2.toFixed(0)} ms`);
   assert(/restarted/.test(restarted), `expected a worker restart, status says "${restarted}"`);
