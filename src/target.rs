@@ -49,6 +49,24 @@ pub enum TargetError {
         vertex: u32,
         count: usize,
     },
+    /// Fewer than four distinct points: nothing with a volume can be wrapped around them. Fix:
+    /// give a scan of a solid object.
+    #[error("the target has only {distinct} distinct point(s) ({total} in all); a wrap needs at least 4 that are not coplanar")]
+    TooFewPoints { distinct: usize, total: usize },
+    /// Every point lies on one line (to 1e-9 of the target's size).
+    #[error("all {count} points lie on one line; a wrap needs a 3-D shape")]
+    Collinear { count: usize },
+    /// Every point lies in one plane (to 1e-9 of the target's size). Fix: a thin but real object
+    /// (a plate with some thickness) is fine; an exactly flat one has no inside to wrap.
+    #[error("all {count} points lie in one plane (thickness {thickness:.1e} of a size {size:.3e}); a wrap needs a 3-D shape")]
+    Coplanar {
+        count: usize,
+        thickness: f64,
+        size: f64,
+    },
+    /// A mesh whose triangles all have zero area.
+    #[error("all {faces} triangles of the mesh have zero area")]
+    ZeroArea { faces: usize },
 }
 
 impl Target {
@@ -81,6 +99,73 @@ impl Target {
             triangles,
             bbox,
         })
+    }
+
+    /// Refuses targets no wrap can make sense of, before any work: fewer than 4 distinct points,
+    /// all points on a line or in a plane (relative tolerance 1e-9 of the diagonal, measured
+    /// along the principal axes so a tilted plane counts too), a mesh of zero total area.
+    pub fn check_wrappable(&self) -> Result<(), TargetError> {
+        let total = self.points.len();
+        let mut keys: Vec<[u64; 3]> = self
+            .points
+            .iter()
+            .map(|p| [p.x, p.y, p.z].map(|c| (c + 0.0).to_bits()))
+            .collect();
+        keys.sort_unstable();
+        keys.dedup();
+        let distinct = keys.len();
+        if distinct < 4 {
+            return Err(TargetError::TooFewPoints { distinct, total });
+        }
+        let size = self.bbox.diagonal();
+        let c = self.points.iter().fold(DVec3::ZERO, |a, &p| a + p) / total as f64;
+        let mut cov = nalgebra::Matrix3::<f64>::zeros();
+        for p in &self.points {
+            let d = nalgebra::Vector3::new(p.x - c.x, p.y - c.y, p.z - c.z);
+            cov += d * d.transpose();
+        }
+        let eig = nalgebra::SymmetricEigen::new(cov);
+        let mut axes: Vec<(f64, DVec3)> = (0..3)
+            .map(|k| {
+                let v = eig.eigenvectors.column(k);
+                (eig.eigenvalues[k], DVec3::new(v[0], v[1], v[2]).normalize())
+            })
+            .collect();
+        axes.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let extent = |n: DVec3| {
+            self.points
+                .iter()
+                .map(|&p| (p - c).dot(n).abs())
+                .fold(0.0, f64::max)
+        };
+        let tol = 1e-9 * size;
+        let thickness = extent(axes[0].1);
+        if thickness <= tol {
+            if extent(axes[1].1) <= tol {
+                return Err(TargetError::Collinear { count: total });
+            }
+            return Err(TargetError::Coplanar {
+                count: total,
+                thickness,
+                size,
+            });
+        }
+        if !self.triangles.is_empty() {
+            let area: f64 = self
+                .triangles
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = t.map(|v| self.points[v as usize]);
+                    (b - a).cross(c - a).length()
+                })
+                .sum();
+            if area <= 1e-18 * size * size {
+                return Err(TargetError::ZeroArea {
+                    faces: self.triangles.len(),
+                });
+            }
+        }
+        Ok(())
     }
 
     /// Points or mesh.
@@ -117,5 +202,40 @@ mod tests {
         let t = Target::new(pts, vec![[0, 1, 2]]).unwrap();
         assert_eq!(t.kind(), TargetKind::Mesh);
         assert_eq!(t.bbox.max, DVec3::new(1.0, 1.0, 0.0));
+    }
+
+    #[test]
+    fn degenerate_targets_are_refused_by_name() {
+        let check = |pts: Vec<DVec3>, tris: Vec<[u32; 3]>| {
+            Target::new(pts, tris).unwrap().check_wrappable()
+        };
+        // Three points, one point repeated, four coplanar points on a tilted plane, a line.
+        assert!(matches!(
+            check(vec![DVec3::ZERO, DVec3::X, DVec3::Y], vec![]),
+            Err(TargetError::TooFewPoints { distinct: 3, .. })
+        ));
+        assert!(matches!(
+            check(vec![DVec3::ONE; 100], vec![]),
+            Err(TargetError::TooFewPoints { distinct: 1, total: 100 })
+        ));
+        let tilt = |x: f64, y: f64| DVec3::new(x, y, 0.3 * x - 0.7 * y + 2.0);
+        let plane: Vec<DVec3> = (0..50).map(|i| tilt((i % 7) as f64, (i / 7) as f64)).collect();
+        let e = check(plane, vec![]).unwrap_err();
+        assert!(matches!(e, TargetError::Coplanar { .. }), "{e}");
+        assert!(e.to_string().contains("one plane"));
+        let line: Vec<DVec3> = (0..20).map(|i| DVec3::splat(i as f64)).collect();
+        assert!(matches!(check(line, vec![]), Err(TargetError::Collinear { .. })));
+        // A thin but real plate (1 % thick) passes; so does a tetrahedron.
+        let plate: Vec<DVec3> = (0..200)
+            .map(|i| DVec3::new((i % 10) as f64, (i / 20) as f64, 0.1 * ((i / 10) % 2) as f64))
+            .collect();
+        assert_eq!(check(plate, vec![]), Ok(()));
+        let tet = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+        assert_eq!(check(tet.clone(), vec![[0, 1, 2]]), Ok(()));
+        // Zero-area mesh: every triangle repeats a vertex position.
+        assert!(matches!(
+            check(tet, vec![[0, 0, 1], [2, 2, 3]]),
+            Err(TargetError::ZeroArea { faces: 2 })
+        ));
     }
 }

@@ -2,6 +2,7 @@
 
 use crate::flow::{Evolver, Preset, StepReport, WrapSettings};
 use crate::io::{read_path, write_path, WriteInput};
+use crate::metrics::certificate::certify;
 use serde_json::{json, Value};
 use std::path::PathBuf;
 
@@ -26,6 +27,14 @@ pub struct WrapArgs {
     /// Write per-step statistics (JSON) to this file.
     #[arg(long)]
     pub stats: Option<PathBuf>,
+    /// Start surface: auto (default: the exterior isosurface for closed meshes, an icosphere for
+    /// point clouds and open meshes), icosphere or isosurface. Overrides the preset's.
+    #[arg(long)]
+    pub start: Option<String>,
+    /// Write the mesh even when its certificate says it is not valid (or the run diverged). The
+    /// exit status is still non-zero.
+    #[arg(long)]
+    pub keep_invalid: bool,
 }
 
 /// Applies `key=value` overrides to the settings' JSON form; unknown keys are errors.
@@ -52,7 +61,10 @@ pub fn apply_overrides(
     serde_json::from_value(v).map_err(|e| format!("--set: {e}"))
 }
 
-/// Runs the wrap; JSON keys: input, output, preset, vertices, faces, steps, stopped_early,
+/// Runs the wrap; JSON keys: input, output, preset, start, written, stop_reason, certificate
+/// {valid, closed, manifold, oriented, finite, genus, components, euler_characteristic,
+/// self_intersections, degenerate_faces, distance_min, distance_max, problem}, contacts,
+/// vertices, faces, steps, stopped_early,
 /// scale, result_hash, iso_level, times_ms {read, field, start, evolve, write, total}, evolve_ms {normals,
 /// assembly, solve, remesh}, distance_mean, distance_max.
 pub fn run(a: &WrapArgs) -> Result<String, String> {
@@ -67,16 +79,32 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
     if let Some(n) = a.steps {
         settings.steps = n;
     }
+    if let Some(start) = &a.start {
+        settings.start = serde_json::from_value(Value::String(start.clone())).map_err(|_| {
+            format!("unknown start surface \"{start}\" (use auto, icosphere or isosurface)")
+        })?;
+    }
     let read = read_path(&a.input).map_err(|e| e.to_string())?;
     let t_read = crate::clock::now_ms();
     let mut ev = Evolver::new(&read.target, settings.clone()).map_err(|e| e.to_string())?;
     let t_setup = crate::clock::now_ms();
     let mut reports: Vec<StepReport> = Vec::new();
-    ev.run(|r| reports.push(r.clone()))
-        .map_err(|e| e.to_string())?;
+    // A divergence rolls the surface back and ends the run; it is reported below, not written.
+    let _ = ev.run(|r| reports.push(r.clone()));
     let t_evolve = crate::clock::now_ms();
     let (positions, triangles) = (ev.positions(), ev.triangles());
     let distances = ev.vertex_distances();
+    let certificate = certify(&positions, &triangles, Some(&read.target));
+    let t_certify = crate::clock::now_ms();
+    let failure = match (ev.stop_reason(), certificate.valid) {
+        (Some(why), _) => Some(format!("the wrap stopped early: {why}")),
+        (None, false) => Some(format!(
+            "the result is not valid: {}",
+            certificate.problem.as_deref().unwrap_or("unknown problem")
+        )),
+        (None, true) => None,
+    };
+    let settings = ev.settings().clone();
     let settings_json = serde_json::to_string(&settings).expect("settings serialise");
     let scalars = [("distance", distances.as_slice())];
     let input = WriteInput {
@@ -85,20 +113,37 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
         scalars: &scalars,
         settings_json: Some(&settings_json),
     };
-    write_path(&a.output, &input).map_err(|e| e.to_string())?;
+    if failure.is_none() || a.keep_invalid {
+        write_path(&a.output, &input).map_err(|e| e.to_string())?;
+    }
     let t_write = crate::clock::now_ms();
     if let Some(path) = &a.stats {
-        let text = serde_json::to_string_pretty(&json!({ "settings": settings, "steps": reports }))
-            .expect("JSON");
+        let text = serde_json::to_string_pretty(&json!({
+            "settings": settings,
+            "start": ev.start_surface(),
+            "stop_reason": ev.stop_reason(),
+            "certificate": certificate,
+            "steps": reports,
+        }))
+        .expect("JSON");
         std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
     }
     let sum = |f: fn(&StepReport) -> f64| reports.iter().map(f).sum::<f64>();
     let last = reports.last();
     let field = ev.field().timings();
-    Ok(serde_json::to_string_pretty(&json!({
+    let out = serde_json::to_string_pretty(&json!({
         "input": a.input.display().to_string(),
         "output": a.output.display().to_string(),
         "preset": preset.name(),
+        "start": ev.start_surface(),
+        "written": failure.is_none() || a.keep_invalid,
+        "stop_reason": ev.stop_reason(),
+        "certificate": certificate,
+        "contacts": {
+            "steps_with_contact": reports.iter().filter(|r| r.contacts.pairs > 0).count(),
+            "pairs_resolved": reports.iter().map(|r| r.contacts.pairs).sum::<usize>(),
+            "remesh_reverted": reports.iter().filter(|r| r.remesh_reverted).count(),
+        },
         "vertices": positions.len(),
         "faces": triangles.len(),
         "steps": ev.steps_done(),
@@ -113,7 +158,8 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
             "read": t_read - t0,
             "setup": t_setup - t_read,
             "evolve": t_evolve - t_setup,
-            "write": t_write - t_evolve,
+            "certify": t_certify - t_evolve,
+            "write": t_write - t_certify,
             "total": t_write - t0,
         },
         "evolve_ms": {
@@ -121,9 +167,22 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
             "assembly": sum(|r| r.times.assembly),
             "solve": sum(|r| r.times.solve),
             "remesh": sum(|r| r.times.remesh),
+            "guard": sum(|r| r.times.guard),
+            "fit": sum(|r| r.times.fit),
         },
     }))
-    .expect("JSON of plain values"))
+    .expect("JSON of plain values");
+    match failure {
+        None => Ok(out),
+        Some(why) => Err(format!(
+            "{why}; {}\n{out}",
+            if a.keep_invalid {
+                "the mesh was written anyway (--keep-invalid)"
+            } else {
+                "no mesh was written (--keep-invalid writes it anyway)"
+            }
+        )),
+    }
 }
 
 #[cfg(test)]

@@ -234,8 +234,9 @@ pub fn control_curves(settings: &WrapSettings, n: usize) -> ControlCurves {
 }
 
 /// Sources whose struct fields are documented for the settings panel: (struct name, source).
-const DOC_SOURCES: [(&str, &str, &str); 4] = [
+const DOC_SOURCES: [(&str, &str, &str); 5] = [
     ("", "WrapSettings", include_str!("../flow/settings.rs")),
+    ("guard", "GuardSettings", include_str!("../flow/guard.rs")),
     ("field", "FieldSettings", include_str!("../field/mod.rs")),
     ("solver", "SolverSettings", include_str!("../solve/mod.rs")),
     (
@@ -473,7 +474,7 @@ mod tests {
                 .map(|(_, v)| v.clone())
                 .unwrap()
         };
-        assert_eq!(get("start"), ["icosphere", "isosurface"]);
+        assert_eq!(get("start"), ["auto", "icosphere", "isosurface"]);
         assert_eq!(get("remesh_trigger"), ["always", "quality_band"]);
         assert_eq!(
             get("features.detector"),

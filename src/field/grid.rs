@@ -129,7 +129,10 @@ impl Grid {
     }
 }
 
-/// β_min: the smallest non-flat side of `bbox` (see [`Grid::for_bbox`]).
+/// β_min: the smallest non-flat side of `bbox` (see [`Grid::for_bbox`]), but at least
+/// [`MIN_REFERENCE_RATIO`] × the longest side, so a thin target (a plate, a sheet) gets a grid
+/// sized by its extent rather than a refusal for memory: its thin side is then padded by the
+/// grid's margin like any other.
 pub fn reference_length(bbox: &Aabb) -> f64 {
     let s = bbox.size();
     let longest = s.max_element();
@@ -137,7 +140,12 @@ pub fn reference_length(bbox: &Aabb) -> f64 {
         .into_iter()
         .filter(|&e| e > FLAT_RELATIVE * longest)
         .fold(f64::INFINITY, f64::min)
+        .max(MIN_REFERENCE_RATIO * longest)
 }
+
+/// The smallest β_min relative to the longest side (1/10: every real scan in the test data is
+/// above it, a 1 × 0.6 × 0.01 plate is not).
+pub const MIN_REFERENCE_RATIO: f64 = 0.1;
 
 /// The largest cells-per-minimum-dimension whose grid fits under the memory cap (at least 1).
 fn cells_that_fit(bbox: &Aabb, settings: &FieldSettings) -> u32 {

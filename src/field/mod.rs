@@ -17,6 +17,7 @@
 //! [`crate::geometry::marching_cubes`]: closed, manifold, oriented, welded.
 
 pub mod band;
+pub mod exterior;
 pub mod fast_sweep;
 pub mod gradient;
 pub mod grid;
@@ -390,25 +391,51 @@ impl DistanceField {
     /// clamped to 0.5–16 (below 0.5 the resampled grid would hold over 8× the nodes); a
     /// non-finite factor counts as 1.
     pub fn isosurface_resampled(&self, iso: f64, factor: f64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        self.with_resampled(factor, |view| {
+            crate::geometry::marching_cubes::marching_cubes(view, iso)
+        })
+    }
+
+    /// Like [`DistanceField::isosurface_resampled`], but only the boundary of the exterior region
+    /// `{d ≥ iso}` connected to the grid's border (see [`exterior`]): never an inner sheet.
+    pub fn exterior_isosurface_resampled(
+        &self,
+        iso: f64,
+        factor: f64,
+    ) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        self.with_resampled(factor, |view| exterior::exterior_isosurface(view, iso))
+    }
+
+    /// Calls `f` on the field's values resampled at cell size `factor·c` (see
+    /// [`DistanceField::isosurface_resampled`] for the clamp).
+    fn with_resampled<R>(
+        &self,
+        factor: f64,
+        f: impl FnOnce(&crate::geometry::marching_cubes::ScalarGridView) -> R,
+    ) -> R {
         let factor = if factor.is_finite() {
             factor.clamp(0.5, 16.0)
         } else {
             1.0
         };
         if factor == 1.0 {
-            return self.isosurface(iso);
+            return f(&crate::geometry::marching_cubes::ScalarGridView {
+                origin: self.grid.origin,
+                cell: self.grid.cell,
+                dims: self.grid.dims,
+                values: &self.values,
+            });
         }
         let g = Grid::covering(self.bbox(), factor * self.grid.cell);
         let values: Vec<f64> = (0..g.node_count())
             .map(|i| self.sample(g.position_of(i)))
             .collect();
-        let view = crate::geometry::marching_cubes::ScalarGridView {
+        f(&crate::geometry::marching_cubes::ScalarGridView {
             origin: g.origin,
             cell: g.cell,
             dims: g.dims,
             values: &values,
-        };
-        crate::geometry::marching_cubes::marching_cubes(&view, iso)
+        })
     }
 
     /// A copy of the field in the scaled frame (see [`DistanceField::scale_uniform`]).

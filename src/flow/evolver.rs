@@ -6,18 +6,24 @@
 //! target's units.
 
 use super::controls::Controls;
+use super::guard::{
+    check_divergence, held_mask, release_held, resolve_contacts, ContactReport, Divergence,
+    DivergenceLimits,
+};
 use super::settings::{RemeshTrigger, StartSurface, WrapSettings};
+use super::start::build_start;
 use super::snap::{snap_to_target, PointGrid, SnapParams, SnapTarget};
 use super::surface_terms::SurfaceTerms;
-use super::{mcf::stats, scaling};
+use super::mcf::stats;
 use crate::clock::now_ms;
 use crate::field::{DistanceField, FieldError};
-use crate::geometry::icosphere::{icosphere, IcosphereError};
+use crate::geometry::icosphere::IcosphereError;
 use crate::geometry::normals::angle_weighted_normals;
 use crate::mesh::{HalfedgeMesh, MeshBuildError};
 use crate::metrics::bvh::TriangleBvh;
+use crate::metrics::intersections::count_self_intersections;
 use crate::remesh::adaptive::{remesh, RemeshError, RemeshReport, RemeshSettings};
-use crate::remesh::sizing::{decayed, icosphere_sizes, isosurface_sizes, EdgeSizes};
+use crate::remesh::sizing::{decayed, EdgeSizes};
 use crate::solve::solve_xyz_scaled;
 use crate::target::Target;
 use glam::DVec3;
@@ -29,6 +35,9 @@ pub enum EvolveError {
     /// A setting is out of range. Fix: see the named setting's documentation.
     #[error(transparent)]
     Setting(#[from] super::settings::SettingError),
+    /// The target cannot be wrapped (too few points, flat, zero area): see the variant.
+    #[error(transparent)]
+    Target(#[from] crate::target::TargetError),
     /// The distance field could not be built (empty or degenerate target, too fine a grid).
     #[error("distance field: {0}")]
     Field(#[from] FieldError),
@@ -44,6 +53,14 @@ pub enum EvolveError {
     /// The remesher refused its sizes.
     #[error(transparent)]
     Remesh(#[from] RemeshError),
+    /// The step showed a sign of divergence; the surface was rolled back to the previous step and
+    /// the evolution stopped. Fix: a smaller τ, or report the input.
+    #[error("the evolution diverged at step {step} ({reason}); rolled back to step {previous}")]
+    Divergence {
+        step: u32,
+        previous: u32,
+        reason: Divergence,
+    },
     /// A step failed even after retrying with τ halved `retries` times (the mesh is unchanged).
     #[error("step {step} failed after {retries} retries with τ halved down to {tau:.3e}: {cause}")]
     Diverged {
@@ -66,6 +83,10 @@ pub struct PhaseTimes {
     pub solve: f64,
     /// Adaptive remeshing.
     pub remesh: f64,
+    /// Divergence and contact guards (self-intersection checks, reverts).
+    pub guard: f64,
+    /// Final fit (last step only).
+    pub fit: f64,
     /// The whole step.
     pub total: f64,
 }
@@ -99,6 +120,12 @@ pub struct StepReport {
     pub remesh: Option<RemeshReport>,
     /// Vertices moved by the final fit onto the target (only in the last step).
     pub fitted: Option<usize>,
+    /// What the contact guard did after the move (pairs found, vertices put back).
+    pub contacts: ContactReport,
+    /// Vertices held by the contact guard during this step (advection off).
+    pub held: usize,
+    /// True when this step's remesh was undone because it left intersecting faces.
+    pub remesh_reverted: bool,
     /// Per-phase wall times.
     pub times: PhaseTimes,
     /// True when the stopping rule or the step limit has been reached.
@@ -128,61 +155,26 @@ pub struct Evolver {
     fit_target: Option<SnapTarget>,
     /// The schedule changed the target edge lengths since the last remesh.
     sizes_changed: bool,
+    /// The start surface actually built.
+    start: StartSurface,
+    /// The region, area and vertex count beyond which a step counts as diverged.
+    limits: DivergenceLimits,
+    /// Why the evolution stopped before its rule said so (divergence, solver failure).
+    stop_reason: Option<String>,
 }
 
 impl Evolver {
     /// Builds the distance field and the start surface, scaled into the stabilised frame.
     pub fn new(target: &Target, settings: WrapSettings) -> Result<Self, EvolveError> {
         settings.check()?;
+        target.check_wrappable()?;
         let field = DistanceField::new(target, &settings.field)?;
+        let settings = settings.resolved_for(field.is_signed());
         let center = target.bbox.center();
         let c = field.cell_size();
-        let (mesh, phi, sizes) = match settings.start {
-            StartSurface::Icosphere => {
-                let size = target.bbox.size();
-                let (bmin, bmax) = (size.min_element(), size.max_element());
-                let r = settings.icosphere_radius_factor * 0.4 * (bmin + 1.5 * bmax);
-                let phi = scaling::icosphere_scale(
-                    settings.tau,
-                    settings.shrink_factor,
-                    r,
-                    settings.icosphere_level,
-                );
-                let mesh = icosphere(settings.icosphere_level, phi * r, DVec3::ZERO)?;
-                let sizes = icosphere_sizes(
-                    settings.min_edge_multiplier,
-                    phi * r,
-                    settings.icosphere_level,
-                );
-                (mesh, phi, sizes)
-            }
-            StartSurface::Isosurface => {
-                let d0 = settings.iso_level_factor * 0.5 * 3f64.sqrt() * c;
-                let mut iso = settings.isosurface_level_cells * c;
-                if iso <= d0 {
-                    iso = 1.1 * d0;
-                }
-                let c_r = settings.isosurface_resampling * c;
-                let (pos, tris) = field.isosurface_resampled(iso, settings.isosurface_resampling);
-                if tris.is_empty() {
-                    return Err(EvolveError::EmptyIsosurface { iso });
-                }
-                let phi = scaling::isosurface_scale(settings.tau, settings.shrink_factor, c_r);
-                let scaled: Vec<DVec3> = pos.into_iter().map(|p| phi * (p - center)).collect();
-                let mut mesh = HalfedgeMesh::from_triangles(scaled, &tris)?;
-                let sizes = isosurface_sizes(settings.min_edge_multiplier, c_r, phi);
-                // One remesh with back-projection onto the marching-cubes surface (spec §5.3).
-                let rs = RemeshSettings {
-                    iterations: 1,
-                    use_projection: true,
-                    smoothing_iterations: settings.smoothing_iterations,
-                    features: settings.features.clone(),
-                    ..RemeshSettings::with_sizes(sizes)
-                };
-                remesh(&mut mesh, &rs)?;
-                (mesh, phi, sizes)
-            }
-        };
+        let start = build_start(target, &field, &settings)?;
+        let (mesh, phi, sizes) = (start.mesh, start.phi, start.sizes);
+        let limits = divergence_limits(target, &mesh, phi, center, &settings);
         let field = field.scaled(center, phi);
         let fit_target = (settings.final_fit && settings.use_target).then(|| {
             let pts: Vec<DVec3> = target.points.iter().map(|&p| phi * (p - center)).collect();
@@ -210,6 +202,9 @@ impl Evolver {
             gradients: vec![],
             fit_target,
             sizes_changed: true,
+            start: start.kind,
+            limits,
+            stop_reason: None,
         };
         ev.refresh_distances();
         ev.done = ev.settings.steps == 0;
@@ -281,7 +276,19 @@ impl Evolver {
         self.distances.iter().map(|d| d / self.phi).collect()
     }
 
-    /// One LSW step. On error the surface is unchanged and further steps may still be tried.
+    /// The start surface actually built (`Auto` resolved).
+    pub fn start_surface(&self) -> StartSurface {
+        self.start
+    }
+
+    /// Why the evolution stopped early (divergence, solver failure), if it did.
+    pub fn stop_reason(&self) -> Option<&str> {
+        self.stop_reason.as_deref()
+    }
+
+    /// One LSW step: surface terms → assemble and solve → divergence guard → remesh → contact
+    /// guard → schedule → (last step) final fit. On error the surface is the previous step's
+    /// and the evolution is over (see [`Evolver::stop_reason`]).
     pub fn step(&mut self) -> Result<StepReport, EvolveError> {
         let t_start = now_ms();
         let mut times = PhaseTimes::default();
@@ -298,12 +305,15 @@ impl Evolver {
         // One pass over the faces gives normals, the Laplacian and the tangential sums.
         let terms = SurfaceTerms::new(&self.mesh);
         let normals = &terms.normals;
+        let held = held_mask(&self.mesh);
+        let held_count = held.iter().filter(|&&h| h).count();
         let (mut eps, mut eta) = (vec![1.0; n], vec![0.0; n]);
         if s.use_target {
             for i in 0..n {
                 let delta = self.distances[i] - self.d0;
                 eps[i] = controls.epsilon(delta);
-                if eps[i] != 0.0 || !s.advection_positive_support || delta >= 0.0 {
+                let advects = eps[i] != 0.0 || !s.advection_positive_support || delta >= 0.0;
+                if advects && !held[i] {
                     eta[i] = controls.eta(delta, self.gradients[i].dot(normals[i]));
                 }
             }
@@ -317,6 +327,7 @@ impl Evolver {
         let lap = &terms.laplacian;
         let (covolume_min, covolume_mean, covolume_max) = stats(&lap.covolumes);
         let old = self.mesh.positions().to_vec();
+        let (solver, max_retries) = (s.solver.clone(), s.max_retries);
         let mut retries = 0;
         let (x, solve) = loop {
             let t0 = now_ms();
@@ -329,17 +340,19 @@ impl Evolver {
             let mut x = rhs.clone();
             let t1 = now_ms();
             times.assembly += t1 - t0;
-            let result = system.and_then(|a| solve_xyz_scaled(&a, &rhs, &mut x, &s.solver));
+            let result = system.and_then(|a| solve_xyz_scaled(&a, &rhs, &mut x, &solver));
             times.solve += now_ms() - t1;
             match result {
                 Ok(r) => break (x, r),
-                Err(e) if retries >= s.max_retries => {
-                    return Err(EvolveError::Diverged {
+                Err(e) if retries >= max_retries => {
+                    let err = EvolveError::Diverged {
                         step: self.step + 1,
                         retries,
                         tau,
                         cause: e.to_string(),
-                    });
+                    };
+                    self.stop(&err);
+                    return Err(err);
                 }
                 Err(_) => {
                     retries += 1;
@@ -347,6 +360,9 @@ impl Evolver {
                 }
             }
         };
+        let t_guard = now_ms();
+        let pre = self.mesh.clone();
+        release_held(&mut self.mesh);
         let mut settled = 0usize;
         for (i, q) in self.mesh.positions_mut().iter_mut().enumerate() {
             if (x[i] - old[i]).length() < self.settle_threshold {
@@ -354,22 +370,24 @@ impl Evolver {
             }
             *q = x[i];
         }
+        if let Err(reason) = check_divergence(&self.mesh, &self.limits) {
+            return Err(self.roll_back(pre, reason));
+        }
+        times.guard += now_ms() - t_guard;
         let tau_used = self.tau;
         self.step += 1;
 
+        let s = &self.settings;
+        let remesh_due = s.remesh && self.step >= s.remesh_from_step && self.needs_remesh();
         let mut remesh_report = None;
-        if s.remesh && self.step >= s.remesh_from_step && self.needs_remesh() {
-            let t0 = now_ms();
-            let rs = RemeshSettings {
-                iterations: s.remesh_iterations,
-                smoothing_iterations: s.smoothing_iterations,
-                features: s.features.clone(),
-                ..RemeshSettings::with_sizes(self.sizes)
-            };
-            self.sizes_changed = false;
-            remesh_report = Some(remesh(&mut self.mesh, &rs)?);
-            times.remesh = now_ms() - t0;
+        if remesh_due {
+            remesh_report = Some(self.remesh_phase(&mut times)?);
+            if let Err(reason) = check_divergence(&self.mesh, &self.limits) {
+                self.step -= 1;
+                return Err(self.roll_back(pre, reason));
+            }
         }
+        let (contacts, remesh_reverted) = self.contact_phase(pre, &x, &old, remesh_due, &mut times)?;
         if self.settings.schedule.contains(&self.step) {
             let decay = self.settings.decay;
             self.sizes = decayed(self.sizes, decay);
@@ -384,7 +402,9 @@ impl Evolver {
             || (schedule_over && settled_fraction >= self.settings.stop_fraction);
         let mut fitted = None;
         if self.done {
+            let t0 = now_ms();
             fitted = self.final_fit();
+            times.fit = now_ms() - t0;
         }
         self.refresh_distances();
         let (mut dmean, mut dmax) = (0.0, 0.0f64);
@@ -410,12 +430,98 @@ impl Evolver {
             settled_fraction,
             remesh: remesh_report,
             fitted,
+            contacts,
+            held: held_count,
+            remesh_reverted,
             times,
             done: self.done,
         })
     }
 
+    /// Ends the evolution with `err` as the reason.
+    fn stop(&mut self, err: &EvolveError) {
+        self.done = true;
+        self.stop_reason = Some(err.to_string());
+    }
+
+    /// Restores the surface before the step and ends the evolution.
+    fn roll_back(&mut self, pre: HalfedgeMesh, reason: Divergence) -> EvolveError {
+        self.mesh = pre;
+        let err = EvolveError::Divergence {
+            step: self.step + 1,
+            previous: self.step,
+            reason,
+        };
+        self.stop(&err);
+        err
+    }
+
+    /// Adaptive remeshing with the current sizes.
+    fn remesh_phase(&mut self, times: &mut PhaseTimes) -> Result<RemeshReport, EvolveError> {
+        let t0 = now_ms();
+        let s = &self.settings;
+        let rs = RemeshSettings {
+            iterations: s.remesh_iterations,
+            smoothing_iterations: s.smoothing_iterations,
+            features: s.features.clone(),
+            ..RemeshSettings::with_sizes(self.sizes)
+        };
+        self.sizes_changed = false;
+        let report = remesh(&mut self.mesh, &rs)?;
+        times.remesh += now_ms() - t0;
+        Ok(report)
+    }
+
+    /// The contact guard: if the moved (and remeshed) surface has intersecting faces, go back to
+    /// the surface before the step, apply the move `x` there, put back the vertices of the
+    /// intersecting faces ([`resolve_contacts`]) and remesh again — undoing that remesh if it
+    /// intersects. Returns the guard's report and whether a remesh was undone.
+    fn contact_phase(
+        &mut self,
+        pre: HalfedgeMesh,
+        x: &[DVec3],
+        old: &[DVec3],
+        remesh_due: bool,
+        times: &mut PhaseTimes,
+    ) -> Result<(ContactReport, bool), EvolveError> {
+        if !self.settings.guard.contact {
+            return Ok((ContactReport::default(), false));
+        }
+        let t0 = now_ms();
+        let pairs = count_self_intersections(self.mesh.positions(), &self.mesh.triangles());
+        times.guard += now_ms() - t0;
+        if pairs == 0 {
+            return Ok((
+                ContactReport {
+                    rounds: 1,
+                    ..Default::default()
+                },
+                false,
+            ));
+        }
+        let t0 = now_ms();
+        self.mesh = pre;
+        release_held(&mut self.mesh);
+        self.mesh.positions_mut().copy_from_slice(x);
+        let report = resolve_contacts(&mut self.mesh, old, &self.settings.guard);
+        times.guard += now_ms() - t0;
+        let mut reverted = false;
+        if remesh_due {
+            let before = self.mesh.clone();
+            self.remesh_phase(times)?;
+            let t0 = now_ms();
+            if count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) > 0 {
+                self.mesh = before;
+                reverted = true;
+            }
+            times.guard += now_ms() - t0;
+        }
+        Ok((report, reverted))
+    }
+
     /// Moves the settled surface onto the target (see [`super::snap`]); returns vertices moved.
+    /// Each pass's moves go through the contact guard, and a remesh that would leave
+    /// intersecting faces is undone.
     fn final_fit(&mut self) -> Option<usize> {
         let target = self.fit_target.as_ref()?;
         let c = self.field.cell_size();
@@ -429,7 +535,11 @@ impl Evolver {
         let mut moved = 0;
         for _ in 0..self.settings.fit_passes {
             let normals = angle_weighted_normals(&self.mesh);
+            let before = self.mesh.positions().to_vec();
             moved = snap_to_target(&mut self.mesh, &normals, target, &params);
+            if self.settings.guard.contact {
+                resolve_contacts(&mut self.mesh, &before, &self.settings.guard);
+            }
             // Even out the triangles the moves distorted, staying on the fitted surface.
             if self.settings.remesh {
                 let rs = RemeshSettings {
@@ -439,7 +549,14 @@ impl Evolver {
                     features: self.settings.features.clone(),
                     ..RemeshSettings::with_sizes(self.sizes)
                 };
+                let unremeshed = self.settings.guard.contact.then(|| self.mesh.clone());
                 let _ = remesh(&mut self.mesh, &rs);
+                if let Some(u) = unremeshed {
+                    if count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) > 0
+                    {
+                        self.mesh = u;
+                    }
+                }
             }
         }
         if self.mesh.validate().is_err() {
@@ -469,5 +586,33 @@ impl Evolver {
             on_step(&r);
         }
         Ok(())
+    }
+}
+
+/// The divergence guard's limits in the stabilised frame: the box of the start surface and the
+/// target grown by `escape_diagonals` target diagonals; the area of the start surface plus the
+/// target box's, times `max_area_growth`; `max_vertices`.
+fn divergence_limits(
+    target: &Target,
+    start: &HalfedgeMesh,
+    phi: f64,
+    center: DVec3,
+    settings: &WrapSettings,
+) -> DivergenceLimits {
+    let g = &settings.guard;
+    let tb = &target.bbox;
+    let (mut min, mut max) = (phi * (tb.min - center), phi * (tb.max - center));
+    for p in start.positions() {
+        min = min.min(*p);
+        max = max.max(*p);
+    }
+    let margin = g.escape_diagonals * phi * tb.size().length().max(f64::MIN_POSITIVE);
+    let s = phi * tb.size();
+    let box_area = 2.0 * (s.x * s.y + s.y * s.z + s.z * s.x);
+    DivergenceLimits {
+        min: min - DVec3::splat(margin),
+        max: max + DVec3::splat(margin),
+        max_area: g.max_area_growth * (start.surface_area() + box_area),
+        max_vertices: g.max_vertices,
     }
 }

@@ -2,12 +2,14 @@
 
 pub mod controls;
 pub mod evolver;
+pub mod guard;
 pub mod laplacian;
 pub mod mcf;
 pub mod scaling;
 pub mod settings;
 pub mod surface_terms;
 pub mod snap;
+pub mod start;
 pub mod tangential;
 
 pub use evolver::{EvolveError, Evolver, PhaseTimes, StepReport};

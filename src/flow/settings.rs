@@ -2,6 +2,7 @@
 //! the presets users pick from. Everything (de)serialises with serde so a URL or a JSON file can
 //! carry it; unknown keys are rejected by [`WrapSettings::from_json`], missing keys default.
 
+use super::guard::GuardSettings;
 use crate::field::FieldSettings;
 use crate::remesh::features::FeatureSettings;
 use crate::solve::SolverSettings;
@@ -11,9 +12,16 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum StartSurface {
+    /// Chosen per target (measured, see the README): the exterior isosurface for targets with a
+    /// signed field (closed meshes: it keeps their genus), the icosphere for point clouds and
+    /// open meshes (it spans scan holes). Settings still at their full-wrap defaults follow the
+    /// chosen start's own defaults ([`WrapSettings::resolved_for`]).
+    Auto,
     /// An icosphere around the target's bounding box (genus 0 results).
     Icosphere,
-    /// The marching-cubes isosurface `d = d_iso` plus one remesh: keeps the target's genus.
+    /// The boundary of the exterior region `d ≥ d_iso` (marching tetrahedra of the field, flooded
+    /// from the grid's border) plus one remesh: keeps the genus of closed targets and never seeds
+    /// the inner sheet of an unsigned field.
     Isosurface,
 }
 
@@ -72,23 +80,7 @@ impl Preset {
         match self {
             Preset::FullWrap => base,
             Preset::Obstacle => WrapSettings { d2: 0.0, ..base },
-            Preset::Isosurface => {
-                // PreComputeAdvectionDiffusionParams(2.0): C1 = D1 = 1/(1 − e^{−4}).
-                let c = 1.0 / (1.0 - (-4.0f64).exp());
-                WrapSettings {
-                    start: StartSurface::Isosurface,
-                    steps: 20,
-                    tau: 0.05,
-                    c1: c,
-                    d1: c,
-                    iso_level_factor: 1.0,
-                    schedule: vec![],
-                    min_edge_multiplier: 0.4,
-                    remesh_iterations: 3,
-                    remesh_from_step: 1,
-                    ..base
-                }
-            }
+            Preset::Isosurface => base.with_isosurface_start(),
             Preset::Mcf => WrapSettings {
                 use_target: false,
                 remesh: false,
@@ -106,7 +98,7 @@ impl Preset {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct WrapSettings {
-    /// Start surface. Default icosphere.
+    /// Start surface. Default auto.
     pub start: StartSurface,
     /// Icosphere subdivision level s (0–7). Default 2 (162 vertices).
     pub icosphere_level: u32,
@@ -190,6 +182,8 @@ pub struct WrapSettings {
     pub fit_passes: u32,
     /// Times a failed step is retried with τ halved before giving up. Default 4.
     pub max_retries: u32,
+    /// Guards: contact (no self-intersection) and divergence.
+    pub guard: GuardSettings,
     /// Distance-field settings.
     pub field: FieldSettings,
     /// Linear-solver settings.
@@ -199,7 +193,7 @@ pub struct WrapSettings {
 impl Default for WrapSettings {
     fn default() -> Self {
         Self {
-            start: StartSurface::Icosphere,
+            start: StartSurface::Auto,
             icosphere_level: 2,
             icosphere_radius_factor: 1.0,
             tau: 0.07,
@@ -233,6 +227,7 @@ impl Default for WrapSettings {
             fit_max_move_cells: 2.5,
             fit_passes: 2,
             max_retries: 4,
+            guard: GuardSettings::default(),
             field: FieldSettings::default(),
             solver: SolverSettings::default(),
         }
@@ -252,6 +247,76 @@ pub struct SettingError {
 }
 
 impl WrapSettings {
+    /// These settings with the isosurface start and its parameters (spec §10.2): 20 steps of
+    /// τ = 0.05, C1 = D1 = 1/(1 − e⁻⁴) (the reference's `PreComputeAdvectionDiffusionParams(2.0)`),
+    /// no size schedule, λ_min = 0.4, 3 remesh iterations from step 1.
+    pub fn with_isosurface_start(self) -> Self {
+        let c = 1.0 / (1.0 - (-4.0f64).exp());
+        WrapSettings {
+            start: StartSurface::Isosurface,
+            steps: 20,
+            tau: 0.05,
+            c1: c,
+            d1: c,
+            iso_level_factor: 1.0,
+            schedule: vec![],
+            min_edge_multiplier: 0.4,
+            remesh_iterations: 3,
+            remesh_from_step: 1,
+            ..self
+        }
+    }
+
+    /// Resolves [`StartSurface::Auto`] for a target whose field is signed (`signed`) or not: the
+    /// start becomes isosurface or icosphere, and every parameter the isosurface start has its
+    /// own default for takes that default if it is still at the full-wrap default (a value the
+    /// user changed is kept). Other starts are returned unchanged.
+    pub fn resolved_for(self, signed: bool) -> Self {
+        if self.start != StartSurface::Auto {
+            return self;
+        }
+        if !signed {
+            return WrapSettings {
+                start: StartSurface::Icosphere,
+                ..self
+            };
+        }
+        let (d, iso) = (
+            WrapSettings::default(),
+            WrapSettings::default().with_isosurface_start(),
+        );
+        let pick = |mine: f64, def: f64, theirs: f64| if mine == def { theirs } else { mine };
+        WrapSettings {
+            start: StartSurface::Isosurface,
+            steps: if self.steps == d.steps { iso.steps } else { self.steps },
+            tau: pick(self.tau, d.tau, iso.tau),
+            c1: pick(self.c1, d.c1, iso.c1),
+            d1: pick(self.d1, d.d1, iso.d1),
+            iso_level_factor: pick(self.iso_level_factor, d.iso_level_factor, iso.iso_level_factor),
+            schedule: if self.schedule == d.schedule {
+                iso.schedule.clone()
+            } else {
+                self.schedule.clone()
+            },
+            min_edge_multiplier: pick(
+                self.min_edge_multiplier,
+                d.min_edge_multiplier,
+                iso.min_edge_multiplier,
+            ),
+            remesh_iterations: if self.remesh_iterations == d.remesh_iterations {
+                iso.remesh_iterations
+            } else {
+                self.remesh_iterations
+            },
+            remesh_from_step: if self.remesh_from_step == d.remesh_from_step {
+                iso.remesh_from_step
+            } else {
+                self.remesh_from_step
+            },
+            ..self
+        }
+    }
+
     /// Checks ranges (the field and solver settings are checked where they are used).
     pub fn check(&self) -> Result<(), SettingError> {
         let checks: [(&'static str, f64, bool, &'static str); 12] = [

@@ -5,5 +5,6 @@ pub mod angle;
 pub mod icosphere;
 pub mod marching_cubes;
 pub mod normals;
+pub mod predicates;
 pub mod primitives;
 pub mod sphere;

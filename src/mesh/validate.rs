@@ -146,7 +146,7 @@ impl HalfedgeMesh {
     }
 
     /// Connected components over edges (union–find, deterministic).
-    fn count_components(&self) -> usize {
+    pub fn count_components(&self) -> usize {
         let mut parent: Vec<u32> = (0..self.n_vertices() as u32).collect();
         fn find(p: &mut [u32], mut x: u32) -> u32 {
             while p[x as usize] != x {

@@ -9,6 +9,7 @@
 //! * [`bvh`] — bounding-volume hierarchy and exact closest points on triangles / points.
 
 pub mod bvh;
+pub mod certificate;
 pub mod distance;
 pub mod histogram;
 pub mod intersections;

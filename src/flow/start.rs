@@ -1,0 +1,100 @@
+//! The start surface, scaled into the stabilised frame (spec §3, §5): an icosphere around the
+//! target, or the boundary of the field's exterior region `d ≥ d_iso` plus one remesh.
+//!
+//! Both are free of self-intersections by construction (a remesh that would break that is
+//! dropped), so the contact guard of every later step starts from a clean surface.
+
+use super::evolver::EvolveError;
+use super::scaling;
+use super::settings::{StartSurface, WrapSettings};
+use crate::field::DistanceField;
+use crate::geometry::icosphere::icosphere;
+use crate::mesh::HalfedgeMesh;
+use crate::metrics::intersections::count_self_intersections;
+use crate::remesh::adaptive::{remesh, RemeshSettings};
+use crate::remesh::sizing::{icosphere_sizes, isosurface_sizes, EdgeSizes};
+use crate::target::Target;
+use glam::DVec3;
+
+/// A start surface in the stabilised frame.
+pub struct Start {
+    /// The surface (centred on the target's box centre, scaled by `phi`).
+    pub mesh: HalfedgeMesh,
+    /// The stabilisation factor φ.
+    pub phi: f64,
+    /// Target edge lengths for the remesher (stabilised frame).
+    pub sizes: EdgeSizes,
+    /// The start actually built (never `Auto`).
+    pub kind: StartSurface,
+}
+
+/// Builds the start surface of `settings.start` (`Auto` counts as icosphere: resolve it first
+/// with [`WrapSettings::resolved_for`]); `field` is in the target's frame.
+pub fn build_start(
+    target: &Target,
+    field: &DistanceField,
+    settings: &WrapSettings,
+) -> Result<Start, EvolveError> {
+    let center = target.bbox.center();
+    let c = field.cell_size();
+    match settings.start {
+        StartSurface::Auto | StartSurface::Icosphere => {
+            let size = target.bbox.size();
+            let (bmin, bmax) = (size.min_element(), size.max_element());
+            let r = settings.icosphere_radius_factor * 0.4 * (bmin + 1.5 * bmax);
+            let phi = scaling::icosphere_scale(
+                settings.tau,
+                settings.shrink_factor,
+                r,
+                settings.icosphere_level,
+            );
+            let mesh = icosphere(settings.icosphere_level, phi * r, DVec3::ZERO)?;
+            let sizes =
+                icosphere_sizes(settings.min_edge_multiplier, phi * r, settings.icosphere_level);
+            Ok(Start {
+                mesh,
+                phi,
+                sizes,
+                kind: StartSurface::Icosphere,
+            })
+        }
+        StartSurface::Isosurface => {
+            let d0 = settings.iso_level_factor * 0.5 * 3f64.sqrt() * c;
+            let mut iso = settings.isosurface_level_cells * c;
+            if iso <= d0 {
+                iso = 1.1 * d0;
+            }
+            let c_r = settings.isosurface_resampling * c;
+            let (pos, tris) = field.exterior_isosurface_resampled(iso, settings.isosurface_resampling);
+            if tris.is_empty() {
+                return Err(EvolveError::EmptyIsosurface { iso });
+            }
+            let phi = scaling::isosurface_scale(settings.tau, settings.shrink_factor, c_r);
+            let scaled: Vec<DVec3> = pos.into_iter().map(|p| phi * (p - center)).collect();
+            let mut mesh = HalfedgeMesh::from_triangles(scaled, &tris)?;
+            let sizes = isosurface_sizes(settings.min_edge_multiplier, c_r, phi);
+            // One remesh with back-projection onto the marching-cubes surface (spec §5.3),
+            // dropped if it would leave intersecting faces.
+            let rs = RemeshSettings {
+                iterations: 1,
+                use_projection: true,
+                smoothing_iterations: settings.smoothing_iterations,
+                features: settings.features.clone(),
+                ..RemeshSettings::with_sizes(sizes)
+            };
+            let raw = mesh.clone();
+            remesh(&mut mesh, &rs)?;
+            if settings.guard.contact
+                && count_self_intersections(mesh.positions(), &mesh.triangles()) > 0
+            {
+                mesh = raw;
+            }
+            Ok(Start {
+                mesh,
+                phi,
+                sizes,
+                kind: StartSurface::Isosurface,
+            })
+        }
+    }
+}

@@ -1,0 +1,179 @@
+//! The certificate every result carries: closed, manifold, oriented, finite, genus and
+//! components, the exact self-intersection count, and the distance range to the target.
+//! `valid` is the first promise of the tool — closed, manifold, oriented, finite and without a
+//! single intersecting face pair; a result that is not valid is never presented as done.
+
+use super::bvh::{PointBvh, TriangleBvh};
+use super::intersections::count_self_intersections;
+use crate::mesh::{edge_counts, HalfedgeMesh, MeshBuildError, ValidationError};
+use crate::target::Target;
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+/// The certificate of a triangle mesh (keys are a stable interface: `certificate` in
+/// `lsw wrap --stats`, `lsw wrap`'s output and `lsw metrics`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Certificate {
+    /// Closed, manifold, oriented, finite, no intersecting face pair.
+    pub valid: bool,
+    /// No boundary edge.
+    pub closed: bool,
+    /// Every edge has at most two faces and every vertex one fan.
+    pub manifold: bool,
+    /// Neighbouring faces agree on orientation.
+    pub oriented: bool,
+    /// Every coordinate is finite.
+    pub finite: bool,
+    /// Genus (closed manifold oriented meshes only).
+    pub genus: Option<i64>,
+    /// Connected components (closed manifold oriented meshes only).
+    pub components: Option<usize>,
+    /// Euler characteristic V − E + F (closed manifold oriented meshes only).
+    pub euler_characteristic: Option<i64>,
+    /// Face pairs that meet other than in their shared vertices or edge (exact predicates).
+    pub self_intersections: usize,
+    /// Faces of zero area (reported, not part of `valid`: the exact test already catches folds).
+    pub degenerate_faces: usize,
+    /// Smallest and largest distance from a result vertex to the target (target units), when a
+    /// target is given.
+    pub distance_min: Option<f64>,
+    pub distance_max: Option<f64>,
+    /// The first broken property in words, or `None` when valid.
+    pub problem: Option<String>,
+}
+
+/// Certifies `(positions, triangles)`; with `target`, also measures vertex → target distances.
+pub fn certify(positions: &[DVec3], triangles: &[[u32; 3]], target: Option<&Target>) -> Certificate {
+    let finite = positions.iter().all(|p| p.is_finite());
+    let edges = edge_counts(triangles);
+    let closed = edges.boundary == 0 && !triangles.is_empty();
+    let mut manifold = edges.non_manifold == 0;
+    let mut oriented = true;
+    let mut problem = None;
+    let mut report = None;
+    let mut degenerate_faces = 0;
+    match HalfedgeMesh::from_triangles(positions.to_vec(), triangles) {
+        Err(e) => {
+            match e {
+                MeshBuildError::NonManifoldEdge { .. } if manifold => oriented = false,
+                MeshBuildError::NonManifoldVertex { .. } => manifold = false,
+                _ => manifold = false,
+            }
+            problem = Some(e.to_string());
+        }
+        Ok(m) => {
+            degenerate_faces = (0..m.n_faces() as u32)
+                .filter(|&f| m.face_normal_area(f).1 <= 0.0)
+                .count();
+            match m.validate() {
+                Ok(r) => report = Some(r),
+                Err(ValidationError::NonManifoldVertex { .. }) => manifold = false,
+                Err(ValidationError::DegenerateFace { .. }) if closed && finite => {
+                    report = Some(topology_only(&m));
+                }
+                Err(e) => problem = Some(e.to_string()),
+            }
+        }
+    }
+    if triangles.is_empty() {
+        problem = Some("the mesh has no faces".into());
+    }
+    let self_intersections = if finite {
+        count_self_intersections(positions, triangles)
+    } else {
+        0
+    };
+    let valid = closed && manifold && oriented && finite && self_intersections == 0;
+    if problem.is_none() && !valid {
+        problem = Some(
+            if !finite {
+                "a vertex has a non-finite position".to_string()
+            } else if !closed {
+                format!("the mesh is not closed ({} boundary edges)", edges.boundary)
+            } else if !manifold {
+                "the mesh is not manifold".to_string()
+            } else if !oriented {
+                "the faces are not consistently oriented".to_string()
+            } else {
+                format!("{self_intersections} pairs of faces intersect")
+            },
+        );
+    }
+    let (distance_min, distance_max) = match target {
+        Some(t) if finite && !positions.is_empty() => {
+            let d: Vec<f64> = if t.triangles.is_empty() {
+                let bvh = PointBvh::new(&t.points);
+                positions.iter().map(|&p| bvh.distance(p)).collect()
+            } else {
+                let bvh = TriangleBvh::new(&t.points, &t.triangles);
+                positions.iter().map(|&p| bvh.distance(p)).collect()
+            };
+            (
+                Some(d.iter().copied().fold(f64::INFINITY, f64::min)),
+                Some(d.iter().copied().fold(0.0, f64::max)),
+            )
+        }
+        _ => (None, None),
+    };
+    Certificate {
+        valid,
+        closed,
+        manifold,
+        oriented,
+        finite,
+        genus: report.map(|r| r.genus),
+        components: report.map(|r| r.components),
+        euler_characteristic: report.map(|r| r.euler_characteristic),
+        self_intersections,
+        degenerate_faces,
+        distance_min,
+        distance_max,
+        problem: if valid { None } else { problem },
+    }
+}
+
+/// Counts of a closed mesh whose only flaw is a degenerate face (validate stops there).
+fn topology_only(m: &HalfedgeMesh) -> crate::mesh::MeshReport {
+    let chi = m.n_vertices() as i64 - m.n_edges() as i64 + m.n_faces() as i64;
+    let components = m.count_components();
+    crate::mesh::MeshReport {
+        vertices: m.n_vertices(),
+        edges: m.n_edges(),
+        faces: m.n_faces(),
+        euler_characteristic: chi,
+        genus: (2 * components as i64 - chi) / 2,
+        components,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::icosphere::icosphere;
+
+    #[test]
+    fn sphere_is_valid_broken_ones_are_not() {
+        let m = icosphere(2, 1.0, DVec3::ZERO).unwrap();
+        let (p, t) = (m.positions().to_vec(), m.triangles());
+        let c = certify(&p, &t, None);
+        assert!(c.valid, "{c:?}");
+        assert_eq!((c.genus, c.components, c.self_intersections), (Some(0), Some(1), 0));
+        // Open: drop a face.
+        let c = certify(&p, &t[1..], None);
+        assert!(!c.valid && !c.closed && c.problem.is_some());
+        // Inconsistent orientation: flip one face.
+        let mut flipped = t.clone();
+        flipped[0] = [t[0][0], t[0][2], t[0][1]];
+        let c = certify(&p, &flipped, None);
+        assert!(!c.valid && !c.oriented, "{c:?}");
+        // Self-intersecting: a vertex pushed through the far side.
+        let mut q = p.clone();
+        q[0] = -1.5 * q[0];
+        let c = certify(&q, &t, None);
+        assert!(!c.valid && c.self_intersections > 0 && c.closed && c.manifold);
+        // Distances to a target: the sphere against its own vertices.
+        let target = Target::new(p.clone(), vec![]).unwrap();
+        let c = certify(&p, &t, Some(&target));
+        assert_eq!((c.distance_min, c.distance_max), (Some(0.0), Some(0.0)));
+    }
+}
