@@ -71,7 +71,8 @@ impl From<EvolveError> for UiError {
             EvolveError::Field(crate::field::FieldError::TooLarge { .. }) => ("too-large", "Lower the grid resolution (cells per minimum dimension)."),
             EvolveError::Field(_) => ("bad-target", "The target needs points spread in 3D (not empty, not a single point or a flat sheet)."),
             EvolveError::EmptyIsosurface { .. } | EvolveError::StartMesh(_) => ("bad-start", "Raise the isosurface level, or use the icosphere start."),
-            EvolveError::Diverged { .. } => ("diverged", "Lower the time step τ, or pick the full-wrap preset."),
+            EvolveError::Diverged { .. } | EvolveError::Divergence { .. } => ("diverged", "The surface was rolled back to the last good step. Lower the time step τ, or pick the full-wrap preset."),
+            EvolveError::Target(_) => ("bad-target", "The target needs at least 4 points spread in 3-D: not a single point, a line or a flat sheet (a thin plate with some thickness is fine)."),
             _ => ("internal", "Try another preset; if it persists, report a bug with the share link."),
         };
         UiError { code, message: e.to_string(), hint }
@@ -355,6 +356,25 @@ impl WrapSession {
         let input = WriteInput { positions: &positions, triangles: &triangles, scalars: &scalars, settings_json: Some(&self.settings_json) };
         let bytes = crate::io::write_bytes(fmt, &input).map_err(UiError::from)?;
         Ok(js_sys::Uint8Array::from(bytes.as_slice()))
+    }
+
+    /// The certificate of the current surface against the target (see
+    /// [`crate::metrics::certificate::Certificate`]; keys in snake_case).
+    pub fn certificate(&self) -> Result<JsValue, JsValue> {
+        let c = crate::metrics::certificate::certify(&self.evolver.positions(), &self.evolver.triangles(), Some(&self.target));
+        serde_wasm_bindgen::to_value(&c).map_err(|e| JsValue::from_str(&e.to_string()))
+    }
+
+    /// Why the wrap stopped before its rule said so (divergence, solver failure), or null.
+    #[wasm_bindgen(js_name = stopReason)]
+    pub fn stop_reason(&self) -> Option<String> {
+        self.evolver.stop_reason().map(str::to_owned)
+    }
+
+    /// The start surface actually used ("icosphere" or "isosurface").
+    #[wasm_bindgen(js_name = startSurface)]
+    pub fn start_surface(&self) -> String {
+        serde_json::to_value(self.evolver.start_surface()).ok().and_then(|v| v.as_str().map(str::to_owned)).unwrap_or_default()
     }
 
     /// Fingerprint of the current surface (see [`crate::mesh::fingerprint::mesh_hash`]).

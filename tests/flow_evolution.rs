@@ -129,3 +129,48 @@ fn same_input_same_mesh() {
         .zip(&b.0)
         .all(|(p, q)| p.to_array() == q.to_array()));
 }
+
+#[wasm_bindgen_test(unsupported = test)]
+fn a_forced_divergence_is_rolled_back_and_reported() {
+    // τ at the top of its range makes the explicit advection overshoot by orders of magnitude.
+    let target = sphere_cloud(2000, 1.0);
+    let settings = WrapSettings {
+        tau: 10.0,
+        d1: 50.0,
+        ..WrapSettings::default()
+    };
+    let mut ev = Evolver::new(&target, settings).unwrap();
+    let mut before = ev.mesh().positions().to_vec();
+    let err = loop {
+        match ev.step() {
+            Ok(r) => {
+                assert!(!r.done, "finished without diverging");
+                before = ev.mesh().positions().to_vec();
+            }
+            Err(e) => break e,
+        }
+    };
+    assert!(
+        matches!(err, lsw::flow::EvolveError::Divergence { .. } | lsw::flow::EvolveError::Diverged { .. }),
+        "{err}"
+    );
+    // The surface is the last good one, the run is over and says why.
+    assert!(ev.is_done());
+    assert!(ev.stop_reason().unwrap().contains("diverged"), "{:?}", ev.stop_reason());
+    ev.mesh().validate().unwrap();
+    if matches!(err, lsw::flow::EvolveError::Divergence { .. }) {
+        assert_eq!(ev.mesh().positions(), &before[..]);
+    }
+    let c = lsw::metrics::certificate::certify(&ev.positions(), &ev.triangles(), Some(&target));
+    assert!(c.valid, "{c:?}");
+}
+
+#[wasm_bindgen_test(unsupported = test)]
+fn degenerate_targets_fail_before_any_work() {
+    let three = Target::new(vec![lsw::DVec3::ZERO, lsw::DVec3::X, lsw::DVec3::Y], vec![]).unwrap();
+    let err = Evolver::new(&three, WrapSettings::default()).err().expect("refused");
+    assert!(err.to_string().contains("distinct point"), "{err}");
+    let flat: Vec<lsw::DVec3> = fibonacci_sphere(300).into_iter().map(|p| lsw::DVec3::new(p.x, p.y, 0.0)).collect();
+    let err = Evolver::new(&Target::new(flat, vec![]).unwrap(), WrapSettings::default()).err().expect("refused");
+    assert!(err.to_string().contains("one plane"), "{err}");
+}

@@ -97,6 +97,9 @@ pub fn metrics_json_with(
         }
     };
     let volume = enclosed_volume(p, t);
+    let t_si = crate::clock::now_ms();
+    let self_intersections = count_self_intersections(p, t);
+    let si_ms = crate::clock::now_ms() - t_si;
     let mut out = json!({
         "file": file,
         "vertices": p.len(),
@@ -115,7 +118,8 @@ pub fn metrics_json_with(
         "quality": quality_stats(p, t),
         "covolumes": covol,
         "volume": volume,
-        "self_intersections": count_self_intersections(p, t),
+        "self_intersections": self_intersections,
+        "self_intersections_ms": si_ms,
     });
     let mut hist = serde_json::Map::new();
     if histograms {

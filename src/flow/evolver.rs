@@ -161,6 +161,21 @@ pub struct Evolver {
     limits: DivergenceLimits,
     /// Why the evolution stopped before its rule said so (divergence, solver failure).
     stop_reason: Option<String>,
+    /// The last state the contact guard certified free of self-intersections.
+    checkpoint: Checkpoint,
+    /// Steps left in which the contact guard checks every step (after a roll-back).
+    guarded_left: u32,
+}
+
+/// What the evolution needs to resume from a certified state.
+#[derive(Clone)]
+struct Checkpoint {
+    mesh: HalfedgeMesh,
+    tau: f64,
+    d1: f64,
+    sizes: EdgeSizes,
+    step: u32,
+    sizes_changed: bool,
 }
 
 impl Evolver {
@@ -205,7 +220,17 @@ impl Evolver {
             start: start.kind,
             limits,
             stop_reason: None,
+            checkpoint: Checkpoint {
+                mesh: HalfedgeMesh::default(),
+                tau: 0.0,
+                d1: 0.0,
+                sizes,
+                step: 0,
+                sizes_changed: true,
+            },
+            guarded_left: 0,
         };
+        ev.save_checkpoint();
         ev.refresh_distances();
         ev.done = ev.settings.steps == 0;
         Ok(ev)
@@ -287,9 +312,49 @@ impl Evolver {
     }
 
     /// One LSW step: surface terms → assemble and solve → divergence guard → remesh → contact
-    /// guard → schedule → (last step) final fit. On error the surface is the previous step's
+    /// guard → schedule → (last step) final fit. On error the surface is the last certified one
     /// and the evolution is over (see [`Evolver::stop_reason`]).
+    ///
+    /// The contact guard checks every `guard.check_every` steps (and always before the final
+    /// fit). When a check fails, the evolution goes back to the last certified state and redoes
+    /// the steps from there checking each one, resolving contacts locally; the report returned
+    /// is the requested step's.
     pub fn step(&mut self) -> Result<StepReport, EvolveError> {
+        let wanted = self.step + 1;
+        loop {
+            let r = self.step_once()?;
+            if self.step >= wanted || self.done {
+                return Ok(r);
+            }
+        }
+    }
+
+    /// Saves the current state as certified.
+    fn save_checkpoint(&mut self) {
+        self.checkpoint = Checkpoint {
+            mesh: self.mesh.clone(),
+            tau: self.tau,
+            d1: self.d1,
+            sizes: self.sizes,
+            step: self.step,
+            sizes_changed: self.sizes_changed,
+        };
+    }
+
+    /// Returns to the last certified state.
+    fn restore_checkpoint(&mut self) {
+        let c = self.checkpoint.clone();
+        self.mesh = c.mesh;
+        self.tau = c.tau;
+        self.d1 = c.d1;
+        self.sizes = c.sizes;
+        self.step = c.step;
+        self.sizes_changed = c.sizes_changed;
+        self.done = false;
+        self.refresh_distances();
+    }
+
+    fn step_once(&mut self) -> Result<StepReport, EvolveError> {
         let t_start = now_ms();
         let mut times = PhaseTimes::default();
         let n = self.mesh.n_vertices();
@@ -351,6 +416,7 @@ impl Evolver {
                         tau,
                         cause: e.to_string(),
                     };
+                    self.restore_checkpoint();
                     self.stop(&err);
                     return Err(err);
                 }
@@ -361,7 +427,8 @@ impl Evolver {
             }
         };
         let t_guard = now_ms();
-        let pre = self.mesh.clone();
+        let guarded = self.guarded_left > 0 || self.settings.guard.check_every <= 1;
+        let pre = (guarded && self.settings.guard.contact).then(|| self.mesh.clone());
         release_held(&mut self.mesh);
         let mut settled = 0usize;
         for (i, q) in self.mesh.positions_mut().iter_mut().enumerate() {
@@ -371,7 +438,7 @@ impl Evolver {
             *q = x[i];
         }
         if let Err(reason) = check_divergence(&self.mesh, &self.limits) {
-            return Err(self.roll_back(pre, reason));
+            return Err(self.roll_back(reason));
         }
         times.guard += now_ms() - t_guard;
         let tau_used = self.tau;
@@ -384,10 +451,58 @@ impl Evolver {
             remesh_report = Some(self.remesh_phase(&mut times)?);
             if let Err(reason) = check_divergence(&self.mesh, &self.limits) {
                 self.step -= 1;
-                return Err(self.roll_back(pre, reason));
+                return Err(self.roll_back(reason));
             }
         }
-        let (contacts, remesh_reverted) = self.contact_phase(pre, &x, &old, remesh_due, &mut times)?;
+        // Whether this step ends the evolution (the schedule is step-indexed, so this is known
+        // before the guard; a roll-back below simply redoes it).
+        let settled_fraction = settled as f64 / n.max(1) as f64;
+        let schedule_over = self.settings.schedule.iter().all(|&t| t < self.step);
+        let ends = self.step >= self.settings.steps
+            || (schedule_over && settled_fraction >= self.settings.stop_fraction);
+        let g = &self.settings.guard;
+        let check = g.contact
+            && (pre.is_some() || ends || self.step >= self.checkpoint.step + g.check_every);
+        let (mut contacts, mut remesh_reverted) = (ContactReport::default(), false);
+        if check {
+            match self.contact_phase(pre, &x, &old, remesh_due, &mut times)? {
+                Some((c, r)) => (contacts, remesh_reverted) = (c, r),
+                None => {
+                    // Intersections since the last certified state: redo from there, checking.
+                    let failed_step = self.step;
+                    self.restore_checkpoint();
+                    self.guarded_left = 2 * self.settings.guard.check_every.max(1);
+                    times.total = now_ms() - t_start;
+                    return Ok(StepReport {
+                        step: self.step,
+                        vertices: self.mesh.n_vertices(),
+                        faces: self.mesh.n_faces(),
+                        tau: self.tau,
+                        retries,
+                        solver_iterations: solve.iterations,
+                        solver_residual: solve.relative_residual,
+                        covolume_min,
+                        covolume_mean,
+                        covolume_max,
+                        distance_mean: 0.0,
+                        distance_max: 0.0,
+                        settled_fraction,
+                        remesh: None,
+                        fitted: None,
+                        contacts: ContactReport {
+                            rolled_back_from: failed_step,
+                            ..Default::default()
+                        },
+                        held: held_count,
+                        remesh_reverted: false,
+                        times,
+                        done: false,
+                    });
+                }
+            }
+            self.guarded_left = self.guarded_left.saturating_sub(1);
+            self.save_checkpoint();
+        }
         if self.settings.schedule.contains(&self.step) {
             let decay = self.settings.decay;
             self.sizes = decayed(self.sizes, decay);
@@ -395,11 +510,9 @@ impl Evolver {
             self.tau *= decay * decay;
             self.d1 /= decay;
         }
-        let settled_fraction = settled as f64 / n.max(1) as f64;
-        // Sizes decayed at step t take effect in step t + 1, so stop only after that step.
-        let schedule_over = self.settings.schedule.iter().all(|&t| t < self.step);
-        self.done = self.step >= self.settings.steps
-            || (schedule_over && settled_fraction >= self.settings.stop_fraction);
+        // Sizes decayed at step t take effect in step t + 1, so the rule above stops only after
+        // that step.
+        self.done = ends;
         let mut fitted = None;
         if self.done {
             let t0 = now_ms();
@@ -444,11 +557,12 @@ impl Evolver {
         self.stop_reason = Some(err.to_string());
     }
 
-    /// Restores the surface before the step and ends the evolution.
-    fn roll_back(&mut self, pre: HalfedgeMesh, reason: Divergence) -> EvolveError {
-        self.mesh = pre;
+    /// Restores the last certified surface and ends the evolution.
+    fn roll_back(&mut self, reason: Divergence) -> EvolveError {
+        let step = self.step + 1;
+        self.restore_checkpoint();
         let err = EvolveError::Divergence {
-            step: self.step + 1,
+            step,
             previous: self.step,
             reason,
         };
@@ -472,33 +586,34 @@ impl Evolver {
         Ok(report)
     }
 
-    /// The contact guard: if the moved (and remeshed) surface has intersecting faces, go back to
-    /// the surface before the step, apply the move `x` there, put back the vertices of the
-    /// intersecting faces ([`resolve_contacts`]) and remesh again — undoing that remesh if it
-    /// intersects. Returns the guard's report and whether a remesh was undone.
+    /// The contact guard: if the moved (and remeshed) surface has intersecting faces and the
+    /// surface before the step (`pre`) is at hand, go back to it, apply the move `x` there, put
+    /// back the vertices of the intersecting faces ([`resolve_contacts`]) and remesh again —
+    /// undoing that remesh if it intersects. Returns the guard's report and whether a remesh was
+    /// undone, or `None` when there are intersections and no `pre` (the caller rolls back).
     fn contact_phase(
         &mut self,
-        pre: HalfedgeMesh,
+        pre: Option<HalfedgeMesh>,
         x: &[DVec3],
         old: &[DVec3],
         remesh_due: bool,
         times: &mut PhaseTimes,
-    ) -> Result<(ContactReport, bool), EvolveError> {
-        if !self.settings.guard.contact {
-            return Ok((ContactReport::default(), false));
-        }
+    ) -> Result<Option<(ContactReport, bool)>, EvolveError> {
         let t0 = now_ms();
         let pairs = count_self_intersections(self.mesh.positions(), &self.mesh.triangles());
         times.guard += now_ms() - t0;
         if pairs == 0 {
-            return Ok((
+            return Ok(Some((
                 ContactReport {
                     rounds: 1,
                     ..Default::default()
                 },
                 false,
-            ));
+            )));
         }
+        let Some(pre) = pre else {
+            return Ok(None);
+        };
         let t0 = now_ms();
         self.mesh = pre;
         release_held(&mut self.mesh);
@@ -516,7 +631,7 @@ impl Evolver {
             }
             times.guard += now_ms() - t0;
         }
-        Ok((report, reverted))
+        Ok(Some((report, reverted)))
     }
 
     /// Moves the settled surface onto the target (see [`super::snap`]); returns vertices moved.
@@ -533,29 +648,38 @@ impl Evolver {
         // The fit must never make things worse: keep the settled surface if it breaks validity.
         let backup = self.mesh.clone();
         let mut moved = 0;
+        let rs = RemeshSettings {
+            iterations: 1,
+            use_projection: true,
+            smoothing_iterations: self.settings.smoothing_iterations,
+            features: self.settings.features.clone(),
+            ..RemeshSettings::with_sizes(self.sizes)
+        };
+        let (contact, remeshing) = (self.settings.guard.contact, self.settings.remesh);
         for _ in 0..self.settings.fit_passes {
+            // The surface here is certified; keep it to redo the pass with the guard if needed.
+            let clean = contact.then(|| self.mesh.clone());
             let normals = angle_weighted_normals(&self.mesh);
-            let before = self.mesh.positions().to_vec();
             moved = snap_to_target(&mut self.mesh, &normals, target, &params);
-            if self.settings.guard.contact {
-                resolve_contacts(&mut self.mesh, &before, &self.settings.guard);
-            }
             // Even out the triangles the moves distorted, staying on the fitted surface.
-            if self.settings.remesh {
-                let rs = RemeshSettings {
-                    iterations: 1,
-                    use_projection: true,
-                    smoothing_iterations: self.settings.smoothing_iterations,
-                    features: self.settings.features.clone(),
-                    ..RemeshSettings::with_sizes(self.sizes)
-                };
-                let unremeshed = self.settings.guard.contact.then(|| self.mesh.clone());
+            if remeshing {
                 let _ = remesh(&mut self.mesh, &rs);
-                if let Some(u) = unremeshed {
-                    if count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) > 0
-                    {
-                        self.mesh = u;
-                    }
+            }
+            let Some(clean) = clean else { continue };
+            if count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) == 0 {
+                continue;
+            }
+            // Redo the pass: the same moves, then put back those that make faces intersect,
+            // then a remesh that is undone if it intersects.
+            let before = clean.positions().to_vec();
+            self.mesh = clean;
+            moved = snap_to_target(&mut self.mesh, &normals, target, &params);
+            resolve_contacts(&mut self.mesh, &before, &self.settings.guard);
+            if remeshing {
+                let unremeshed = self.mesh.clone();
+                let _ = remesh(&mut self.mesh, &rs);
+                if count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) > 0 {
+                    self.mesh = unremeshed;
                 }
             }
         }

@@ -29,6 +29,11 @@ pub struct GuardSettings {
     pub contact: bool,
     /// Steps a reverted vertex is held (advection off). Range 0–100; default 3.
     pub hold_steps: u32,
+    /// The contact check runs every this many steps (and before the final fit); when it finds
+    /// intersections the evolution goes back to the last clean state and redoes the steps
+    /// checking each. 1 checks every step. Range ≥ 1; default 8 (the check costs about as much
+    /// as a step, and contact is rare).
+    pub check_every: u32,
     /// Rounds of selective reverts before the whole move is reverted. Range 1–100; default 8.
     pub max_rounds: u32,
     /// Divergence: a vertex farther than this many bounding-box diagonals (of the target) outside
@@ -46,6 +51,7 @@ impl Default for GuardSettings {
         Self {
             contact: true,
             hold_steps: 3,
+            check_every: 8,
             max_rounds: 8,
             escape_diagonals: 0.5,
             max_area_growth: 1000.0,
@@ -65,6 +71,9 @@ pub struct ContactReport {
     pub rounds: u32,
     /// True when the selective rounds did not suffice and every vertex was put back.
     pub reverted_all: bool,
+    /// Non-zero when a periodic check found intersections at this step and the evolution went
+    /// back to the last certified state to redo the steps since, checking each.
+    pub rolled_back_from: u32,
 }
 
 /// Faces (indices) that intersect any face in `dirty`, given the positions now in `mesh`: a BVH

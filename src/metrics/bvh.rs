@@ -166,6 +166,70 @@ impl Bvh {
         (best.0 != u32::MAX).then_some(best)
     }
 
+    /// Calls `f(i, j)` once for every unordered pair of distinct primitives whose boxes overlap
+    /// (a dual traversal of the tree against itself: no per-primitive descent from the root),
+    /// in a fixed order; `i` and `j` come in no particular order within a pair.
+    pub fn for_each_self_overlap(&self, mut f: impl FnMut(u32, u32)) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let overlap = |a: &Node, b: &Node| !(a.min.cmpgt(b.max).any() || a.max.cmplt(b.min).any());
+        let mut stack: Vec<(u32, u32)> = vec![(0, 0)];
+        while let Some((a, b)) = stack.pop() {
+            let (na, nb) = (&self.nodes[a as usize], &self.nodes[b as usize]);
+            if a == b {
+                if na.count > 0 {
+                    let ids = &self.order[na.start as usize..(na.start + na.count) as usize];
+                    for (k, &i) in ids.iter().enumerate() {
+                        for &j in &ids[k + 1..] {
+                            f(i, j);
+                        }
+                    }
+                } else {
+                    let (l, r) = (na.start, na.right);
+                    stack.push((l, r));
+                    stack.push((r, r));
+                    stack.push((l, l));
+                }
+                continue;
+            }
+            if !overlap(na, nb) {
+                continue;
+            }
+            match (na.count > 0, nb.count > 0) {
+                (true, true) => {
+                    let ia = &self.order[na.start as usize..(na.start + na.count) as usize];
+                    let ib = &self.order[nb.start as usize..(nb.start + nb.count) as usize];
+                    for &i in ia {
+                        for &j in ib {
+                            f(i, j);
+                        }
+                    }
+                }
+                // Descend into the inner node (the larger box when both are inner).
+                (true, false) => {
+                    stack.push((a, nb.right));
+                    stack.push((a, nb.start));
+                }
+                (false, true) => {
+                    stack.push((na.right, b));
+                    stack.push((na.start, b));
+                }
+                (false, false) => {
+                    let va = (na.max - na.min).element_sum();
+                    let vb = (nb.max - nb.min).element_sum();
+                    if va >= vb {
+                        stack.push((na.right, b));
+                        stack.push((na.start, b));
+                    } else {
+                        stack.push((a, nb.right));
+                        stack.push((a, nb.start));
+                    }
+                }
+            }
+        }
+    }
+
     /// Calls `f(id)` for every primitive whose box overlaps `[min, max]`, in a fixed order.
     pub fn for_each_overlap(&self, min: DVec3, max: DVec3, mut f: impl FnMut(u32)) {
         if self.nodes.is_empty() {

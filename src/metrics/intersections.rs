@@ -27,18 +27,52 @@ fn certainly_apart(t: [DVec3; 3], u: [DVec3; 3]) -> bool {
     (s[0] > eps && s[1] > eps && s[2] > eps) || (s[0] < -eps && s[1] < -eps && s[2] < -eps)
 }
 
-/// Faces `i`, `j` intersect (see the module docs); exact, with the float filter first.
+/// True when `p` and `q` lie strictly on the same side of the plane through `o` with normal `n`,
+/// by a margin far above rounding error.
+#[inline]
+fn same_side_certainly(n: DVec3, o: DVec3, p: DVec3, q: DVec3) -> bool {
+    let (sp, sq) = (n.dot(p - o), n.dot(q - o));
+    let eps = 1e-12 * n.length() * (p - o).abs().max(q - o).abs().max_element();
+    (sp > eps && sq > eps) || (sp < -eps && sq < -eps)
+}
+
+/// Faces `i`, `j` intersect (see the module docs); exact, with floating-point filters first that
+/// only ever answer "certainly not".
 #[inline]
 pub fn pair_intersects(positions: &[DVec3], triangles: &[[u32; 3]], i: usize, j: usize) -> bool {
     let (fi, fj) = (triangles[i], triangles[j]);
-    let shared = fi.iter().filter(|v| fj.contains(v)).count();
-    let (pi, pj) = (
-        fi.map(|v| positions[v as usize]),
-        fj.map(|v| positions[v as usize]),
-    );
-    // A shared vertex lies in both planes, so the plane filter cannot separate adjacent faces.
-    if shared == 0 && (certainly_apart(pi, pj) || certainly_apart(pj, pi)) {
-        return false;
+    let p = |v: u32| positions[v as usize];
+    let si = fi.map(|v| fj.contains(&v));
+    match si.iter().filter(|&&b| b).count() {
+        0 => {
+            let (pi, pj) = (fi.map(p), fj.map(p));
+            if certainly_apart(pi, pj) || certainly_apart(pj, pi) {
+                return false;
+            }
+        }
+        1 => {
+            // f = v a b, g = v c d: they meet elsewhere only if ab reaches g's plane or cd f's.
+            let k = si.iter().position(|&b| b).unwrap_or(0);
+            let (v, a, b) = (p(fi[k]), p(fi[(k + 1) % 3]), p(fi[(k + 2) % 3]));
+            let l = fj.iter().position(|&w| w == fi[k]).unwrap_or(0);
+            let (c, d) = (p(fj[(l + 1) % 3]), p(fj[(l + 2) % 3]));
+            let (nf, ng) = ((a - v).cross(b - v), (c - v).cross(d - v));
+            if same_side_certainly(ng, v, a, b) && same_side_certainly(nf, v, c, d) {
+                return false;
+            }
+        }
+        2 => {
+            // A shared edge: only a coplanar fourth vertex can fold onto the other face.
+            let k = si.iter().position(|&b| !b).unwrap_or(0);
+            let (c, a, b) = (p(fi[k]), p(fi[(k + 1) % 3]), p(fi[(k + 2) % 3]));
+            let d = p(*fj.iter().find(|w| !fi.contains(w)).unwrap_or(&fj[0]));
+            let n = (a - c).cross(b - c);
+            let scale = n.length() * (d - c).length();
+            if n.dot(d - c).abs() > 1e-12 * scale {
+                return false;
+            }
+        }
+        _ => {}
     }
     faces_intersect(positions, fi, fj)
 }
@@ -62,30 +96,109 @@ pub fn for_each_overlapping_pair(
     mut f: impl FnMut(usize, usize),
 ) {
     let (mins, maxs) = face_boxes(positions, triangles);
-    let bvh = Bvh::new(&mins, &maxs);
-    let mut cand = Vec::new();
-    for i in 0..triangles.len() {
-        cand.clear();
-        bvh.for_each_overlap(mins[i], maxs[i], |j| {
-            if j as usize > i {
-                cand.push(j as usize)
-            }
-        });
-        cand.sort_unstable();
-        for &j in &cand {
-            f(i, j);
+    Bvh::new(&mins, &maxs).for_each_self_overlap(|i, j| {
+        let (i, j) = (i.min(j) as usize, i.max(j) as usize);
+        let (a, b) = (&mins[i], &maxs[i]);
+        if !(a.cmpgt(maxs[j]).any() || b.cmplt(mins[j]).any()) {
+            f(i, j)
         }
-    }
+    });
 }
 
-/// Intersecting face pairs `(i, j)`, `i < j`, in ascending order.
+/// Vertices whose fan of faces may fold onto itself. A closed fan whose faces, projected along
+/// the fan's area-weighted normal, all turn the same way (by a safe margin) and go round
+/// exactly once tiles its disc: no two of its faces meet other than along their shared edges,
+/// so the adjacent pairs at that vertex need no exact test. Everything else is suspect.
+fn suspect_fans(positions: &[DVec3], triangles: &[[u32; 3]]) -> Vec<bool> {
+    let n = positions.len();
+    let mut normal = vec![DVec3::ZERO; n];
+    let mut count = vec![0u32; n];
+    for t in triangles {
+        let p = t.map(|v| positions[v as usize]);
+        let a = (p[1] - p[0]).cross(p[2] - p[0]);
+        for &v in t {
+            normal[v as usize] += a;
+            count[v as usize] += 1;
+        }
+    }
+    // Frames of the projection planes.
+    let frames: Vec<(DVec3, DVec3)> = normal
+        .iter()
+        .map(|m| {
+            let m = m.normalize_or_zero();
+            let x = m.any_orthonormal_vector();
+            (x, m.cross(x))
+        })
+        .collect();
+    let mut suspect: Vec<bool> = normal.iter().map(|m| !(m.length() > 0.0)).collect();
+    let mut winding = vec![0u32; n];
+    let mut edge_balance = vec![0i64; n];
+    for t in triangles {
+        for k in 0..3 {
+            let (v, a, b) = (t[k] as usize, t[(k + 1) % 3], t[(k + 2) % 3]);
+            if suspect[v] {
+                continue;
+            }
+            let (x, y) = frames[v];
+            let o = positions[v];
+            let (da, db) = (positions[a as usize] - o, positions[b as usize] - o);
+            let (ua, ub) = ((da.dot(x), da.dot(y)), (db.dot(x), db.dot(y)));
+            let cross = ua.0 * ub.1 - ua.1 * ub.0;
+            if !(cross > 1e-9 * da.length() * db.length()) {
+                suspect[v] = true;
+                continue;
+            }
+            if ua.1 <= 0.0 && ub.1 > 0.0 {
+                winding[v] += 1;
+            }
+            // A closed fan uses each spoke once as a start and once as an end.
+            edge_balance[v] += a as i64 - b as i64;
+        }
+    }
+    for v in 0..n {
+        if count[v] > 0 && (winding[v] != 1 || edge_balance[v] != 0 || count[v] < 3) {
+            suspect[v] = true;
+        }
+    }
+    suspect
+}
+
+/// Intersecting face pairs `(i, j)`, `i < j`, in ascending order. Same answer as
+/// [`self_intersecting_pairs_brute_force`], fast: pairs that share no vertex come from the BVH,
+/// pairs that do are tested only around vertices whose fan may fold ([`suspect_fans`]).
 pub fn self_intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
     let mut out = Vec::new();
     for_each_overlapping_pair(positions, triangles, |i, j| {
+        let (fi, fj) = (triangles[i], triangles[j]);
+        if fi.iter().any(|v| fj.contains(v)) {
+            return;
+        }
         if pair_intersects(positions, triangles, i, j) {
             out.push((i as u32, j as u32));
         }
     });
+    let suspect = suspect_fans(positions, triangles);
+    if suspect.iter().any(|&s| s) {
+        let mut fans: Vec<Vec<usize>> = vec![Vec::new(); positions.len()];
+        for (f, t) in triangles.iter().enumerate() {
+            for &v in t {
+                if suspect[v as usize] {
+                    fans[v as usize].push(f);
+                }
+            }
+        }
+        for fan in &fans {
+            for (k, &i) in fan.iter().enumerate() {
+                for &j in &fan[k + 1..] {
+                    if pair_intersects(positions, triangles, i, j) {
+                        out.push((i.min(j) as u32, i.max(j) as u32));
+                    }
+                }
+            }
+        }
+    }
+    out.sort_unstable();
+    out.dedup();
     out
 }
 

@@ -4,9 +4,11 @@ import type { ColourMap, FieldView, FromRender, FromWorker, McfParams, Source, S
 import { HistogramPlot, LinePlot, RadiusPlot } from './plots';
 import { SettingsPanel } from './panel';
 import { decode, DEFAULT_VIEW, encode, flatten, validDataset, type Flat, type ViewState } from './share';
+import { explain, showCertificate, showPending } from './health';
 
 const $ = <T extends HTMLElement>(id: string) => document.getElementById(id) as T;
 const status = $('status');
+const health = $('health');
 const canvas = $<HTMLCanvasElement>('canvas');
 const plot = new RadiusPlot($('plot'));
 const distancePlot = new LinePlot($('plot-distance'), 'Distance to target per step', ['mean |d|', 'max |d|'], ['#4aa3ff', '#ff7a59'], { log: true });
@@ -17,7 +19,7 @@ const controlPlot = new LinePlot($('plot-controls'), 'Controls ε(δ), η(δ) (s
 const renderer = new Worker(new URL('./render-worker.ts', import.meta.url), { type: 'module' });
 const draw = (m: ToRender, transfer: Transferable[] = []) => renderer.postMessage(m, transfer);
 
-type State = 'idle' | 'loading' | 'running' | 'done' | 'error';
+type State = 'idle' | 'loading' | 'running' | 'done' | 'invalid' | 'error';
 type Mode = 'mcf' | 'wrap';
 
 let worker: Worker;
@@ -29,7 +31,7 @@ let dataset: string | null = null;
 let inputName = 'result';
 let view: ViewState = { ...DEFAULT_VIEW };
 /** The last completed wrap, kept so that cancel / errors can show it again and export it. */
-let kept: { positions: Float32Array; normals: Float32Array; indices: Uint32Array; hash: string; name: string; target: { positions: Float32Array; indices: Uint32Array } | null } | null = null;
+let kept: { positions: Float32Array; normals: Float32Array; indices: Uint32Array; hash: string; name: string; target: { positions: Float32Array; indices: Uint32Array } | null; valid: boolean; why: string } | null = null;
 let currentTarget: { positions: Float32Array; indices: Uint32Array } | null = null;
 let cancelTimer: ReturnType<typeof setTimeout> | null = null;
 let restarting = false;
@@ -202,6 +204,7 @@ function startWrap(source: Source, ds: string | null, name: string): void {
   draw({ type: 'field' });
   runStart = performance.now();
   setState('loading', `Loading ${name}…`);
+  showPending(health, 'certificate: when the wrap ends');
   $('hash').textContent = kept ? `previous result ${kept.hash.slice(0, 12)}` : '';
   send({ type: 'wrap-load', source, settings: panel.settings(), autoplay: true, run: ++runSeq }, source.kind === 'bytes' ? [source.bytes] : []);
   updateShare();
@@ -323,7 +326,9 @@ function onWorkerMessage(ev: MessageEvent<FromWorker>): void {
     }
     case 'result': {
       if (msg.run !== runSeq) break;
-      kept = { positions: msg.positions, normals: msg.normals, indices: msg.indices, hash: msg.hash, name: msg.name, target: currentTarget };
+      const valid = msg.certificate.valid && !msg.stopReason;
+      kept = { positions: msg.positions, normals: msg.normals, indices: msg.indices, hash: msg.hash, name: msg.name, target: currentTarget, valid, why: explain(msg.certificate, msg.stopReason) };
+      showCertificate(health, msg.certificate, msg.stopReason);
       lastDoneMs = performance.now() - runStart;
       $('hash').textContent = `result ${msg.hash.slice(0, 12)}`;
       $('hash').dataset.hash = msg.hash;
@@ -336,14 +341,16 @@ function onWorkerMessage(ev: MessageEvent<FromWorker>): void {
         clearTimeout(cancelTimer);
         cancelTimer = null;
       }
-      if (msg.reason === 'finished') setState('done', mode === 'mcf' ? 'Done — the sphere has shrunk to 15 % of its radius' : `Done — ${inputName} wrapped in ${(lastDoneMs / 1000).toFixed(1)} s`);
+      if (msg.reason === 'finished' && mode === 'wrap' && kept && !kept.valid) setState('invalid', `Not valid — ${kept.why}`);
+      else if (msg.reason === 'finished') setState('done', mode === 'mcf' ? 'Done — the sphere has shrunk to 15 % of its radius' : `Done — ${inputName} wrapped in ${(lastDoneMs / 1000).toFixed(1)} s`);
       else if (msg.reason === 'cancelled') {
         setState('idle', 'Cancelled');
         restoreKept();
       } else setState('idle', 'Paused');
       break;
     case 'exported': {
-      const stem = (kept?.name ?? inputName).replace(/\.[^.]*$/, '').replace(/[^\w.-]+/g, '_') || 'result';
+      // An invalid result is only ever exported under a name that says so.
+      const stem = ((kept?.name ?? inputName).replace(/\.[^.]*$/, '').replace(/[^\w.-]+/g, '_') || 'result') + (kept && !kept.valid ? '-NOT-VALID' : '');
       const blob = new Blob([msg.bytes as BlobPart], { type: 'application/octet-stream' });
       const a = document.createElement('a');
       a.href = URL.createObjectURL(blob);

@@ -1,6 +1,23 @@
 // Messages between the UI thread and the worker: the one source of truth for both sides.
 // Meshes travel as flat typed arrays (Transferables), never as JSON.
 
+/** The certificate of a result (Rust `metrics::certificate::Certificate`, snake_case keys). */
+export interface Certificate {
+  valid: boolean;
+  closed: boolean;
+  manifold: boolean;
+  oriented: boolean;
+  finite: boolean;
+  genus: number | null;
+  components: number | null;
+  euler_characteristic: number | null;
+  self_intersections: number;
+  degenerate_faces: number;
+  distance_min: number | null;
+  distance_max: number | null;
+  problem: string | null;
+}
+
 /** An error as produced by the Rust facade: stable code, message naming the problem, and a hint. */
 export interface UiError {
   code: string;
@@ -166,7 +183,7 @@ export type FromWorker =
   | { type: 'loading'; what: string }
   | { type: 'target'; run: number; positions: Float32Array; indices: Uint32Array; info: TargetInfo; name: string }
   | { type: 'stopped'; reason: 'paused' | 'finished' | 'cancelled' }
-  | { type: 'result'; run: number; hash: string; name: string; positions: Float32Array; normals: Float32Array; indices: Uint32Array; elapsedMs: number; steps: number }
+  | { type: 'result'; run: number; hash: string; name: string; positions: Float32Array; normals: Float32Array; indices: Uint32Array; elapsedMs: number; steps: number; certificate: Certificate; stopReason: string | null; start: string }
   | { type: 'exported'; bytes: Uint8Array; format: string }
   | { type: 'curves'; curves: ControlCurves }
   /** The field view asked for (neither slice nor iso: nothing to show). `label` describes it. */

@@ -4,7 +4,7 @@
 import init, {
   McfSession, WrapSession, presetSettings, settingsDocs, settingsEnums, demoShape, demoMesh, controlCurves, exportMesh,
 } from '../pkg/lsw.js';
-import type { ColourMap, FieldView, FromWorker, Histogram, McfStats, Source, StepReport, TargetInfo, ToWorker } from './protocol';
+import type { Certificate, ColourMap, FieldView, FromWorker, Histogram, McfStats, Source, StepReport, TargetInfo, ToWorker } from './protocol';
 import { toUiError } from './protocol';
 import { batchSize } from './schedule';
 import { colorize, robustRange } from './colormap';
@@ -219,8 +219,13 @@ function finish(session: WrapSession): void {
   const normals = session.normals();
   const indices = session.indices();
   const report = session.report() as StepReport | null;
+  post({ type: 'loading', what: 'Checking the result (certificate)…' });
+  const certificate = plain(session.certificate()) as Certificate;
   post(
-    { type: 'result', run: pageRun, hash: session.resultHash(), name: source?.name ?? 'result', positions, normals, indices, elapsedMs: performance.now() - startedAt, steps: report?.step ?? 0 },
+    {
+      type: 'result', run: pageRun, hash: session.resultHash(), name: source?.name ?? 'result', positions, normals, indices, elapsedMs: performance.now() - startedAt, steps: report?.step ?? 0,
+      certificate, stopReason: session.stopReason() ?? null, start: session.startSurface(),
+    },
     [positions.buffer, normals.buffer, indices.buffer],
   );
   post({ type: 'stopped', reason: 'finished' });

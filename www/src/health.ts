@@ -1,0 +1,42 @@
+// The health badge: the certificate of the current result at a glance (green only when valid),
+// with one line saying what is wrong and what to try. It shows; it computes nothing.
+import type { Certificate } from './protocol';
+
+/** The badge's state before any result exists or while a run is under way. */
+export function showPending(el: HTMLElement, text: string): void {
+  el.dataset.valid = '';
+  el.dataset.genus = '';
+  el.dataset.si = '';
+  el.dataset.state = 'pending';
+  el.textContent = text;
+  el.title = 'The certificate is computed when the wrap ends.';
+}
+
+/** One sentence on what is wrong with an invalid result, and what to try. */
+export function explain(c: Certificate, stopReason: string | null): string {
+  if (stopReason) return `Stopped early (${stopReason}). Try a smaller time step τ.`;
+  if (c.valid) return 'Closed, manifold, oriented, no intersecting faces.';
+  if (!c.finite) return 'Has non-finite coordinates. Try a smaller time step τ.';
+  if (!c.closed) return 'Not closed. Report the share link: this is a bug.';
+  if (!c.manifold || !c.oriented) return 'Not manifold or not oriented. Report the share link: this is a bug.';
+  return `${c.self_intersections} pairs of faces intersect. Try the other start surface or a finer grid.`;
+}
+
+/** Shows a certificate: data-valid / data-genus / data-si for scripts, words for people. */
+export function showCertificate(el: HTMLElement, c: Certificate, stopReason: string | null): void {
+  const ok = c.valid && !stopReason;
+  el.dataset.valid = String(ok);
+  el.dataset.genus = c.genus === null ? '' : String(c.genus);
+  el.dataset.si = String(c.self_intersections);
+  el.dataset.state = ok ? 'valid' : 'invalid';
+  const parts = [
+    ok ? '✓ valid' : '✗ not valid',
+    c.closed ? 'closed' : 'open',
+    c.manifold ? 'manifold' : 'non-manifold',
+    c.genus === null ? 'genus ?' : `genus ${c.genus}`,
+    `${c.self_intersections} SI`,
+  ];
+  if (c.distance_max !== null) parts.push(`max dist ${c.distance_max.toPrecision(3)}`);
+  el.textContent = parts.join(' · ');
+  el.title = explain(c, stopReason);
+}
