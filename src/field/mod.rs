@@ -74,6 +74,12 @@ pub struct FieldSettings {
     /// Memory cap in bytes for the finished field (21 bytes per node, see the module docs); a
     /// larger grid is refused with [`FieldError::TooLarge`]. Default 1 GiB.
     pub memory_cap_bytes: u64,
+    /// Point clouds only: the cell is at least this many median nearest-neighbour spacings, so a
+    /// sparse cloud gets a grid coarse enough that the offset surface d = d₀ cannot slip between
+    /// its points (then it would wrap each point on its own and the vertex count would run away).
+    /// 0 turns it off. Range 0–10; default 2 (dense scans such as the bunny are below it and keep
+    /// N cells per β_min; a 1 300-point cow gets a 3.6× coarser grid).
+    pub min_cell_spacings: f64,
 }
 
 impl Default for FieldSettings {
@@ -87,6 +93,7 @@ impl Default for FieldSettings {
             max_sweep_passes: 64,
             sweep_tolerance: 1e-4,
             memory_cap_bytes: 1 << 30,
+            min_cell_spacings: 2.0,
         }
     }
 }
@@ -120,6 +127,9 @@ impl FieldSettings {
         }
         if self.max_sweep_passes == 0 {
             return bad("max_sweep_passes", 0.0, "≥ 1");
+        }
+        if !(0.0..=10.0).contains(&self.min_cell_spacings) {
+            return bad("min_cell_spacings", self.min_cell_spacings, "0–10");
         }
         Ok(())
     }
@@ -211,7 +221,20 @@ impl DistanceField {
         }
         // Recomputed rather than trusted: `Target`'s fields are public.
         let bbox = Aabb::from_points(&target.points);
-        let grid = Grid::for_bbox(&bbox, settings)?;
+        let mut grid = Grid::for_bbox(&bbox, settings)?;
+        if target.triangles.is_empty() && settings.min_cell_spacings > 0.0 {
+            let floor = settings.min_cell_spacings
+                * crate::geometry::spatial::spacing::median_spacing(&target.points);
+            if grid.cell < floor {
+                let beta = grid::reference_length(&bbox);
+                let n = ((beta / floor).floor() as u32).clamp(2, settings.cells_per_min_dimension);
+                let coarse = FieldSettings {
+                    cells_per_min_dimension: n,
+                    ..settings.clone()
+                };
+                grid = Grid::for_bbox(&bbox, &coarse)?;
+            }
+        }
         let beta = grid::reference_length(&bbox);
         let init = settings.truncation.map_or(f64::INFINITY, |t| t * beta);
 

@@ -7,4 +7,5 @@ pub mod marching_cubes;
 pub mod normals;
 pub mod predicates;
 pub mod primitives;
+pub mod spatial;
 pub mod sphere;

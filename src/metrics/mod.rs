@@ -8,7 +8,9 @@
 //! * [`histogram`] — fixed-bin histograms.
 //! * [`bvh`] — bounding-volume hierarchy and exact closest points on triangles / points.
 
-pub mod bvh;
+/// The BVH moved to [`crate::geometry::spatial::bvh`] (it serves the field and the flow too);
+/// this path stays for existing users.
+pub use crate::geometry::spatial::bvh;
 pub mod certificate;
 pub mod distance;
 pub mod histogram;

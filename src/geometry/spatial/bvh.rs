@@ -360,6 +360,16 @@ impl PointBvh {
         self.bvh
             .nearest(p, |i| (self.points[i as usize] - p).length_squared())
     }
+    /// Nearest point other than point `me` (index and squared distance).
+    pub fn nearest_other(&self, p: DVec3, me: u32) -> Option<(u32, f64)> {
+        self.bvh.nearest(p, |i| {
+            if i == me {
+                f64::INFINITY
+            } else {
+                (self.points[i as usize] - p).length_squared()
+            }
+        })
+    }
     /// Distance to the nearest point (∞ if there are none).
     pub fn distance(&self, p: DVec3) -> f64 {
         self.nearest(p).map_or(f64::INFINITY, |(_, d)| d.sqrt())

@@ -1,0 +1,5 @@
+//! Spatial indices over points and triangles, used by the field, the flow, the remesher and the
+//! metrics alike.
+
+pub mod bvh;
+pub mod spacing;
