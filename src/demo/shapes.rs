@@ -20,7 +20,7 @@ pub type Shape = (Vec<DVec3>, Vec<[u32; 3]>);
 
 /// Every shape of the suite: (kebab-case name, one-line description), in suite order.
 pub const SHAPES: &[(&str, &str)] = &[
-    ("torus-g1", "closed mesh of genus 1: one torus (marching tetrahedra, ~10 K triangles)"),
+    ("torus-g1", "closed mesh of genus 1: one torus (marching tetrahedra, ~15 K triangles)"),
     ("torus-g2", "closed mesh of genus 2: two overlapping tori in a row"),
     ("torus-g3", "closed mesh of genus 3: three overlapping tori in a row"),
     ("torus-g4", "closed mesh of genus 4: four overlapping tori in a row"),
