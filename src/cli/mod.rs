@@ -3,6 +3,7 @@
 //!
 //! Subcommand names, flags and JSON keys are a public interface: add, never rename.
 
+pub mod demo;
 pub mod info;
 pub mod mcf;
 pub mod metrics;
@@ -34,6 +35,9 @@ pub enum Command {
     Metrics(metrics::MetricsArgs),
     /// Wraps a point cloud or mesh: read → distance field → start surface → evolve → write.
     Wrap(wrap::WrapArgs),
+    /// The deterministic test shapes: `--list` prints their names and descriptions as JSON;
+    /// `NAME -o FILE` writes one (format from the extension; PLY for point clouds).
+    Demo(demo::DemoArgs),
 }
 
 /// Runs a parsed command line; `Ok` holds the JSON text to print.
@@ -44,5 +48,6 @@ pub fn run(cli: Cli) -> Result<String, String> {
         Command::Info(a) => info::run(&a),
         Command::Metrics(a) => metrics::run(&a),
         Command::Wrap(a) => wrap::run(&a),
+        Command::Demo(a) => demo::run(&a),
     }
 }

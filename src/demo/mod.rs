@@ -5,10 +5,14 @@
 //! settings' field documentation (taken from the Rust doc comments, so the UI never restates it).
 //!
 //! Everything is deterministic: randomness comes from a seeded SplitMix64 generator.
+//!
+//! The test-shape suite (genus 1–5, sparse, cut, sharp, thin, touching, self-intersecting and
+//! degenerate inputs) lives in [`shapes`]; [`shape`] serves those names too.
+
+pub mod shapes;
 
 use crate::flow::controls::Controls;
 use crate::flow::WrapSettings;
-use crate::geometry::marching_cubes::{marching_cubes, ScalarGridView};
 use glam::DVec3;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -16,7 +20,8 @@ use std::f64::consts::PI;
 /// Why a demo shape could not be made.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum DemoError {
-    /// The shape name is not one of [`SHAPES`]. Fix: pick one from the list.
+    /// The shape name is neither one of [`SHAPES`] nor of [`shapes::SHAPES`]. Fix: pick one
+    /// from the lists (`lsw demo --list`).
     #[error("unknown demo shape \"{0}\"")]
     UnknownShape(String),
     /// The mesh to sample has no triangle with positive area, or an index is out of range.
@@ -95,24 +100,12 @@ pub fn genus2_surface(cells: usize) -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let lo = DVec3::new(-1.4, -0.8, -0.35);
     let hi = DVec3::new(1.4, 0.8, 0.35);
     let cell = (hi.x - lo.x) / cells.max(4) as f64;
-    let n = ((hi - lo) / cell).ceil();
-    let dims = [n.x as usize + 1, n.y as usize + 1, n.z as usize + 1];
-    let mut values = Vec::with_capacity(dims[0] * dims[1] * dims[2]);
-    for iz in 0..dims[2] {
-        for iy in 0..dims[1] {
-            for ix in 0..dims[0] {
-                let p = lo + DVec3::new(ix as f64, iy as f64, iz as f64) * cell;
-                values.push(torus_sdf(p, c1, big, small).min(torus_sdf(p, c2, big, small)));
-            }
-        }
-    }
-    let view = ScalarGridView {
-        origin: lo,
+    shapes::implicit_surface(
+        |p| torus_sdf(p, c1, big, small).min(torus_sdf(p, c2, big, small)),
+        lo,
+        hi,
         cell,
-        dims,
-        values: &values,
-    };
-    marching_cubes(&view, 0.0)
+    )
 }
 
 /// A 2 × 1 × 1 box with sharp edges as an unwelded triangle soup: two unit cubes, 12 triangles
@@ -187,13 +180,14 @@ pub fn sample_mesh(
     Ok(out)
 }
 
-/// A procedural shape by name: points plus triangles (empty for a point cloud).
+/// A procedural shape by name: points plus triangles (empty for a point cloud). Gallery names
+/// ([`SHAPES`]) first, then the test-shape suite ([`shapes::SHAPES`]).
 pub fn shape(name: &str) -> Result<(Vec<DVec3>, Vec<[u32; 3]>), DemoError> {
     match name {
         "noisy-sphere" => Ok((noisy_sphere_cloud(6000, 0.01, 7), vec![])),
         "genus2" => Ok(genus2_surface(96)),
         "box-soup" => Ok(box_soup()),
-        other => Err(DemoError::UnknownShape(other.to_string())),
+        other => shapes::generate(other),
     }
 }
 
