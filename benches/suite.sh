@@ -34,6 +34,9 @@ for tool in jq timeout /usr/bin/time; do
     command -v "$tool" >/dev/null || { echo "suite.sh: $tool is required" >&2; exit 2; }
 done
 mkdir -p "$OUT"
+# Binaries that refuse to write invalid results get --keep-invalid, so every result is measured.
+KEEP=()
+"$LSW" wrap --help 2>/dev/null | grep -q -- --keep-invalid && KEEP=(--keep-invalid)
 
 # Inputs known to run for minutes and take gigabytes with the current evolver.
 SLOW="spotPts_4"
@@ -93,15 +96,20 @@ for preset in "${PRESETS[@]}"; do
         [ -z "$tgenus" ] && tgenus=$(expected_genus "$name")
         res="$dir/$name.ply"
         rm -f "$res" "$dir/$name.json"
+        refused=""
         # time outside timeout: wait4 on timeout reports the wrap's peak RSS as well.
         /usr/bin/time -v -o "$dir/$name.time" timeout -k 5 "$limit" \
-            "$LSW" wrap "$in" -o "$res" --preset "$preset" --stats "$dir/$name.json" \
+            "$LSW" wrap "$in" -o "$res" --preset "$preset" --stats "$dir/$name.json" "${KEEP[@]}" \
             >"$dir/$name.wrap.json" 2>"$dir/$name.log"
         rc=$?
         wall=$(awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, t, ":"); s = 0; for (i = 1; i <= n; i++) s = s * 60 + t[i]; printf "%.1f", s}' "$dir/$name.time")
         rss=$(awk -F': ' '/Maximum resident set size/ {printf "%.0f", $2 / 1024}' "$dir/$name.time")
         if [ $rc -eq 124 ] || [ $rc -eq 137 ]; then
             status="timeout ${limit} s"
+        elif [ $rc -ne 0 ] && [ -s "$res" ]; then
+            # Written with --keep-invalid: measure it, and say why it was refused.
+            status=ok
+            refused="refused: $(grep -m1 'lsw: error' "$dir/$name.log" | cut -c13-80 | tr '|' '/')"
         elif [ $rc -ne 0 ]; then
             status="error: $(grep -m1 'lsw: error' "$dir/$name.log" | cut -c13-90 | tr '|' '/')"
             [ "$status" = "error: " ] && status="exit $rc"
@@ -116,6 +124,7 @@ for preset in "${PRESETS[@]}"; do
                          | join(" | ")' "$dir/$name.metrics.json")
             problem=$(jq -r '.topology.problem // empty' "$dir/$name.metrics.json" | cut -c1-70 | tr '|' '/')
             [ -z "$problem" ] || status="ok, invalid: $problem"
+            [ -z "${refused:-}" ] || status="$refused"
         else
             row="– | – | – | – | –"
         fi

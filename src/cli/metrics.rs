@@ -11,8 +11,12 @@
 //!   `count, mean, median, p95, min, max`
 //! * `covolumes`: `area` (summary of the mixed Voronoi areas), `relative_std`, `max_over_min`
 //!   (`null` if the mesh is not manifold)
-//! * `volume` (signed enclosed volume), `self_intersections` (intersecting pairs of faces that
-//!   share no vertex)
+//! * `volume` (signed enclosed volume), `self_intersections` (pairs of faces that meet other
+//!   than in their shared vertices or edge, by exact predicates; folded neighbours count too)
+//! * `certificate`: {`valid`, `closed`, `manifold`, `oriented`, `finite`, `genus`,
+//!   `components`, `euler_characteristic`, `self_intersections`, `degenerate_faces`,
+//!   `distance_min`, `distance_max` (vertex → target, with `--target`), `problem`} (see
+//!   [`crate::metrics::certificate`]), `certificate_ms`
 //! * with `--histograms`: `histograms` (see [`metrics_json_with`])
 //! * with `--target`: `target` {`file`, `kind`, `points`, `faces`, `bbox_diagonal`, `volume`,
 //!   `volume_ratio`} (volumes only for mesh targets) and `distances` {`absolute`,
@@ -24,7 +28,7 @@ use crate::io::read_path;
 use crate::mesh::{HalfedgeMesh, ValidationError};
 use crate::metrics::distance::{two_sided_distance_values, DistanceStats, TwoSidedDistances};
 use crate::metrics::histogram::Histogram;
-use crate::metrics::intersections::count_self_intersections;
+use crate::metrics::certificate::certify;
 use crate::metrics::quality::{covolume_stats, face_quality, quality_stats};
 use crate::metrics::volume::enclosed_volume;
 use crate::target::{Target, TargetKind};
@@ -98,7 +102,8 @@ pub fn metrics_json_with(
     };
     let volume = enclosed_volume(p, t);
     let t_si = crate::clock::now_ms();
-    let self_intersections = count_self_intersections(p, t);
+    let certificate = certify(p, t, target.map(|(_, tg)| tg));
+    let self_intersections = certificate.self_intersections;
     let si_ms = crate::clock::now_ms() - t_si;
     let mut out = json!({
         "file": file,
@@ -119,7 +124,8 @@ pub fn metrics_json_with(
         "covolumes": covol,
         "volume": volume,
         "self_intersections": self_intersections,
-        "self_intersections_ms": si_ms,
+        "certificate": certificate,
+        "certificate_ms": si_ms,
     });
     let mut hist = serde_json::Map::new();
     if histograms {

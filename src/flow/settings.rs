@@ -268,18 +268,22 @@ impl WrapSettings {
     }
 
     /// Resolves [`StartSurface::Auto`] for a target whose field is signed (`signed`) or not: the
-    /// start becomes isosurface or icosphere, and every parameter the isosurface start has its
-    /// own default for takes that default if it is still at the full-wrap default (a value the
-    /// user changed is kept). Other starts are returned unchanged.
+    /// start becomes isosurface or icosphere. With the isosurface start (chosen or resolved),
+    /// every parameter the isosurface start has its own default for takes that default if it is
+    /// still at the full-wrap default (a value the user changed is kept).
     pub fn resolved_for(self, signed: bool) -> Self {
-        if self.start != StartSurface::Auto {
-            return self;
-        }
-        if !signed {
-            return WrapSettings {
-                start: StartSurface::Icosphere,
-                ..self
-            };
+        match self.start {
+            StartSurface::Icosphere => return self,
+            StartSurface::Auto if !signed => {
+                return WrapSettings {
+                    start: StartSurface::Icosphere,
+                    ..self
+                }
+            }
+            // Auto on a signed field, or an explicit isosurface start: the isosurface start's
+            // own defaults (its sizes are relative to the grid cell, so the full-wrap schedule
+            // would shrink them to millions of vertices).
+            _ => {}
         }
         let (d, iso) = (
             WrapSettings::default(),
@@ -414,6 +418,30 @@ impl WrapSettings {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn auto_start_resolves_by_signedness_and_keeps_user_values() {
+        let auto = WrapSettings::default();
+        assert_eq!(auto.start, StartSurface::Auto);
+        let cloud = auto.clone().resolved_for(false);
+        assert_eq!(cloud.start, StartSurface::Icosphere);
+        assert_eq!(cloud.steps, auto.steps);
+        let closed = auto.clone().resolved_for(true);
+        assert_eq!(closed, WrapSettings::default().with_isosurface_start());
+        // An explicit isosurface start gets the same defaults; a changed τ survives.
+        let mine = WrapSettings {
+            start: StartSurface::Isosurface,
+            tau: 0.01,
+            ..Default::default()
+        }
+        .resolved_for(false);
+        assert_eq!((mine.tau, mine.steps, mine.schedule.len()), (0.01, 20, 0));
+        let ico = WrapSettings {
+            start: StartSurface::Icosphere,
+            ..Default::default()
+        };
+        assert_eq!(ico.clone().resolved_for(true), ico);
+    }
 
     #[test]
     fn presets_round_trip_and_check() {

@@ -96,11 +96,18 @@ pub fn for_each_overlapping_pair(
     mut f: impl FnMut(usize, usize),
 ) {
     let (mins, maxs) = face_boxes(positions, triangles);
-    Bvh::new(&mins, &maxs).for_each_self_overlap(|i, j| {
-        let (i, j) = (i.min(j) as usize, i.max(j) as usize);
-        let (a, b) = (&mins[i], &maxs[i]);
-        if !(a.cmpgt(maxs[j]).any() || b.cmplt(mins[j]).any()) {
-            f(i, j)
+    let bvh = Bvh::new_morton(&mins, &maxs, 2);
+    // Boxes in tree order, so the leaf pairs read neighbouring memory.
+    let order = bvh.order();
+    let boxes: Vec<(DVec3, DVec3)> = order
+        .iter()
+        .map(|&i| (mins[i as usize], maxs[i as usize]))
+        .collect();
+    bvh.for_each_self_overlap_slots(|a, b| {
+        let ((amin, amax), (bmin, bmax)) = (boxes[a], boxes[b]);
+        if !(amin.cmpgt(bmax).any() || amax.cmplt(bmin).any()) {
+            let (i, j) = (order[a] as usize, order[b] as usize);
+            f(i.min(j), i.max(j))
         }
     });
 }

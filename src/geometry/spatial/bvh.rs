@@ -39,7 +39,98 @@ fn box_dist2(p: DVec3, min: DVec3, max: DVec3) -> f64 {
     d.length_squared()
 }
 
+/// Spreads the low 21 bits of `v` to every third bit (for 63-bit Morton codes).
+fn spread3(v: u64) -> u64 {
+    let mut x = v & 0x1f_ffff;
+    x = (x | x << 32) & 0x1f00000000ffff;
+    x = (x | x << 16) & 0x1f0000ff0000ff;
+    x = (x | x << 8) & 0x100f00f00f00f00f;
+    x = (x | x << 4) & 0x10c30c30c30c30c3;
+    (x | x << 2) & 0x1249249249249249
+}
+
 impl Bvh {
+    /// Builds the hierarchy fast, for one-off queries such as a self-overlap pass: primitives
+    /// sorted along the Morton curve of their box centres, then split at the middle of each range
+    /// (no per-node partitioning). Leaves hold up to `leaf` primitives. Deterministic.
+    pub fn new_morton(mins: &[DVec3], maxs: &[DVec3], leaf: usize) -> Self {
+        let n = mins.len();
+        let leaf = leaf.max(1);
+        let mut bvh = Bvh {
+            nodes: Vec::with_capacity(2 * n / leaf + 2),
+            order: Vec::with_capacity(n),
+        };
+        if n == 0 {
+            return bvh;
+        }
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for (a, b) in mins.iter().zip(maxs) {
+            let c = 0.5 * (*a + *b);
+            lo = lo.min(c);
+            hi = hi.max(c);
+        }
+        let scale = DVec3::splat((1u64 << 21) as f64 - 1.0) / (hi - lo).max(DVec3::splat(1e-300));
+        let mut keyed: Vec<(u64, u32)> = mins
+            .iter()
+            .zip(maxs)
+            .enumerate()
+            .map(|(i, (a, b))| {
+                let q = ((0.5 * (*a + *b) - lo) * scale).max(DVec3::ZERO);
+                let code = spread3(q.x as u64) | spread3(q.y as u64) << 1 | spread3(q.z as u64) << 2;
+                (code, i as u32)
+            })
+            .collect();
+        keyed.sort_unstable();
+        bvh.order.extend(keyed.iter().map(|k| k.1));
+        bvh.nodes.push(Node {
+            min: DVec3::ZERO,
+            max: DVec3::ZERO,
+            start: 0,
+            count: 0,
+            right: 0,
+        });
+        // Children are built before their parent's box is needed: a post-order pass over an
+        // explicit stack of (node, start, end, children done).
+        let mut stack = vec![(0usize, 0usize, n, false)];
+        while let Some((ni, s, e, done)) = stack.pop() {
+            if e - s <= leaf {
+                let (mut bmin, mut bmax) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+                for &i in &bvh.order[s..e] {
+                    bmin = bmin.min(mins[i as usize]);
+                    bmax = bmax.max(maxs[i as usize]);
+                }
+                bvh.nodes[ni] = Node {
+                    min: bmin,
+                    max: bmax,
+                    start: s as u32,
+                    count: (e - s) as u32,
+                    right: 0,
+                };
+                continue;
+            }
+            if done {
+                let (l, r) = (bvh.nodes[ni].start as usize, bvh.nodes[ni].right as usize);
+                let (a, b) = (bvh.nodes[l], bvh.nodes[r]);
+                bvh.nodes[ni].min = a.min.min(b.min);
+                bvh.nodes[ni].max = a.max.max(b.max);
+                continue;
+            }
+            let left = bvh.nodes.len();
+            let blank = bvh.nodes[ni];
+            bvh.nodes.push(blank);
+            bvh.nodes.push(blank);
+            let node = &mut bvh.nodes[ni];
+            node.start = left as u32;
+            node.right = left as u32 + 1;
+            node.count = 0;
+            let mid = s + (e - s) / 2;
+            stack.push((ni, s, e, true));
+            stack.push((left + 1, mid, e, false));
+            stack.push((left, s, mid, false));
+        }
+        bvh
+    }
+
     /// Builds the hierarchy over boxes `[mins[i], maxs[i]]`.
     pub fn new(mins: &[DVec3], maxs: &[DVec3]) -> Self {
         let n = mins.len();
@@ -168,20 +259,33 @@ impl Bvh {
 
     /// Calls `f(i, j)` once for every unordered pair of distinct primitives whose boxes overlap
     /// (a dual traversal of the tree against itself: no per-primitive descent from the root),
-    /// in a fixed order; `i` and `j` come in no particular order within a pair.
+    /// in a fixed order; `i` and `j` come in no particular order within a pair. Leaf pairs are
+    /// reported whole: the primitives' own boxes are not compared.
     pub fn for_each_self_overlap(&self, mut f: impl FnMut(u32, u32)) {
+        self.for_each_self_overlap_slots(|a, b| f(self.order[a], self.order[b]));
+    }
+
+    /// The primitives in tree order: leaves hold runs of this array (see
+    /// [`Bvh::for_each_self_overlap_slots`]).
+    pub fn order(&self) -> &[u32] {
+        &self.order
+    }
+
+    /// [`Bvh::for_each_self_overlap`] by position in [`Bvh::order`] (a caller that copies its
+    /// data into that order reads it contiguously).
+    pub fn for_each_self_overlap_slots(&self, mut f: impl FnMut(usize, usize)) {
         if self.nodes.is_empty() {
             return;
         }
         let overlap = |a: &Node, b: &Node| !(a.min.cmpgt(b.max).any() || a.max.cmplt(b.min).any());
+        let range = |n: &Node| n.start as usize..(n.start + n.count) as usize;
         let mut stack: Vec<(u32, u32)> = vec![(0, 0)];
         while let Some((a, b)) = stack.pop() {
             let (na, nb) = (&self.nodes[a as usize], &self.nodes[b as usize]);
             if a == b {
                 if na.count > 0 {
-                    let ids = &self.order[na.start as usize..(na.start + na.count) as usize];
-                    for (k, &i) in ids.iter().enumerate() {
-                        for &j in &ids[k + 1..] {
+                    for i in range(na) {
+                        for j in i + 1..range(na).end {
                             f(i, j);
                         }
                     }
@@ -198,10 +302,8 @@ impl Bvh {
             }
             match (na.count > 0, nb.count > 0) {
                 (true, true) => {
-                    let ia = &self.order[na.start as usize..(na.start + na.count) as usize];
-                    let ib = &self.order[nb.start as usize..(nb.start + nb.count) as usize];
-                    for &i in ia {
-                        for &j in ib {
+                    for i in range(na) {
+                        for j in range(nb) {
                             f(i, j);
                         }
                     }

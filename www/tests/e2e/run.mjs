@@ -148,28 +148,34 @@ const cancelLatency = (page) => page.evaluate(() => new Promise((resolve) => {
   document.querySelector('[data-testid=cancel]').click();
 }));
 
-const state = (page) => page.getAttribute('[data-testid=status]', 'data-state');
 const resultHash = (page) => page.evaluate(() => window.__lsw.resultHash());
 
 /** The native CLI binary, for checking exported files: a release build if there is one, else
  * the debug build `cargo test` leaves behind (no extra compile in CI), else `cargo run`. */
 function lswInfo(file) {
-  const bin = ['release', 'debug'].map((p) => join(repo, 'target', p, 'lsw')).find((b) => existsSync(b));
-  const outText = bin
-    ? execFileSync(bin, ['info', file], { encoding: 'utf8' })
-    : execFileSync('cargo', ['run', '--quiet', '--bin', 'lsw', '--', 'info', file], { cwd: repo, encoding: 'utf8' });
-  return JSON.parse(outText);
+  return lswCli(['info', file]);
 }
 
-/** `lsw wrap FILE` natively with defaults; returns its JSON report. Prefers the debug build that
- * `cargo test` has just made (a release build lying around may be older than the sources). */
-function lswWrap(file, outFile) {
+/** Runs the native CLI (the debug build `cargo test` leaves, else `cargo run`); parses its JSON. */
+function lswCli(args) {
   const bin = ['debug', 'release'].map((p) => join(repo, 'target', p, 'lsw')).find((b) => existsSync(b));
-  const args = ['wrap', file, '-o', outFile];
   const outText = bin
     ? execFileSync(bin, args, { encoding: 'utf8' })
     : execFileSync('cargo', ['run', '--quiet', '--bin', 'lsw', '--', ...args], { cwd: repo, encoding: 'utf8' });
   return JSON.parse(outText);
+}
+
+/** The health badge's attributes. */
+const health = (page) =>
+  page.evaluate(() => {
+    const el = document.querySelector('[data-testid=health]');
+    return { valid: el.dataset.valid, genus: el.dataset.genus, si: el.dataset.si, text: el.textContent };
+  });
+
+/** `lsw wrap FILE` natively with defaults; returns its JSON report. Prefers the debug build that
+ * `cargo test` has just made (a release build lying around may be older than the sources). */
+function lswWrap(file, outFile) {
+  return lswCli(['wrap', file, '-o', outFile]);
 }
 
 test('drop bunnyPts_3.ply → default wrap to done → export PLY is closed genus 0; no long main-thread task', async (browser, url) => {
@@ -200,6 +206,8 @@ test('drop bunnyPts_3.ply → default wrap to done → export PLY is closed genu
   const text = `${info.vertices} vertices, ${info.faces} faces, closed ${info.closed}, manifold ${info.manifold}, χ = ${info.euler_characteristic}`;
   assert(info.closed === true && info.manifold === true && info.boundary_edges === 0, `exported mesh not closed/manifold: ${text}`);
   assert(info.euler_characteristic === 2, `exported mesh is not genus 0 (χ = ${info.euler_characteristic})`);
+  const h = await health(page);
+  assert(h.valid === 'true' && h.genus === '0' && h.si === '0', `health badge: ${JSON.stringify(h)}`);
   const frac = await meshPixelFraction(page);
   assert(frac > 0.02, `canvas shows almost no mesh pixels (${(100 * frac).toFixed(2)} %)`);
   const dist = await page.evaluate(() => window.__lsw.distanceSeries());
@@ -213,6 +221,27 @@ test('drop bunnyPts_3.ply → default wrap to done → export PLY is closed genu
   const native = lswWrap(join(shared, 'bunnyPts_3.ply'), join(out, 'bunny-native.ply'));
   assert(browserHash === native.result_hash, `browser result hash ${browserHash} differs from the native CLI's ${native.result_hash}`);
   console.log(`   result hash ${browserHash} (native CLI: the same); drop → done ${(appMs / 1000).toFixed(2)} s in the app (${(wallMs / 1000).toFixed(2)} s wall); longest main-thread task ${maxTask.toFixed(0)} ms; ${text.slice(0, 160)}`);
+  await page.close();
+});
+
+test('health badge: a genus-2 mesh ends done and certified (valid, genus 2, 0 SI); three coplanar points end in a named error', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  const torus = join(out, 'torus-g2.obj');
+  lswCli(['demo', 'torus-g2', '-o', torus]);
+  await dropFile(page, 'torus-g2.obj', await readFile(torus));
+  await page.waitForSelector('[data-testid=status][data-state=done], [data-testid=status][data-state=invalid]', { timeout: 300000 });
+  const h = await health(page);
+  await page.screenshot({ path: join(out, 'health-torus-g2.png') });
+  assert(h.valid === 'true' && h.genus === '2' && h.si === '0', `health badge after the genus-2 torus: ${JSON.stringify(h)}`);
+  const state = await page.getAttribute('[data-testid=status]', 'data-state');
+  assert(state === 'done', `status ${state}`);
+  await dropFile(page, 'three.xyz', Buffer.from('0 0 0\n1 0 0\n0 1 0\n'));
+  await page.waitForSelector('[data-testid=status][data-state=error]', { timeout: 60000 });
+  const msg = await page.textContent('[data-testid=error]');
+  assert(/distinct point/.test(msg), `error for three points: ${msg}`);
+  await page.screenshot({ path: join(out, 'health-coplanar-error.png') });
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+  console.log(`   genus-2 torus: ${h.text}; three points: ${msg.slice(0, 120)}`);
   await page.close();
 });
 
