@@ -70,7 +70,7 @@ impl From<EvolveError> for UiError {
             EvolveError::Setting(_) => ("bad-parameter", "Reset the advanced settings or pick a preset."),
             EvolveError::Field(crate::field::FieldError::TooLarge { .. }) => ("too-large", "Lower the grid resolution (cells per minimum dimension)."),
             EvolveError::Field(_) => ("bad-target", "The target needs points spread in 3D (not empty, not a single point or a flat sheet)."),
-            EvolveError::EmptyIsosurface { .. } | EvolveError::StartMesh(_) => ("bad-start", "Raise the isosurface level, or use the icosphere start."),
+            EvolveError::EmptyIsosurface { .. } | EvolveError::StartMesh(_) | EvolveError::StartIntersects { .. } => ("bad-start", "Raise the isosurface level, or use the icosphere start."),
             EvolveError::Diverged { .. } | EvolveError::Divergence { .. } => ("diverged", "The surface was rolled back to the last good step. Lower the time step τ, or pick the full-wrap preset."),
             EvolveError::Target(_) => ("bad-target", "The target needs at least 4 points spread in 3-D: not a single point, a line or a flat sheet (a thin plate with some thickness is fine)."),
             _ => ("internal", "Try another preset; if it persists, report a bug with the share link."),

@@ -47,6 +47,10 @@ pub enum EvolveError {
     /// The marching-cubes start surface is empty: no grid node lies below d_iso.
     #[error("the isosurface d = {iso:.4} is empty; raise isosurface_level_cells")]
     EmptyIsosurface { iso: f64 },
+    /// The isosurface start intersects itself after its remesh: its exterior leaked into narrow
+    /// channels (typically through gaps in a point cloud). Fix: use the icosphere start (or auto).
+    #[error("the isosurface start is not usable here: after remeshing, {pairs} pairs of its faces intersect (start genus {genus}; the exterior leaked through gaps in the input); use --start icosphere or auto")]
+    StartIntersects { pairs: usize, genus: i64 },
     /// The marching-cubes start surface is not a manifold mesh.
     #[error("the isosurface start is not a manifold mesh: {0}")]
     StartMesh(#[from] MeshBuildError),

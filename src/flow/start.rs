@@ -9,12 +9,16 @@ use super::scaling;
 use super::settings::{StartSurface, WrapSettings};
 use crate::field::DistanceField;
 use crate::geometry::icosphere::icosphere;
+use crate::geometry::spatial::spacing::median_spacing;
 use crate::mesh::HalfedgeMesh;
 use crate::metrics::intersections::count_self_intersections;
 use crate::remesh::adaptive::{remesh, RemeshSettings};
 use crate::remesh::sizing::{icosphere_sizes, isosurface_sizes, EdgeSizes};
 use crate::target::Target;
 use glam::DVec3;
+
+/// The isosurface start on a point cloud sits at least this many median point spacings out.
+pub const ISO_SPACINGS: f64 = 3.0;
 
 /// A start surface in the stabilised frame.
 pub struct Start {
@@ -64,6 +68,11 @@ pub fn build_start(
             if iso <= d0 {
                 iso = 1.1 * d0;
             }
+            if !field.is_signed() && target.triangles.is_empty() {
+                // A cloud: the exterior must not leak through the gaps between its points, which
+                // reach about three median spacings in a random sampling.
+                iso = iso.max(ISO_SPACINGS * median_spacing(&target.points));
+            }
             let c_r = settings.isosurface_resampling * c;
             let (pos, tris) = field.exterior_isosurface_resampled(iso, settings.isosurface_resampling);
             if tris.is_empty() {
@@ -73,8 +82,10 @@ pub fn build_start(
             let scaled: Vec<DVec3> = pos.into_iter().map(|p| phi * (p - center)).collect();
             let mut mesh = HalfedgeMesh::from_triangles(scaled, &tris)?;
             let sizes = isosurface_sizes(settings.min_edge_multiplier, c_r, phi);
-            // One remesh with back-projection onto the marching-cubes surface (spec §5.3),
-            // dropped if it would leave intersecting faces.
+            // One remesh with back-projection onto the marching-cubes surface (spec §5.3). If it
+            // leaves intersecting faces the start is refused: the raw marching-tetrahedra surface
+            // is full of slivers on which the flow is not stable (measured: it blows up within a
+            // few steps), and this happens where the exterior leaked into narrow channels.
             let rs = RemeshSettings {
                 iterations: 1,
                 use_projection: true,
@@ -82,12 +93,11 @@ pub fn build_start(
                 features: settings.features.clone(),
                 ..RemeshSettings::with_sizes(sizes)
             };
-            let raw = mesh.clone();
             remesh(&mut mesh, &rs)?;
-            if settings.guard.contact
-                && count_self_intersections(mesh.positions(), &mesh.triangles()) > 0
-            {
-                mesh = raw;
+            let pairs = count_self_intersections(mesh.positions(), &mesh.triangles());
+            if settings.guard.contact && pairs > 0 {
+                let genus = mesh.validate().map(|r| r.genus).unwrap_or(-1);
+                return Err(EvolveError::StartIntersects { pairs, genus });
             }
             Ok(Start {
                 mesh,
