@@ -93,7 +93,11 @@ impl Target {
     /// [`VoxelVolume::isosurface`]) in world millimetres, as a triangle mesh. The whole pipeline
     /// (signed distance field, start surface, flow, metrics) then works on volumes unchanged; the
     /// triangles are exact to the piecewise-linear interpolant, so the field near S is exact too.
-    pub fn from_volume(volume: &VoxelVolume, iso: f64, inside: Inside) -> Result<Self, TargetError> {
+    pub fn from_volume(
+        volume: &VoxelVolume,
+        iso: f64,
+        inside: Inside,
+    ) -> Result<Self, TargetError> {
         let (points, triangles) = volume.isosurface(iso, inside);
         if triangles.is_empty() {
             let (min, max) = volume.value_range().unwrap_or((f64::NAN, f64::NAN));

@@ -68,7 +68,9 @@ fn full_wrap_gets_closer_than_obstacle_on_spot() {
 /// scanned mesh bunny.ply.
 #[test]
 fn bunny_wrap_meets_the_bar() {
-    let (Some(cloud), Some(reference)) = (shared("bunnyPts_3.ply"), shared("bunny.ply")) else { return };
+    let (Some(cloud), Some(reference)) = (shared("bunnyPts_3.ply"), shared("bunny.ply")) else {
+        return;
+    };
     let target = lsw::io::read_path(&cloud).unwrap().target;
     let mesh = lsw::io::read_path(&reference).unwrap().target;
     let mut ev = Evolver::new(&target, WrapSettings::default()).unwrap();

@@ -44,8 +44,11 @@ pub fn info_json(file: &str, r: &ReadResult) -> serde_json::Value {
             .insert("volume".into(), super::volume::volume_json(vr));
     }
     if t.kind() == TargetKind::Mesh {
-        let crate::mesh::EdgeCounts { edges, boundary, non_manifold: over } =
-            crate::mesh::edge_counts(&t.triangles);
+        let crate::mesh::EdgeCounts {
+            edges,
+            boundary,
+            non_manifold: over,
+        } = crate::mesh::edge_counts(&t.triangles);
         let mut used = vec![false; t.points.len()];
         for &i in t.triangles.iter().flatten() {
             used[i as usize] = true;

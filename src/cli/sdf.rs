@@ -38,7 +38,8 @@ pub struct SdfArgs {
 /// memory_bytes, times_ms {read, band, sweep, sign, gradient, field, write}, out.
 pub fn run(a: &SdfArgs) -> Result<String, String> {
     let t0 = crate::clock::now_ms();
-    let read = crate::io::read_path_with(&a.input, &a.volume.options()).map_err(|e| e.to_string())?;
+    let read =
+        crate::io::read_path_with(&a.input, &a.volume.options()).map_err(|e| e.to_string())?;
     a.volume.write_isosurface(&read)?;
     let volume = read.volume.as_deref().map(super::volume::volume_json);
     let target = read.target;

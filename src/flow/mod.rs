@@ -6,8 +6,8 @@ pub mod laplacian;
 pub mod mcf;
 pub mod scaling;
 pub mod settings;
-pub mod surface_terms;
 pub mod snap;
+pub mod surface_terms;
 pub mod tangential;
 
 pub use evolver::{EvolveError, Evolver, PhaseTimes, StepReport};

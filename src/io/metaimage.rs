@@ -21,7 +21,13 @@ use glam::DVec3;
 const F: Format = Format::MetaImage;
 
 /// The keys a MetaImage header may start with (for sniffing).
-const FIRST_KEYS: [&str; 5] = ["ObjectType", "NDims", "Comment", "ObjectSubType", "TransformType"];
+const FIRST_KEYS: [&str; 5] = [
+    "ObjectType",
+    "NDims",
+    "Comment",
+    "ObjectSubType",
+    "TransformType",
+];
 
 /// True when the first line is a MetaImage `Key = Value` line with a known first key.
 pub fn sniff(bytes: &[u8]) -> bool {
@@ -82,7 +88,12 @@ pub fn read_with(
             continue;
         }
         let text = std::str::from_utf8(l).map_err(|_| {
-            IoError::syntax(F, Location::Line(line), "a \"Key = Value\" text line", "binary data")
+            IoError::syntax(
+                F,
+                Location::Line(line),
+                "a \"Key = Value\" text line",
+                "binary data",
+            )
         })?;
         let (k, v) = text.split_once('=').ok_or_else(|| {
             IoError::syntax(F, Location::Line(line), "a \"Key = Value\" line", show(l))
@@ -116,7 +127,12 @@ pub fn read_with(
             .collect::<Option<Vec<f64>>>()
             .filter(|v| v.len() >= n)
             .ok_or_else(|| {
-                IoError::syntax(F, Location::Line(f.line), format!("{n} numbers ({what})"), &f.value)
+                IoError::syntax(
+                    F,
+                    Location::Line(f.line),
+                    format!("{n} numbers ({what})"),
+                    &f.value,
+                )
             })
     };
     let nd_f = need("NDims")?;
@@ -164,7 +180,10 @@ pub fn read_with(
     if opts.frame >= frames {
         return Err(IoError::Unsupported {
             format: F,
-            what: format!("frame {} (the file holds {frames} volumes; 0-based)", opts.frame),
+            what: format!(
+                "frame {} (the file holds {frames} volumes; 0-based)",
+                opts.frame
+            ),
         });
     }
     let yes = |keys: &[&str]| get(keys).is_some_and(|f| f.value.eq_ignore_ascii_case("true"));
@@ -226,7 +245,12 @@ pub fn read_with(
     };
     let header_size: i64 = match get(&["HeaderSize"]) {
         Some(f) => f.value.parse().map_err(|_| {
-            IoError::syntax(F, Location::Line(f.line), "HeaderSize (bytes, or -1)", &f.value)
+            IoError::syntax(
+                F,
+                Location::Line(f.line),
+                "HeaderSize (bytes, or -1)",
+                &f.value,
+            )
         })?,
         None => 0,
     };
@@ -255,9 +279,8 @@ pub fn read_with(
         let raw = inflate_prefix(data, packing, want, true, F, data_at)?;
         decode_samples(&raw[first * ty.size()..want], ty, big, 1.0, 0.0)
     } else {
-        let total =
-            checked_count(&all, ty.size(), data.len(), 1, F, Location::Line(ds_f.line))?
-                * ty.size();
+        let total = checked_count(&all, ty.size(), data.len(), 1, F, Location::Line(ds_f.line))?
+            * ty.size();
         let skip = if header_size == -1 {
             data.len() - total
         } else {

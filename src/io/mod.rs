@@ -296,15 +296,17 @@ fn read_volume_file(
             .trim_end_matches(|c| c != '.')
             .trim_end_matches('.');
         let candidates = ["img", "IMG", "img.gz"].map(|e| dir.join(format!("{stem}.{e}")));
-        let img_path = candidates.iter().find(|p| p.is_file()).ok_or_else(|| {
-            IoError::Unsupported {
-                format,
-                what: format!(
-                    "a .hdr header without its data file {}",
-                    candidates[0].display()
-                ),
-            }
-        })?;
+        let img_path =
+            candidates
+                .iter()
+                .find(|p| p.is_file())
+                .ok_or_else(|| IoError::Unsupported {
+                    format,
+                    what: format!(
+                        "a .hdr header without its data file {}",
+                        candidates[0].display()
+                    ),
+                })?;
         let img = read_file(img_path)?;
         return nifti::read_pair(bytes, &img, opts);
     }

@@ -70,7 +70,9 @@ struct Fields<'a> {
 
 impl Fields<'_> {
     fn raw<const N: usize>(&self, off: usize) -> [u8; N] {
-        self.b[off..off + N].try_into().expect("header size checked")
+        self.b[off..off + N]
+            .try_into()
+            .expect("header size checked")
     }
     fn i16(&self, off: usize) -> i16 {
         let a = self.raw::<2>(off);
@@ -272,7 +274,7 @@ fn layout(h: &Header, available: usize, ratio: u128) -> Result<Layout, IoError> 
     } else {
         540.0
     };
-    if !(h.vox_offset >= min_offset) || h.vox_offset > 1e15 {
+    if h.vox_offset.is_nan() || h.vox_offset < min_offset || h.vox_offset > 1e15 {
         return Err(IoError::syntax(
             F,
             Location::Byte(off_at),
@@ -349,11 +351,7 @@ fn world_map(h: &Header) -> (glam::DMat4, String) {
     }
     (
         affine(
-            [
-                DVec3::X * pix(1),
-                DVec3::Y * pix(2),
-                DVec3::Z * pix(3),
-            ],
+            [DVec3::X * pix(1), DVec3::Y * pix(2), DVec3::Z * pix(3)],
             DVec3::ZERO,
         ),
         "voxel grid scaled by pixdim (NIfTI sform and qform codes are 0)".to_string(),
@@ -370,7 +368,7 @@ fn finish(
     data_at: usize,
     opts: &VolumeOptions,
 ) -> Result<(VoxelVolume, Encoding), IoError> {
-    let end = start + lay.frame_bytes;
+    let end = start.saturating_add(lay.frame_bytes);
     if data.len() < end {
         return Err(IoError::truncated(
             F,
@@ -435,8 +433,17 @@ pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding
         if h.pair {
             return Err(pair_error());
         }
-        let start = lay.offset + opts.frame * lay.frame_bytes;
-        let data = inflate_prefix(bytes, Packing::Gzip, start + lay.frame_bytes, true, F, 0)?;
+        let start = lay
+            .offset
+            .saturating_add(opts.frame.saturating_mul(lay.frame_bytes));
+        let data = inflate_prefix(
+            bytes,
+            Packing::Gzip,
+            start.saturating_add(lay.frame_bytes),
+            true,
+            F,
+            0,
+        )?;
         return finish(&h, &lay, &data, start, 0, opts);
     }
     let h = parse_header(bytes)?;
@@ -449,7 +456,8 @@ pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding
         &h,
         &lay,
         bytes,
-        lay.offset + opts.frame * lay.frame_bytes,
+        lay.offset
+            .saturating_add(opts.frame.saturating_mul(lay.frame_bytes)),
         0,
         opts,
     )
@@ -493,9 +501,18 @@ pub fn read_pair(
     };
     let lay = layout(&h, avail, ratio)?;
     check_frame(&lay, opts)?;
-    let start = lay.offset + opts.frame * lay.frame_bytes;
+    let start = lay
+        .offset
+        .saturating_add(opts.frame.saturating_mul(lay.frame_bytes));
     if is_gzip(img) {
-        let data = inflate_prefix(img, Packing::Gzip, start + lay.frame_bytes, true, F, 0)?;
+        let data = inflate_prefix(
+            img,
+            Packing::Gzip,
+            start.saturating_add(lay.frame_bytes),
+            true,
+            F,
+            0,
+        )?;
         finish(&h, &lay, &data, start, 0, opts)
     } else {
         finish(&h, &lay, img, start, 0, opts)

@@ -38,8 +38,13 @@ fn scalar_type(name: &str) -> Option<ScalarType> {
         }
         "int" | "signed int" | "int32" | "int32_t" => ScalarType::I32,
         "uint" | "unsigned int" | "uint32" | "uint32_t" => ScalarType::U32,
-        "longlong" | "long long" | "long long int" | "signed long long"
-        | "signed long long int" | "int64" | "int64_t" => ScalarType::I64,
+        "longlong"
+        | "long long"
+        | "long long int"
+        | "signed long long"
+        | "signed long long int"
+        | "int64"
+        | "int64_t" => ScalarType::I64,
         "ulonglong" | "unsigned long long" | "unsigned long long int" | "uint64" | "uint64_t" => {
             ScalarType::U64
         }
@@ -117,7 +122,12 @@ fn parse_header(bytes: &[u8]) -> Result<Header, IoError> {
 
 fn push_field(fields: &mut Vec<(String, Field)>, l: &[u8], line: usize) -> Result<(), IoError> {
     let text = std::str::from_utf8(l).map_err(|_| {
-        IoError::syntax(F, Location::Line(line), "a text header line", "non-UTF-8 bytes")
+        IoError::syntax(
+            F,
+            Location::Line(line),
+            "a text header line",
+            "non-UTF-8 bytes",
+        )
     })?;
     // Key/value pairs ("key:=value") are free-form metadata.
     if text.contains(":=") {
@@ -211,11 +221,9 @@ pub fn read_with(
         })
     };
     let tf = need("type")?;
-    let ty = scalar_type(&tf.value).ok_or_else(|| {
-        IoError::Unsupported {
-            format: F,
-            what: format!("type \"{}\" (line {})", tf.value, tf.line),
-        }
+    let ty = scalar_type(&tf.value).ok_or_else(|| IoError::Unsupported {
+        format: F,
+        what: format!("type \"{}\" (line {})", tf.value, tf.line),
     })?;
     let df = need("dimension")?;
     let dim: usize = df
@@ -279,7 +287,10 @@ pub fn read_with(
     if opts.frame >= frames {
         return Err(IoError::Unsupported {
             format: F,
-            what: format!("frame {} (the file holds {frames} volumes; 0-based)", opts.frame),
+            what: format!(
+                "frame {} (the file holds {frames} volumes; 0-based)",
+                opts.frame
+            ),
         });
     }
     // Space (world frame) and its conversion to RAS.
@@ -289,9 +300,10 @@ pub fn read_with(
             DVec3::ONE,
             "NRRD index space scaled by spacings (no space field)".to_string(),
         ),
-        Some("right-anterior-superior" | "ras" | "right-anterior-superior-time" | "ras-time") => {
-            (DVec3::ONE, "RAS (NRRD space right-anterior-superior)".to_string())
-        }
+        Some("right-anterior-superior" | "ras" | "right-anterior-superior-time" | "ras-time") => (
+            DVec3::ONE,
+            "RAS (NRRD space right-anterior-superior)".to_string(),
+        ),
         Some("left-anterior-superior" | "las" | "left-anterior-superior-time" | "las-time") => (
             DVec3::new(-1.0, 1.0, 1.0),
             "RAS (converted from NRRD space left-anterior-superior: x negated)".to_string(),
@@ -323,7 +335,7 @@ pub fn read_with(
     } else if let Some(f) = h.get("spacings") {
         for (k, t) in f.value.split_whitespace().take(3).enumerate() {
             if let Some(s) = parse_f64(t.as_bytes()).filter(|s| s.is_finite() && *s != 0.0) {
-                cols[k] = cols[k] * s;
+                cols[k] *= s;
             }
         }
     }
@@ -370,9 +382,10 @@ pub fn read_with(
     let mut data = data;
     let mut data_at = data_at;
     if let Some(f) = h.get("line skip").or_else(|| h.get("lineskip")) {
-        let n: usize = f.value.parse().map_err(|_| {
-            IoError::syntax(F, Location::Line(f.line), "a line count", &f.value)
-        })?;
+        let n: usize = f
+            .value
+            .parse()
+            .map_err(|_| IoError::syntax(F, Location::Line(f.line), "a line count", &f.value))?;
         for _ in 0..n {
             let nl = data.iter().position(|&b| b == b'\n').ok_or_else(|| {
                 IoError::truncated(F, Location::Byte(data_at + data.len()), "the skipped lines")
@@ -438,7 +451,10 @@ pub fn read_with(
         other => {
             return Err(IoError::Unsupported {
                 format: F,
-                what: format!("encoding \"{other}\" (line {}); use raw, gzip or ascii", enc_f.line),
+                what: format!(
+                    "encoding \"{other}\" (line {}); use raw, gzip or ascii",
+                    enc_f.line
+                ),
             })
         }
     };

@@ -182,10 +182,7 @@ impl VoxelVolume {
             for iy in 0..ny {
                 let src = nx * (iy + ny * iz);
                 let dst = 1 + px * (iy + 1 + py * (iz + 1));
-                for (o, &v) in g[dst..dst + nx]
-                    .iter_mut()
-                    .zip(&self.values[src..src + nx])
-                {
+                for (o, &v) in g[dst..dst + nx].iter_mut().zip(&self.values[src..src + nx]) {
                     *o = if v.is_finite() {
                         sign * (v as f64 - iso)
                     } else {
@@ -256,7 +253,11 @@ pub fn histogram(values: &[f32], bins: usize) -> Option<Histogram> {
         return None;
     }
     let (lo, hi) = (lo as f64, hi as f64);
-    let w = if hi > lo { (hi - lo) / bins as f64 } else { 1.0 };
+    let w = if hi > lo {
+        (hi - lo) / bins as f64
+    } else {
+        1.0
+    };
     let mut counts = vec![0u64; bins];
     for &v in values.iter().filter(|v| v.is_finite()) {
         let k = (((v as f64 - lo) / w) as usize).min(bins - 1);
@@ -281,7 +282,7 @@ pub fn otsu_threshold(values: &[f32], integer: bool) -> Option<f64> {
         lo = lo.min(v);
         hi = hi.max(v);
     }
-    if !(lo < hi) {
+    if lo >= hi {
         return None;
     }
     let (lo, hi) = (lo as f64, hi as f64);
@@ -335,7 +336,12 @@ pub fn otsu_threshold(values: &[f32], integer: bool) -> Option<f64> {
     let best = sigma.iter().cloned().fold(0.0f64, f64::max);
     let tol = best * 1e-12;
     let first = sigma.iter().position(|&s| s >= best - tol)?;
-    let last = first + sigma[first..].iter().take_while(|&&s| s >= best - tol).count() - 1;
+    let last = first
+        + sigma[first..]
+            .iter()
+            .take_while(|&&s| s >= best - tol)
+            .count()
+        - 1;
     let k = (first + last) / 2;
     Some(if integral {
         lo + k as f64 + 0.5
@@ -434,9 +440,12 @@ pub(crate) fn checked_count(
     format: Format,
     at: Location,
 ) -> Result<usize, IoError> {
-    let count: u128 = dims.iter().map(|&d| d as u128).product();
-    let needed = count * bytes_each as u128;
-    if needed > available as u128 * max_ratio || count > usize::MAX as u128 / 8 {
+    let count: u128 = dims
+        .iter()
+        .try_fold(1u128, |a, &d| a.checked_mul(d as u128))
+        .unwrap_or(u128::MAX);
+    let needed = count.saturating_mul(bytes_each as u128);
+    if needed > (available as u128).saturating_mul(max_ratio) || count > usize::MAX as u128 / 8 {
         return Err(IoError::CountTooLarge {
             format,
             at,

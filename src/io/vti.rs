@@ -47,7 +47,12 @@ impl<'a> Tag<'a> {
 }
 
 /// Finds the next start tag `<name …>` in `b[from..limit]`.
-fn find_tag<'a>(b: &'a [u8], from: usize, limit: usize, name: &str) -> Result<Option<Tag<'a>>, IoError> {
+fn find_tag<'a>(
+    b: &'a [u8],
+    from: usize,
+    limit: usize,
+    name: &str,
+) -> Result<Option<Tag<'a>>, IoError> {
     let pat = format!("<{name}");
     let mut i = from;
     while i < limit {
@@ -64,7 +69,11 @@ fn find_tag<'a>(b: &'a [u8], from: usize, limit: usize, name: &str) -> Result<Op
             }
         }
         let close = find(&b[after..limit], b">").ok_or_else(|| {
-            IoError::truncated(F, Location::Byte(limit), format!("the end of the <{name}> tag"))
+            IoError::truncated(
+                F,
+                Location::Byte(limit),
+                format!("the end of the <{name}> tag"),
+            )
         })?;
         let inner = &b[after..after + close];
         let self_closing = inner.ends_with(b"/");
@@ -141,7 +150,12 @@ fn decode_base64(text: &[u8], at: usize) -> Result<Vec<u8>, IoError> {
         base64::engine::general_purpose::STANDARD
             .decode_vec(&clean[i..j], &mut out)
             .map_err(|e| {
-                IoError::syntax(F, Location::Byte(at), "base64 data", format!("invalid base64 ({e})"))
+                IoError::syntax(
+                    F,
+                    Location::Byte(at),
+                    "base64 data",
+                    format!("invalid base64 ({e})"),
+                )
             })?;
         i = j;
     }
@@ -151,9 +165,9 @@ fn decode_base64(text: &[u8], at: usize) -> Result<Vec<u8>, IoError> {
 /// Reads one header integer (UInt32 or UInt64) at `k`.
 fn header_int(d: &[u8], k: usize, wide: bool, big: bool, at: usize) -> Result<u64, IoError> {
     let w = if wide { 8 } else { 4 };
-    let s = d.get(k * w..(k + 1) * w).ok_or_else(|| {
-        IoError::truncated(F, Location::Byte(at), "the binary block header")
-    })?;
+    let s = d
+        .get(k * w..(k + 1) * w)
+        .ok_or_else(|| IoError::truncated(F, Location::Byte(at), "the binary block header"))?;
     Ok(match (wide, big) {
         (false, false) => u32::from_le_bytes(s.try_into().expect("4")) as u64,
         (false, true) => u32::from_be_bytes(s.try_into().expect("4")) as u64,
@@ -182,10 +196,9 @@ fn unpack(
                 format!("a block of {count} bytes"),
             ));
         }
-        return d
-            .get(w..w + want)
-            .map(|s| s.to_vec())
-            .ok_or_else(|| IoError::truncated(F, Location::Byte(at), format!("{want} bytes of samples")));
+        return d.get(w..w + want).map(|s| s.to_vec()).ok_or_else(|| {
+            IoError::truncated(F, Location::Byte(at), format!("{want} bytes of samples"))
+        });
     }
     let nb = header_int(d, 0, wide, big, at)? as usize;
     let bs = header_int(d, 1, wide, big, at)? as usize;
@@ -203,7 +216,9 @@ fn unpack(
     let total = if nb == 0 {
         0
     } else {
-        (nb - 1).saturating_mul(bs).saturating_add(if lbs == 0 { bs } else { lbs })
+        (nb - 1)
+            .saturating_mul(bs)
+            .saturating_add(if lbs == 0 { bs } else { lbs })
     };
     if total < want {
         return Err(IoError::syntax(
@@ -213,12 +228,16 @@ fn unpack(
             format!("compressed blocks holding {total} bytes"),
         ));
     }
-    let mut out = Vec::with_capacity(want);
+    let mut out = Vec::with_capacity(want.min(d.len().saturating_mul(1100)));
     let mut pos = (3 + nb) * w;
     for b in 0..nb {
         let cs = header_int(d, 3 + b, wide, big, at)? as usize;
         let block = d.get(pos..pos.saturating_add(cs)).ok_or_else(|| {
-            IoError::truncated(F, Location::Byte(at), format!("compressed block {b} of {nb}"))
+            IoError::truncated(
+                F,
+                Location::Byte(at),
+                format!("compressed block {b} of {nb}"),
+            )
         })?;
         let size = if b + 1 == nb && lbs != 0 { lbs } else { bs };
         let need = size.min(want - out.len());
@@ -235,9 +254,8 @@ fn unpack(
 pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding), IoError> {
     let appended = find(bytes, b"<AppendedData");
     let limit = appended.unwrap_or(bytes.len());
-    let file = find_tag(bytes, 0, limit, "VTKFile")?.ok_or_else(|| {
-        IoError::syntax(F, Location::Byte(0), "a <VTKFile> element", "none")
-    })?;
+    let file = find_tag(bytes, 0, limit, "VTKFile")?
+        .ok_or_else(|| IoError::syntax(F, Location::Byte(0), "a <VTKFile> element", "none"))?;
     if file.attr("type") != Some("ImageData") {
         return Err(IoError::Unsupported {
             format: F,
@@ -271,25 +289,43 @@ pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding
         }
     };
     let image = find_tag(bytes, file.end, limit, "ImageData")?.ok_or_else(|| {
-        IoError::syntax(F, Location::Byte(file.end), "an <ImageData> element", "none")
+        IoError::syntax(
+            F,
+            Location::Byte(file.end),
+            "an <ImageData> element",
+            "none",
+        )
     })?;
-    let nums = |tag: &Tag, name: &str, n: usize, default: Option<Vec<f64>>| -> Result<Vec<f64>, IoError> {
-        match tag.attr(name) {
-            None => default.ok_or_else(|| {
-                IoError::syntax(F, Location::Byte(tag.start), format!("the attribute {name}"), "none")
-            }),
-            Some(s) => s
-                .split_whitespace()
-                .map(|t| parse_f64(t.as_bytes()).filter(|v| v.is_finite()))
-                .collect::<Option<Vec<_>>>()
-                .filter(|v| v.len() == n)
-                .ok_or_else(|| {
-                    IoError::syntax(F, Location::Byte(tag.start), format!("{n} numbers in {name}"), s)
+    let nums =
+        |tag: &Tag, name: &str, n: usize, default: Option<Vec<f64>>| -> Result<Vec<f64>, IoError> {
+            match tag.attr(name) {
+                None => default.ok_or_else(|| {
+                    IoError::syntax(
+                        F,
+                        Location::Byte(tag.start),
+                        format!("the attribute {name}"),
+                        "none",
+                    )
                 }),
-        }
-    };
+                Some(s) => s
+                    .split_whitespace()
+                    .map(|t| parse_f64(t.as_bytes()).filter(|v| v.is_finite()))
+                    .collect::<Option<Vec<_>>>()
+                    .filter(|v| v.len() == n)
+                    .ok_or_else(|| {
+                        IoError::syntax(
+                            F,
+                            Location::Byte(tag.start),
+                            format!("{n} numbers in {name}"),
+                            s,
+                        )
+                    }),
+            }
+        };
     let ext = nums(&image, "WholeExtent", 6, None)?;
-    if ext.iter().any(|e| e.fract() != 0.0 || e.abs() > 1e12) || (0..3).any(|k| ext[2 * k + 1] < ext[2 * k]) {
+    if ext.iter().any(|e| e.fract() != 0.0 || e.abs() > 1e12)
+        || (0..3).any(|k| ext[2 * k + 1] < ext[2 * k])
+    {
         return Err(IoError::syntax(
             F,
             Location::Byte(image.start),
@@ -297,7 +333,7 @@ pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding
             image.attr("WholeExtent").unwrap_or(""),
         ));
     }
-    let dims = [0, 1, 2].map(|k| (ext[2 * k + 1] - ext[2 * k]) as usize + 1);
+    let dims = [0, 1, 2].map(|k| ((ext[2 * k + 1] - ext[2 * k]) as usize).saturating_add(1));
     let origin = nums(&image, "Origin", 3, Some(vec![0.0; 3]))?;
     let spacing = nums(&image, "Spacing", 3, Some(vec![1.0; 3]))?;
     let dir = nums(
@@ -307,10 +343,7 @@ pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding
         Some(vec![1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]),
     )?;
     let cols = [0, 1, 2].map(|k| DVec3::new(dir[k], dir[3 + k], dir[6 + k]) * spacing[k]);
-    let o = DVec3::from_slice(&origin)
-        + cols[0] * ext[0]
-        + cols[1] * ext[2]
-        + cols[2] * ext[4];
+    let o = DVec3::from_slice(&origin) + cols[0] * ext[0] + cols[1] * ext[2] + cols[2] * ext[4];
     let piece = find_tag(bytes, image.end, limit, "Piece")?.ok_or_else(|| {
         IoError::syntax(F, Location::Byte(image.end), "a <Piece> element", "none")
     })?;
@@ -321,7 +354,12 @@ pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding
         });
     }
     let pd = find_tag(bytes, piece.end, limit, "PointData")?.ok_or_else(|| {
-        IoError::syntax(F, Location::Byte(piece.end), "a <PointData> element with the values", "none")
+        IoError::syntax(
+            F,
+            Location::Byte(piece.end),
+            "a <PointData> element with the values",
+            "none",
+        )
     })?;
     let pd_end = if pd.self_closing {
         pd.end
@@ -336,15 +374,18 @@ pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding
     }
     let wanted = opts.array.as_deref().or(pd.attr("Scalars"));
     let arr = match wanted {
-        Some(name) => arrays.iter().find(|a| a.attr("Name") == Some(name)).ok_or_else(|| {
-            let names: Vec<&str> = arrays.iter().filter_map(|a| a.attr("Name")).collect();
-            IoError::syntax(
-                F,
-                Location::Byte(pd.start),
-                format!("a point array named \"{name}\""),
-                format!("arrays {names:?}"),
-            )
-        })?,
+        Some(name) => arrays
+            .iter()
+            .find(|a| a.attr("Name") == Some(name))
+            .ok_or_else(|| {
+                let names: Vec<&str> = arrays.iter().filter_map(|a| a.attr("Name")).collect();
+                IoError::syntax(
+                    F,
+                    Location::Byte(pd.start),
+                    format!("a point array named \"{name}\""),
+                    format!("arrays {names:?}"),
+                )
+            })?,
         None => arrays.first().ok_or_else(|| {
             IoError::syntax(F, Location::Byte(pd.start), "a point DataArray", "none")
         })?,
@@ -370,9 +411,8 @@ pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding
         if t.self_closing {
             return Ok(&[]);
         }
-        let end = find(&bytes[t.end..limit], b"</DataArray").ok_or_else(|| {
-            IoError::truncated(F, Location::Byte(limit), "</DataArray>")
-        })?;
+        let end = find(&bytes[t.end..limit], b"</DataArray")
+            .ok_or_else(|| IoError::truncated(F, Location::Byte(limit), "</DataArray>"))?;
         Ok(&bytes[t.end..t.end + end])
     };
     let want = n * ty.size();
@@ -382,43 +422,85 @@ pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding
             let text = content(arr)?;
             checked_count(&dims, 2, text.len() + 1, 1, F, Location::Byte(arr.start))?;
             let line0 = bytes[..arr.end].iter().filter(|&&b| b == b'\n').count() + 1;
-            (parse_ascii_samples(text, n, F, line0, 1.0, 0.0)?, Encoding::Ascii)
+            (
+                parse_ascii_samples(text, n, F, line0, 1.0, 0.0)?,
+                Encoding::Ascii,
+            )
         }
         "binary" => {
             let text = content(arr)?;
-            checked_count(&dims, ty.size(), text.len(), 1100, F, Location::Byte(arr.start))?;
+            checked_count(
+                &dims,
+                ty.size(),
+                text.len(),
+                1100,
+                F,
+                Location::Byte(arr.start),
+            )?;
             let d = decode_base64(text, arr.end)?;
             let raw = unpack(&d, want, wide, big, compressed, arr.end)?;
-            (decode_samples(&raw, ty, big, 1.0, 0.0), binary_encoding(big))
+            (
+                decode_samples(&raw, ty, big, 1.0, 0.0),
+                binary_encoding(big),
+            )
         }
         "appended" => {
             let app_at = appended.ok_or_else(|| {
-                IoError::syntax(F, Location::Byte(arr.start), "an <AppendedData> section", "none")
+                IoError::syntax(
+                    F,
+                    Location::Byte(arr.start),
+                    "an <AppendedData> section",
+                    "none",
+                )
             })?;
             let app = find_tag(bytes, app_at, bytes.len(), "AppendedData")?.ok_or_else(|| {
                 IoError::truncated(F, Location::Byte(app_at), "the <AppendedData> tag")
             })?;
-            let underscore = bytes[app.end..].iter().position(|&b| b == b'_').ok_or_else(|| {
-                IoError::truncated(F, Location::Byte(app.end), "the '_' that starts appended data")
-            })?;
+            let underscore = bytes[app.end..]
+                .iter()
+                .position(|&b| b == b'_')
+                .ok_or_else(|| {
+                    IoError::truncated(
+                        F,
+                        Location::Byte(app.end),
+                        "the '_' that starts appended data",
+                    )
+                })?;
             let base = app.end + underscore + 1;
             let off_s = arr.attr("offset").unwrap_or("0");
             let off: usize = off_s.trim().parse().map_err(|_| {
                 IoError::syntax(F, Location::Byte(arr.start), "a byte offset", off_s)
             })?;
-            let start = base.checked_add(off).filter(|&s| s <= bytes.len()).ok_or_else(|| {
-                IoError::truncated(F, Location::Byte(bytes.len()), format!("appended data at offset {off}"))
-            })?;
+            let start = base
+                .checked_add(off)
+                .filter(|&s| s <= bytes.len())
+                .ok_or_else(|| {
+                    IoError::truncated(
+                        F,
+                        Location::Byte(bytes.len()),
+                        format!("appended data at offset {off}"),
+                    )
+                })?;
             let d = &bytes[start..];
             let raw = if app.attr("encoding") == Some("base64") {
                 let stop = d.iter().position(|&b| b == b'<').unwrap_or(d.len());
                 let decoded = decode_base64(&d[..stop], start)?;
                 unpack(&decoded, want, wide, big, compressed, start)?
             } else {
-                checked_count(&dims, ty.size(), d.len(), 1100, F, Location::Byte(arr.start))?;
+                checked_count(
+                    &dims,
+                    ty.size(),
+                    d.len(),
+                    1100,
+                    F,
+                    Location::Byte(arr.start),
+                )?;
                 unpack(d, want, wide, big, compressed, start)?
             };
-            (decode_samples(&raw, ty, big, 1.0, 0.0), binary_encoding(big))
+            (
+                decode_samples(&raw, ty, big, 1.0, 0.0),
+                binary_encoding(big),
+            )
         }
         other => {
             return Err(IoError::syntax(

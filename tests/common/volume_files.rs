@@ -424,7 +424,9 @@ pub enum VtiEnc {
     /// Inline base64, header and data in one base64 stream.
     Base64,
     /// Inline base64, zlib-compressed blocks of `block` bytes; header base64-encoded separately.
-    Zlib { block: usize },
+    Zlib {
+        block: usize,
+    },
     /// Appended raw data.
     AppendedRaw,
 }
