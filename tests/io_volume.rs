@@ -700,3 +700,52 @@ fn shared_volumes_read_and_the_half_resolution_copies_agree() {
         assert!(j["volume"]["iso"].as_f64().is_some());
     }
 }
+
+/// Detached data natively: NIfTI `.hdr`/`.img` (plain and gzip), NRRD `.nhdr` + gzip data file,
+/// MetaImage `.mhd` + raw file; all read as the attached files do.
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+fn detached_headers_read_their_data_files() {
+    let vol = sphere_volume([7, 9, 6], 3.0);
+    let dir = std::env::temp_dir().join(format!("lsw_io_volume_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let check = |name: &str| {
+        let (v, _, _) = lsw::io::read_volume_path(dir.join(name), &VolumeOptions::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(v.values, vol.values, "{name}");
+        assert!(world_error(&vol.affine, &v) < 1e-4, "{name}");
+    };
+    // NIfTI pair: magic "ni1", vox_offset 0 into the .img.
+    let single = write_nifti(&vol, NiftiOpts::default());
+    let mut hdr = single[..348].to_vec();
+    hdr[344..348].copy_from_slice(b"ni1\0");
+    hdr[108..112].copy_from_slice(&0f32.to_le_bytes());
+    std::fs::write(dir.join("pair.hdr"), &hdr).unwrap();
+    std::fs::write(dir.join("pair.img"), &single[352..]).unwrap();
+    check("pair.hdr");
+    std::fs::write(dir.join("zpair.hdr"), &hdr).unwrap();
+    std::fs::write(dir.join("zpair.img.gz"), gzip(&single[352..])).unwrap();
+    check("zpair.hdr");
+    // NRRD detached.
+    let attached = write_nrrd(&vol, NrrdEnc::Gzip, false, true);
+    let split = attached.windows(2).position(|w| w == b"\n\n").unwrap() + 2;
+    let mut nhdr = attached[..split - 1].to_vec();
+    nhdr.extend(b"data file: sphere.raw.gz\n");
+    std::fs::write(dir.join("sphere.nhdr"), &nhdr).unwrap();
+    std::fs::write(dir.join("sphere.raw.gz"), &attached[split..]).unwrap();
+    check("sphere.nhdr");
+    // MetaImage detached.
+    let mha = write_mha(&vol, false, false);
+    let end = mha.windows(6).position(|w| w == b"LOCAL\n").unwrap();
+    let mut mhd = mha[..end].to_vec();
+    mhd.extend(b"sphere.raw\n");
+    std::fs::write(dir.join("sphere.mhd"), &mhd).unwrap();
+    std::fs::write(dir.join("sphere.raw"), &mha[end + 6..]).unwrap();
+    check("sphere.mhd");
+    // Without its data file: a clear error naming it.
+    std::fs::remove_file(dir.join("sphere.raw")).unwrap();
+    let e =
+        lsw::io::read_volume_path(dir.join("sphere.mhd"), &VolumeOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("sphere.raw"), "{e}");
+    std::fs::remove_dir_all(&dir).ok();
+}
