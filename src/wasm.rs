@@ -14,6 +14,9 @@ use js_sys::{Float32Array, Uint32Array};
 use serde::Serialize;
 use wasm_bindgen::prelude::*;
 
+mod volume;
+pub use volume::VolumeView;
+
 /// An error as the UI sees it: a stable machine code, a sentence, and what to try.
 #[derive(Serialize, Debug, Clone, PartialEq)]
 pub struct UiError {
@@ -60,7 +63,7 @@ impl From<IoError> for UiError {
     fn from(e: IoError) -> Self {
         let hint = match e {
             IoError::Empty { .. } => "The file is empty: choose another file.",
-            IoError::UnknownFormat { .. } => "Use PLY, OBJ, STL, OFF, XYZ/CSV, glTF or GLB.",
+            IoError::UnknownFormat { .. } => "Use PLY, OBJ, STL, OFF, XYZ/CSV, glTF or GLB, or a NIfTI, NRRD, VTI or MetaImage volume.",
             _ => "The file looks damaged or is not what its name says; re-export it from its source program.",
         };
         UiError {

@@ -6,6 +6,8 @@
 //!
 //! Everything is deterministic: randomness comes from a seeded SplitMix64 generator.
 
+pub mod phantom;
+
 use crate::flow::controls::Controls;
 use crate::flow::WrapSettings;
 use crate::geometry::marching_cubes::{marching_cubes, ScalarGridView};

@@ -518,3 +518,38 @@ pub fn read_pair(
         finish(&h, &lay, img, start, 0, opts)
     }
 }
+
+/// Writes a volume as a single-file NIfTI-1 (`.nii`, little-endian float32, the affine as an
+/// sform with code 2 "aligned", no qform, no scaling). Used for the app's procedurally generated
+/// phantom (it then travels the same path as a dropped file) and to save volumes for other tools.
+pub fn write(volume: &VoxelVolume) -> Vec<u8> {
+    let mut h = vec![0u8; 352];
+    let put = |h: &mut [u8], at: usize, b: &[u8]| h[at..at + b.len()].copy_from_slice(b);
+    put(&mut h, 0, &348i32.to_le_bytes());
+    let dims = [3, volume.dims[0], volume.dims[1], volume.dims[2], 1, 1, 1, 1];
+    for (i, d) in dims.iter().enumerate() {
+        put(&mut h, 40 + 2 * i, &(*d).min(i16::MAX as usize).to_le_bytes()[..2]);
+    }
+    put(&mut h, 70, &16i16.to_le_bytes());
+    put(&mut h, 72, &32i16.to_le_bytes());
+    let vs = volume.voxel_size();
+    let pixdim = [1.0, vs[0], vs[1], vs[2], 1.0, 1.0, 1.0, 1.0];
+    for (i, p) in pixdim.iter().enumerate() {
+        put(&mut h, 76 + 4 * i, &(*p as f32).to_le_bytes());
+    }
+    put(&mut h, 108, &352f32.to_le_bytes());
+    put(&mut h, 123, &[2]); // xyzt_units: millimetres
+    put(&mut h, 254, &2i16.to_le_bytes());
+    let rows = volume.affine_rows();
+    for (r, row) in rows.iter().take(3).enumerate() {
+        for (c, x) in row.iter().enumerate() {
+            put(&mut h, 280 + 16 * r + 4 * c, &(*x as f32).to_le_bytes());
+        }
+    }
+    put(&mut h, 344, b"n+1\0");
+    h.reserve(volume.values.len() * 4);
+    for v in &volume.values {
+        h.extend_from_slice(&v.to_le_bytes());
+    }
+    h
+}
