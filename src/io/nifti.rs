@@ -526,9 +526,22 @@ pub fn write(volume: &VoxelVolume) -> Vec<u8> {
     let mut h = vec![0u8; 352];
     let put = |h: &mut [u8], at: usize, b: &[u8]| h[at..at + b.len()].copy_from_slice(b);
     put(&mut h, 0, &348i32.to_le_bytes());
-    let dims = [3, volume.dims[0], volume.dims[1], volume.dims[2], 1, 1, 1, 1];
+    let dims = [
+        3,
+        volume.dims[0],
+        volume.dims[1],
+        volume.dims[2],
+        1,
+        1,
+        1,
+        1,
+    ];
     for (i, d) in dims.iter().enumerate() {
-        put(&mut h, 40 + 2 * i, &(*d).min(i16::MAX as usize).to_le_bytes()[..2]);
+        put(
+            &mut h,
+            40 + 2 * i,
+            &(*d).min(i16::MAX as usize).to_le_bytes()[..2],
+        );
     }
     put(&mut h, 70, &16i16.to_le_bytes());
     put(&mut h, 72, &32i16.to_le_bytes());

@@ -59,13 +59,14 @@ impl VolumeView {
 
     /// `{min, max, counts}` with `counts` a Float64Array of `bins` equal bins.
     pub fn histogram(&self, bins: u32) -> Result<js_sys::Object, JsValue> {
-        let h = crate::io::volume::histogram(&self.volume.values, bins as usize).ok_or_else(|| {
-            UiError {
-                code: "bad-file",
-                message: "the volume has no finite value".into(),
-                hint: "The volume holds only NaN or infinite values.",
-            }
-        })?;
+        let h =
+            crate::io::volume::histogram(&self.volume.values, bins as usize).ok_or_else(|| {
+                UiError {
+                    code: "bad-file",
+                    message: "the volume has no finite value".into(),
+                    hint: "The volume holds only NaN or infinite values.",
+                }
+            })?;
         let counts: Vec<f64> = h.counts.iter().map(|&c| c as f64).collect();
         let obj = js_sys::Object::new();
         set_key(&obj, "min", &JsValue::from(h.min))?;
@@ -110,8 +111,9 @@ impl WrapSession {
             message: format!("settings: {e}"),
             hint: "Reset the advanced settings or pick a preset.",
         })?;
-        let read = crate::io::read_bytes_with(bytes, file_name.as_deref(), &options(iso, frame, dark))
-            .map_err(UiError::from)?;
+        let read =
+            crate::io::read_bytes_with(bytes, file_name.as_deref(), &options(iso, frame, dark))
+                .map_err(UiError::from)?;
         let evolver = Evolver::new(&read.target, settings.clone()).map_err(UiError::from)?;
         Ok(WrapSession {
             evolver,
