@@ -157,6 +157,8 @@ pub fn read_with(
                 &ds_f.value,
             )
         })?;
+    // Every product of sizes below fits in usize (also on 32-bit wasm).
+    checked_count(&sizes, 1, usize::MAX / 16, 1, F, Location::Line(ds_f.line))?;
     let et_f = need("ElementType")?;
     let ty = scalar_type(&et_f.value).ok_or_else(|| IoError::Unsupported {
         format: F,

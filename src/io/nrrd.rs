@@ -249,6 +249,8 @@ pub fn read_with(
                 &sf.value,
             )
         })?;
+    // Every product of sizes below fits in usize (also on 32-bit wasm).
+    checked_count(&sizes, 1, usize::MAX / 16, 1, F, Location::Line(sf.line))?;
     // Spatial axes: those with a space direction (or, without directions, the first three).
     let directions: Option<Vec<Option<Vec<f64>>>> = match h.get("space directions") {
         None => None,

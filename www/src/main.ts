@@ -4,6 +4,7 @@ import type { ColourMap, FieldView, FromRender, FromWorker, McfParams, Source, S
 import { HistogramPlot, LinePlot, RadiusPlot } from './plots';
 import { SettingsPanel } from './panel';
 import { decode, DEFAULT_VIEW, encode, flatten, validDataset, type Flat, type ViewState } from './share';
+import { VolumePanel } from './volume';
 
 const $ = <T extends HTMLElement>(id: string) => document.getElementById(id) as T;
 const status = $('status');
@@ -39,6 +40,14 @@ let lastDoneMs = 0;
 let runSeq = 0;
 
 const send = (m: ToWorker, transfer: Transferable[] = []) => worker.postMessage(m, transfer);
+const volumePanel = new VolumePanel($('volume'), {
+  onIso: (iso) => {
+    if (!panel) return;
+    setState('loading', `Wrapping at iso-value ${iso.toPrecision(4)}…`);
+    send({ type: 'volume-iso', iso, settings: panel.settings(), run: ++runSeq });
+  },
+  onSlice: (axis, index) => send({ type: 'volume-slice', axis, index }),
+});
 
 function setState(state: State, text: string): void {
   status.dataset.state = state;
@@ -203,6 +212,7 @@ function startWrap(source: Source, ds: string | null, name: string): void {
   runStart = performance.now();
   setState('loading', `Loading ${name}…`);
   $('hash').textContent = kept ? `previous result ${kept.hash.slice(0, 12)}` : '';
+  volumePanel.hide();
   send({ type: 'wrap-load', source, settings: panel.settings(), autoplay: true, run: ++runSeq }, source.kind === 'bytes' ? [source.bytes] : []);
   updateShare();
 }
@@ -364,6 +374,12 @@ function onWorkerMessage(ev: MessageEvent<FromWorker>): void {
       $('field-label').textContent = msg.label;
       break;
     }
+    case 'volume':
+      if (msg.run === runSeq) volumePanel.show(msg.info, msg.histogram, msg.iso);
+      break;
+    case 'volume-slice':
+      volumePanel.slice(msg);
+      break;
     case 'curves':
       controlPlot.set([msg.curves.delta, msg.curves.epsilon, msg.curves.eta_facing, msg.curves.eta_side]);
       break;
