@@ -41,6 +41,20 @@ try {
   await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 300000 });
   console.log(`re-wrapped at iso ${iso1.toFixed(2)}:`, await page.textContent('[data-testid=status]'));
   await page.screenshot({ path: join(shots, 'volume-iso.png') });
+  // With the shared data: the brain files wrapped at iso 128 in the browser (timing, hash).
+  const data = process.env.LSW_SHARED_DATA;
+  if (!data) console.log('skipped the brain files: LSW_SHARED_DATA unset');
+  for (const name of data ? ['gm_half.nrrd', 'mni_icbm152_gm_tal_nlin_sym_09a_converted.nii.gz'] : []) {
+    await page.setInputFiles('[data-testid=file]', join(data, name));
+    await page.waitForSelector('[data-testid=volume]:not([hidden])', { timeout: 300000 });
+    const t1 = Date.now();
+    await page.fill('#volume-iso', '128');
+    await page.dispatchEvent('#volume-iso', 'change');
+    await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 600000 });
+    const hash = await page.getAttribute('[data-testid=result-hash]', 'data-hash').catch(() => null);
+    const heap = await page.evaluate(() => (performance.memory ? performance.memory.usedJSHeapSize : 0));
+    console.log(`${name} at iso 128: ${((Date.now() - t1) / 1000).toFixed(1)} s from the iso change to done; status "${await page.textContent('[data-testid=status]')}"; hash ${hash}; JS heap ${(heap / 1e6).toFixed(0)} MB`);
+  }
 } finally {
   await browser.close();
   await server.close();
