@@ -22,7 +22,7 @@ const F: Format = Format::Nifti;
 /// True when `bytes` begin like a NIfTI header (sizeof_hdr 348 or 540 in either byte order, with
 /// the matching magic string).
 pub fn sniff(bytes: &[u8]) -> bool {
-    matches!(header_kind(bytes), Some((_, _)))
+    header_kind(bytes).is_some()
 }
 
 /// (NIfTI version 1 or 2, big-endian) from the first bytes, if they are a NIfTI header.
