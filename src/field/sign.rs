@@ -326,3 +326,77 @@ pub fn apply_mesh_sign(
     }
     kind
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashMap;
+
+    /// The edge counts by hashing every directed edge (the definition).
+    fn closure_by_hashing(triangles: &[[u32; 3]]) -> Closure {
+        let mut uses: HashMap<(u32, u32), (u32, u32)> = HashMap::new();
+        for t in triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let e = uses.entry((a.min(b), a.max(b))).or_insert((0, 0));
+                if a < b {
+                    e.0 += 1;
+                } else {
+                    e.1 += 1;
+                }
+            }
+        }
+        let mut c = Closure {
+            edges: uses.len(),
+            boundary_edges: 0,
+            bad_edges: 0,
+        };
+        for &(f, b) in uses.values() {
+            match (f, b) {
+                (1, 1) => {}
+                (1, 0) | (0, 1) => c.boundary_edges += 1,
+                _ => c.bad_edges += 1,
+            }
+        }
+        c
+    }
+
+    #[test]
+    fn star_closure_and_edge_normals_match_hashing_on_messy_soups() {
+        let mut rng = crate::demo::Rng::new(7);
+        for case in 0..40 {
+            let nv = 4 + case;
+            let points: Vec<DVec3> = (0..nv)
+                .map(|_| DVec3::new(rng.uniform(), rng.uniform(), rng.uniform()))
+                .collect();
+            // Random triangles, some with repeated vertices, some duplicated or flipped.
+            let mut tris: Vec<[u32; 3]> = (0..3 * nv)
+                .map(|_| [0; 3].map(|_| (rng.uniform() * nv as f64) as u32 % nv as u32))
+                .collect();
+            tris.push(tris[0]);
+            tris.push([tris[1][0], tris[1][2], tris[1][1]]);
+            assert_eq!(closure(&tris), closure_by_hashing(&tris), "case {case}");
+            // Edge pseudo-normals: the sum of the face normals of every use, in triangle order.
+            let stars = Stars::new(points.len(), &tris);
+            let pn = PseudoNormals::new(&points, &tris, &stars);
+            let mut by_hash: HashMap<(u32, u32), DVec3> = HashMap::new();
+            for (t, tri) in tris.iter().enumerate() {
+                for k in 0..3 {
+                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                    *by_hash.entry((a.min(b), a.max(b))).or_insert(DVec3::ZERO) += pn.face[t];
+                }
+            }
+            for (t, &tri) in tris.iter().enumerate() {
+                for k in 0..3u8 {
+                    let (a, b) = (tri[k as usize], tri[(k as usize + 1) % 3]);
+                    let got = pn.of(t, tri, TriangleFeature::Edge(k));
+                    assert_eq!(
+                        got,
+                        by_hash[&(a.min(b), a.max(b))],
+                        "case {case} t {t} k {k}"
+                    );
+                }
+            }
+        }
+    }
+}
