@@ -41,10 +41,10 @@ let runSeq = 0;
 
 const send = (m: ToWorker, transfer: Transferable[] = []) => worker.postMessage(m, transfer);
 const volumePanel = new VolumePanel($('volume'), {
-  onIso: (iso) => {
+  onIso: (iso, frame) => {
     if (!panel) return;
     setState('loading', `Wrapping at iso-value ${iso.toPrecision(4)}…`);
-    send({ type: 'volume-iso', iso, settings: panel.settings(), run: ++runSeq });
+    send({ type: 'volume-iso', iso, frame, settings: panel.settings(), run: ++runSeq });
   },
   onSlice: (axis, index) => send({ type: 'volume-slice', axis, index }),
 });

@@ -126,8 +126,8 @@ export type ToWorker =
   | { type: 'curves'; settings: Record<string, unknown> }
   /** Show the distance field: `t` ∈ [0, 1] is the slice position or the isosurface level's fraction. */
   | { type: 'field'; view: FieldView; t: number }
-  /** Volumes: wrap again at this iso-value (same frame); `run` as for a reset. */
-  | { type: 'volume-iso'; iso: number; settings: Record<string, unknown>; run: number }
+  /** Volumes: wrap again at this iso-value and volume of a 4-D file; `run` as for a reset. */
+  | { type: 'volume-iso'; iso: number; frame: number; settings: Record<string, unknown>; run: number }
   /** Volumes: send the slice normal to index axis `axis` at voxel `index`. */
   | { type: 'volume-slice'; axis: number; index: number };
 

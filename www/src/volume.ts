@@ -6,8 +6,9 @@ import type { VolumeInfo, VolumeSliceMsg } from './protocol';
 
 /** What the panel asks of the page. */
 export interface VolumeCallbacks {
-  /** The iso-value was chosen (on release of the marker or Enter in the field). */
-  onIso: (iso: number) => void;
+  /** The iso-value or the volume of a 4-D file was chosen (on release of the marker, Enter in
+   * the field, or a frame change). */
+  onIso: (iso: number, frame: number) => void;
   /** A slice is wanted: index axis 0, 1 or 2 at voxel `index`. */
   onSlice: (axis: number, index: number) => void;
 }
@@ -21,6 +22,8 @@ export class VolumePanel {
   private readonly histCanvas: HTMLCanvasElement;
   private readonly isoInput: HTMLInputElement;
   private readonly label: HTMLElement;
+  private readonly frameRow: HTMLElement;
+  private readonly frameInput: HTMLInputElement;
   private readonly sliceCanvases: HTMLCanvasElement[] = [];
   private readonly sliceRanges: HTMLInputElement[] = [];
   private readonly slices: (VolumeSliceMsg | null)[] = [null, null, null];
@@ -44,6 +47,20 @@ export class VolumePanel {
     this.isoInput.id = 'volume-iso';
     row.append(this.isoInput);
     root.append(row);
+    this.frameRow = el('label', 'volume-frame');
+    this.frameRow.textContent = 'volume (4-D file) ';
+    this.frameInput = document.createElement('input');
+    this.frameInput.type = 'number';
+    this.frameInput.min = '1';
+    this.frameInput.step = '1';
+    this.frameInput.id = 'volume-frame';
+    this.frameRow.append(this.frameInput);
+    this.frameRow.hidden = true;
+    root.append(this.frameRow);
+    this.frameInput.addEventListener('change', () => {
+      const n = Math.round(Number(this.frameInput.value));
+      if (this.info && n >= 1 && n <= this.info.frames) this.cb.onIso(this.iso, n - 1);
+    });
     const grid = el('div', 'volume-slices');
     for (let a = 0; a < 3; a++) {
       const box = el('div', 'volume-slice');
@@ -96,6 +113,9 @@ export class VolumePanel {
       `${info.format} ${nx}×${ny}×${nz} voxels of ${vs} mm, ${info.datatype}, values ${fmt(info.min)}…${fmt(info.max)}` +
       (info.frames > 1 ? `, volume ${info.frameIndex + 1} of ${info.frames}` : '') +
       `; Otsu ${info.otsu === null ? '—' : fmt(info.otsu)}; frame: ${info.frame}`;
+    this.frameRow.hidden = info.frames < 2;
+    this.frameInput.max = String(info.frames);
+    this.frameInput.value = String(info.frameIndex + 1);
     for (let a = 0; a < 3; a++) {
       this.sliceRanges[a].max = String(info.dims[a] - 1);
       this.sliceRanges[a].value = String(Math.floor(info.dims[a] / 2));
@@ -124,7 +144,7 @@ export class VolumePanel {
 
   private choose(iso: number): void {
     this.setIso(iso);
-    this.cb.onIso(this.iso);
+    this.cb.onIso(this.iso, this.info?.frameIndex ?? 0);
   }
 
   private setIso(iso: number): void {

@@ -19,7 +19,7 @@ let wrap: WrapSession | null = null;
 let result: WrapSession | null = null;
 let source: { bytes: Uint8Array; name: string } | null = null;
 /** The source read as a voxel volume (null for meshes and clouds), and the iso-value chosen. */
-let volume: { view: VolumeView; iso: number | null } | null = null;
+let volume: { view: VolumeView; iso: number | null; frame: number } | null = null;
 let wrapSettings: Record<string, unknown> = {};
 let playing = false;
 let msPerStep = 1;
@@ -169,7 +169,7 @@ function openVolume(input: { bytes: Uint8Array; name: string }): void {
   volume?.view.free();
   volume = null;
   try {
-    volume = { view: new VolumeView(input.bytes, input.name, 0), iso: null };
+    volume = { view: new VolumeView(input.bytes, input.name, 0), iso: null, frame: 0 };
   } catch {
     // Not a volume: the wrap reads it as a mesh or cloud (and reports its own errors).
   }
@@ -301,7 +301,7 @@ async function startSession(autoplay: boolean, id: number): Promise<void> {
   if (id !== runId) return;
   if (volume) postVolume();
   const session = volume
-    ? WrapSession.withVolume(source.bytes, source.name, JSON.stringify(wrapSettings), volume.iso ?? undefined, 0, false)
+    ? WrapSession.withVolume(source.bytes, source.name, JSON.stringify(wrapSettings), volume.iso ?? undefined, volume.frame, false)
     : new WrapSession(source.bytes, source.name, JSON.stringify(wrapSettings));
   wrap = session;
   const tp = session.targetPositions();
@@ -403,6 +403,12 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
           pageRun = msg.run;
           dropRun();
           volume.iso = msg.iso;
+          if (msg.frame !== volume.frame) {
+            const view = new VolumeView(source.bytes, source.name, msg.frame);
+            volume.view.free();
+            volume.view = view;
+            volume.frame = msg.frame;
+          }
           wrapSettings = msg.settings;
           startedAt = performance.now();
           await startSession(true, runId);
