@@ -15,7 +15,7 @@ use serde::Serialize;
 use wasm_bindgen::prelude::*;
 
 mod volume;
-pub use volume::VolumeView;
+pub use volume::{phantom_volume, VolumeView};
 
 /// An error as the UI sees it: a stable machine code, a sentence, and what to try.
 #[derive(Serialize, Debug, Clone, PartialEq)]

@@ -749,3 +749,31 @@ fn detached_headers_read_their_data_files() {
     assert!(e.to_string().contains("sphere.raw"), "{e}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The wasm facade in the browser: `VolumeView` (info, histogram, slices, preview), typed errors,
+/// and the gallery phantom read back through the same reader as a dropped file.
+#[cfg(target_arch = "wasm32")]
+#[wasm_bindgen_test]
+fn volume_view_facade_in_the_browser() {
+    use lsw::wasm::{phantom_volume, VolumeView};
+    use wasm_bindgen::JsValue;
+    let get = |o: &js_sys::Object, k: &str| js_sys::Reflect::get(o, &JsValue::from_str(k)).unwrap();
+    let vol = sphere_volume([10, 12, 9], 4.0);
+    let bytes = write_nifti(&vol, NiftiOpts::default());
+    let v = VolumeView::new(&bytes, Some("s.nii".into()), 0).unwrap();
+    assert_eq!(v.slice(2, 4).length(), 10 * 12);
+    assert_eq!(v.slice(0, 3).length(), 12 * 9);
+    assert_eq!(v.slice(1, 99).length(), 0);
+    let h = v.histogram(16).unwrap();
+    let counts = js_sys::Float64Array::from(get(&h, "counts"));
+    assert_eq!(counts.length(), 16);
+    assert_eq!(counts.to_vec().iter().sum::<f64>(), (10 * 12 * 9) as f64);
+    let iso = v.isosurface(0.0, false).unwrap();
+    let pos = js_sys::Float32Array::from(get(&iso, "positions"));
+    let idx = js_sys::Uint32Array::from(get(&iso, "indices"));
+    assert!(pos.length() > 0 && idx.length() % 3 == 0);
+    assert!(VolumeView::new(b"NRRD0004\ntype: float\n", Some("x.nrrd".into()), 0).is_err());
+    let ph = phantom_volume(24).to_vec();
+    let r = read_bytes(&ph, Some("phantom.nii")).unwrap();
+    assert_eq!(r.volume.unwrap().volume.dims, [24, 24, 18]);
+}
