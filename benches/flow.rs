@@ -20,7 +20,13 @@ fn bench_flow(c: &mut Criterion) {
     let mut g = c.benchmark_group("lsw_step");
     g.sample_size(20);
     for level in [4u32, 5, 6] {
-        let settings = WrapSettings { icosphere_level: level, remesh: false, schedule: vec![], steps: 100_000, ..WrapSettings::default() };
+        let settings = WrapSettings {
+            icosphere_level: level,
+            remesh: false,
+            schedule: vec![],
+            steps: 100_000,
+            ..WrapSettings::default()
+        };
         let ev = Evolver::new(&target, settings).unwrap();
         let n = ev.mesh().n_vertices();
         let mut best: Option<lsw::flow::StepReport> = None;
@@ -41,7 +47,11 @@ fn bench_flow(c: &mut Criterion) {
             t.normals + t.assembly + t.solve
         );
         g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
-            b.iter_batched_ref(|| Evolver::new(&target, ev.settings().clone()).unwrap(), |e| e.step().unwrap(), criterion::BatchSize::LargeInput)
+            b.iter_batched_ref(
+                || Evolver::new(&target, ev.settings().clone()).unwrap(),
+                |e| e.step().unwrap(),
+                criterion::BatchSize::LargeInput,
+            )
         });
     }
     g.finish();

@@ -1,6 +1,7 @@
 //! The thing to wrap: a point cloud or a triangle soup/mesh, as read from a file.
 
 use crate::geometry::aabb::Aabb;
+use crate::io::volume::{Inside, VoxelVolume};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
@@ -67,6 +68,11 @@ pub enum TargetError {
     /// A mesh whose triangles all have zero area.
     #[error("all {faces} triangles of the mesh have zero area")]
     ZeroArea { faces: usize },
+    /// A volume's level set {v = iso} is empty: the iso-value lies outside the values (or the
+    /// volume has fewer than two distinct values, so no default iso-value exists). Fix: choose
+    /// an iso-value strictly between the minimum and the maximum.
+    #[error("the iso-surface at {iso} is empty: the volume's values span [{min}, {max}]")]
+    NoIsosurface { iso: f64, min: f64, max: f64 },
 }
 
 impl Target {
@@ -166,6 +172,23 @@ impl Target {
             }
         }
         Ok(())
+    }
+
+    /// The target of a voxel volume: the closed surface S = {v = iso} (see
+    /// [`VoxelVolume::isosurface`]) in world millimetres, as a triangle mesh. The whole pipeline
+    /// (signed distance field, start surface, flow, metrics) then works on volumes unchanged; the
+    /// triangles are exact to the piecewise-linear interpolant, so the field near S is exact too.
+    pub fn from_volume(
+        volume: &VoxelVolume,
+        iso: f64,
+        inside: Inside,
+    ) -> Result<Self, TargetError> {
+        let (points, triangles) = volume.isosurface(iso, inside);
+        if triangles.is_empty() {
+            let (min, max) = volume.value_range().unwrap_or((f64::NAN, f64::NAN));
+            return Err(TargetError::NoIsosurface { iso, min, max });
+        }
+        Self::new(points, triangles)
     }
 
     /// Points or mesh.

@@ -1,15 +1,21 @@
 //! The `#[wasm_bindgen]` facade: converts core types to typed arrays and errors to
 //! `{code, message, hint}` objects. It holds no algorithm; everything here delegates to the core.
 
-use crate::flow::{self, exact_sphere_radius, EvolveError, Evolver, FlowError, McfSettings, StepReport, WrapSettings};
-use crate::io::{Format, IoError, WriteInput};
+use crate::flow::{
+    self, exact_sphere_radius, EvolveError, Evolver, FlowError, McfSettings, StepReport,
+    WrapSettings,
+};
 use crate::geometry::icosphere::{icosphere, IcosphereError};
 use crate::geometry::sphere::mean_radius;
+use crate::io::{Format, IoError, WriteInput};
 use crate::mesh::HalfedgeMesh;
 use glam::DVec3;
 use js_sys::{Float32Array, Uint32Array};
 use serde::Serialize;
 use wasm_bindgen::prelude::*;
+
+mod volume;
+pub use volume::{phantom_volume, VolumeView};
 
 /// An error as the UI sees it: a stable machine code, a sentence, and what to try.
 #[derive(Serialize, Debug, Clone, PartialEq)]
@@ -57,10 +63,14 @@ impl From<IoError> for UiError {
     fn from(e: IoError) -> Self {
         let hint = match e {
             IoError::Empty { .. } => "The file is empty: choose another file.",
-            IoError::UnknownFormat { .. } => "Use PLY, OBJ, STL, OFF, XYZ/CSV, glTF or GLB.",
+            IoError::UnknownFormat { .. } => "Use PLY, OBJ, STL, OFF, XYZ/CSV, glTF or GLB, or a NIfTI, NRRD, VTI or MetaImage volume.",
             _ => "The file looks damaged or is not what its name says; re-export it from its source program.",
         };
-        UiError { code: "bad-file", message: e.to_string(), hint }
+        UiError {
+            code: "bad-file",
+            message: e.to_string(),
+            hint,
+        }
     }
 }
 
@@ -75,7 +85,11 @@ impl From<EvolveError> for UiError {
             EvolveError::Target(_) => ("bad-target", "The target needs at least 4 points spread in 3-D: not a single point, a line or a flat sheet (a thin plate with some thickness is fine)."),
             _ => ("internal", "Try another preset; if it persists, report a bug with the share link."),
         };
-        UiError { code, message: e.to_string(), hint }
+        UiError {
+            code,
+            message: e.to_string(),
+            hint,
+        }
     }
 }
 
@@ -220,7 +234,10 @@ impl McfSession {
 
 /// Flat `Float32Array` of 3-vectors.
 fn vec3_array(v: &[DVec3]) -> Float32Array {
-    let flat: Vec<f32> = v.iter().flat_map(|p| [p.x as f32, p.y as f32, p.z as f32]).collect();
+    let flat: Vec<f32> = v
+        .iter()
+        .flat_map(|p| [p.x as f32, p.y as f32, p.z as f32])
+        .collect();
     Float32Array::from(flat.as_slice())
 }
 
@@ -239,7 +256,11 @@ impl WrapSession {
     /// Reads `bytes` (format sniffed from content, `file_name` breaks ties) and prepares the
     /// wrap with `settings_json` (a `WrapSettings` JSON object; missing keys default).
     #[wasm_bindgen(constructor)]
-    pub fn new(bytes: &[u8], file_name: Option<String>, settings_json: &str) -> Result<WrapSession, JsValue> {
+    pub fn new(
+        bytes: &[u8],
+        file_name: Option<String>,
+        settings_json: &str,
+    ) -> Result<WrapSession, JsValue> {
         let settings = WrapSettings::from_json(settings_json).map_err(|e| UiError {
             code: "bad-parameter",
             message: format!("settings: {e}"),
@@ -248,7 +269,13 @@ impl WrapSession {
         let read = crate::io::read_bytes(bytes, file_name.as_deref()).map_err(UiError::from)?;
         let evolver = Evolver::new(&read.target, settings.clone()).map_err(UiError::from)?;
         let settings_json = serde_json::to_string(&settings).unwrap_or_default();
-        Ok(WrapSession { evolver, target: read.target, format: read.format, settings_json, last: None })
+        Ok(WrapSession {
+            evolver,
+            target: read.target,
+            format: read.format,
+            settings_json,
+            last: None,
+        })
     }
 
     /// Runs up to `n` steps; returns true when the wrap is done.
@@ -309,7 +336,9 @@ impl WrapSession {
 
     /// Angle-weighted unit vertex normals.
     pub fn normals(&self) -> Float32Array {
-        vec3_array(&crate::geometry::normals::angle_weighted_normals(self.evolver.mesh()))
+        vec3_array(&crate::geometry::normals::angle_weighted_normals(
+            self.evolver.mesh(),
+        ))
     }
 
     /// Surface triangles as a flat `Uint32Array`.
@@ -325,7 +354,10 @@ impl WrapSession {
         let mesh = self.evolver.mesh();
         let values: Vec<f64> = match name {
             "distance" => self.evolver.vertex_distances(),
-            "curvature" => flow::mcf::mean_curvature(mesh).into_iter().map(|h| h * self.evolver.scale()).collect(),
+            "curvature" => flow::mcf::mean_curvature(mesh)
+                .into_iter()
+                .map(|h| h * self.evolver.scale())
+                .collect(),
             "kappa" => crate::metrics::quality::vertex_kappa(mesh),
             "covolume" => flow::CotanLaplacian::new(mesh).covolumes,
             "features" => {
@@ -333,7 +365,12 @@ impl WrapSession {
                 f.vertices.into_iter().map(|b| b as u8 as f64).collect()
             }
             other => {
-                return Err(UiError { code: "bad-parameter", message: format!("unknown scalar \"{other}\""), hint: "Use distance, curvature, kappa, covolume or features." }.into())
+                return Err(UiError {
+                    code: "bad-parameter",
+                    message: format!("unknown scalar \"{other}\""),
+                    hint: "Use distance, curvature, kappa, covolume or features.",
+                }
+                .into())
             }
         };
         let flat: Vec<f32> = values.into_iter().map(|x| x as f32).collect();
@@ -350,10 +387,22 @@ impl WrapSession {
         })?;
         let (positions, triangles) = (self.evolver.positions(), self.evolver.triangles());
         let distance = self.evolver.vertex_distances();
-        let curvature: Vec<f64> = flow::mcf::mean_curvature(self.evolver.mesh()).into_iter().map(|h| h * self.evolver.scale()).collect();
+        let curvature: Vec<f64> = flow::mcf::mean_curvature(self.evolver.mesh())
+            .into_iter()
+            .map(|h| h * self.evolver.scale())
+            .collect();
         let kappa = crate::metrics::quality::vertex_kappa(self.evolver.mesh());
-        let scalars = [("distance", distance.as_slice()), ("mean_curvature", curvature.as_slice()), ("kappa", kappa.as_slice())];
-        let input = WriteInput { positions: &positions, triangles: &triangles, scalars: &scalars, settings_json: Some(&self.settings_json) };
+        let scalars = [
+            ("distance", distance.as_slice()),
+            ("mean_curvature", curvature.as_slice()),
+            ("kappa", kappa.as_slice()),
+        ];
+        let input = WriteInput {
+            positions: &positions,
+            triangles: &triangles,
+            scalars: &scalars,
+            settings_json: Some(&self.settings_json),
+        };
         let bytes = crate::io::write_bytes(fmt, &input).map_err(UiError::from)?;
         Ok(js_sys::Uint8Array::from(bytes.as_slice()))
     }
@@ -363,6 +412,12 @@ impl WrapSession {
     pub fn certificate(&self) -> Result<JsValue, JsValue> {
         let c = crate::metrics::certificate::certify(&self.evolver.positions(), &self.evolver.triangles(), Some(&self.target));
         serde_wasm_bindgen::to_value(&c).map_err(|e| JsValue::from_str(&e.to_string()))
+    }
+
+    /// The step limit in force (the start's own when `auto` resolved to the isosurface start).
+    #[wasm_bindgen(js_name = stepLimit)]
+    pub fn step_limit(&self) -> u32 {
+        self.evolver.settings().steps
     }
 
     /// Why the wrap stopped before its rule said so (divergence, solver failure), or null.
@@ -404,18 +459,25 @@ impl From<crate::demo::DemoError> for UiError {
             crate::demo::DemoError::UnknownShape(_) => "Use noisy-sphere, genus2 or box-soup.",
             crate::demo::DemoError::BadMesh(_) => "Pass a triangle mesh with non-degenerate faces.",
         };
-        UiError { code: "bad-parameter", message: e.to_string(), hint }
+        UiError {
+            code: "bad-parameter",
+            message: e.to_string(),
+            hint,
+        }
     }
 }
 
 /// Flat f32 triples → points (a trailing partial triple is ignored).
 fn points_from_flat(flat: &[f32]) -> Vec<DVec3> {
-    flat.chunks_exact(3).map(|c| DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64)).collect()
+    flat.chunks_exact(3)
+        .map(|c| DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64))
+        .collect()
 }
 
 /// PLY bytes of points (+ triangles), as the worker feeds to `WrapSession::new`.
 fn ply_bytes(points: &[DVec3], triangles: &[[u32; 3]]) -> Result<js_sys::Uint8Array, JsValue> {
-    let bytes = crate::io::write_bytes(Format::Ply, &WriteInput::new(points, triangles)).map_err(UiError::from)?;
+    let bytes = crate::io::write_bytes(Format::Ply, &WriteInput::new(points, triangles))
+        .map_err(UiError::from)?;
     Ok(js_sys::Uint8Array::from(bytes.as_slice()))
 }
 
@@ -429,11 +491,20 @@ pub fn demo_shape(name: &str) -> Result<js_sys::Uint8Array, JsValue> {
 /// A mesh given as flat positions and triangle indices, as PLY bytes; with `samples > 0`, a
 /// point cloud (no normals) of that many points sampled uniformly by area (seeded).
 #[wasm_bindgen(js_name = demoMesh)]
-pub fn demo_mesh(positions: &[f32], indices: &[u32], samples: u32, seed: u32) -> Result<js_sys::Uint8Array, JsValue> {
+pub fn demo_mesh(
+    positions: &[f32],
+    indices: &[u32],
+    samples: u32,
+    seed: u32,
+) -> Result<js_sys::Uint8Array, JsValue> {
     let points = points_from_flat(positions);
-    let triangles: Vec<[u32; 3]> = indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let triangles: Vec<[u32; 3]> = indices
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
     if samples > 0 {
-        let cloud = crate::demo::sample_mesh(&points, &triangles, samples as usize, seed as u64).map_err(UiError::from)?;
+        let cloud = crate::demo::sample_mesh(&points, &triangles, samples as usize, seed as u64)
+            .map_err(UiError::from)?;
         ply_bytes(&cloud, &[])
     } else {
         ply_bytes(&points, &triangles)
@@ -443,15 +514,23 @@ pub fn demo_mesh(positions: &[f32], indices: &[u32], samples: u32, seed: u32) ->
 /// A mesh held by the page (flat positions and indices) written as "obj", "ply", "stl", "glb" or
 /// "vtk": exports a kept result after its session is gone.
 #[wasm_bindgen(js_name = exportMesh)]
-pub fn export_mesh(positions: &[f32], indices: &[u32], format: &str) -> Result<js_sys::Uint8Array, JsValue> {
+pub fn export_mesh(
+    positions: &[f32],
+    indices: &[u32],
+    format: &str,
+) -> Result<js_sys::Uint8Array, JsValue> {
     let fmt = Format::from_extension(format).ok_or_else(|| UiError {
         code: "bad-parameter",
         message: format!("cannot export as \"{format}\""),
         hint: "Choose OBJ, PLY, STL, GLB or VTK.",
     })?;
     let points = points_from_flat(positions);
-    let triangles: Vec<[u32; 3]> = indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
-    let bytes = crate::io::write_bytes(fmt, &WriteInput::new(&points, &triangles)).map_err(UiError::from)?;
+    let triangles: Vec<[u32; 3]> = indices
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
+    let bytes = crate::io::write_bytes(fmt, &WriteInput::new(&points, &triangles))
+        .map_err(UiError::from)?;
     Ok(js_sys::Uint8Array::from(bytes.as_slice()))
 }
 
@@ -472,8 +551,10 @@ pub fn control_curves(settings_json: &str, n: u32) -> Result<JsValue, JsValue> {
 /// settings JSON (`tau`, `field.band_cells`, …).
 #[wasm_bindgen(js_name = settingsDocs)]
 pub fn settings_docs() -> String {
-    let map: serde_json::Map<String, serde_json::Value> =
-        crate::demo::settings_docs().into_iter().map(|(k, v)| (k, serde_json::Value::String(v))).collect();
+    let map: serde_json::Map<String, serde_json::Value> = crate::demo::settings_docs()
+        .into_iter()
+        .map(|(k, v)| (k, serde_json::Value::String(v)))
+        .collect();
     serde_json::Value::Object(map).to_string()
 }
 
@@ -496,10 +577,13 @@ impl WrapSession {
         let (p, t) = (self.evolver.positions(), self.evolver.triangles());
         let k: Vec<f64> = t
             .iter()
-            .map(|f| crate::metrics::quality::kappa(p[f[0] as usize], p[f[1] as usize], p[f[2] as usize]))
+            .map(|f| {
+                crate::metrics::quality::kappa(p[f[0] as usize], p[f[1] as usize], p[f[2] as usize])
+            })
             .collect();
         let hi = if hi > 1.0 && hi.is_finite() { hi } else { 3.0 };
-        let h = crate::metrics::histogram::Histogram::new(&k, 1.0, hi, bins.clamp(1, 1000) as usize);
+        let h =
+            crate::metrics::histogram::Histogram::new(&k, 1.0, hi, bins.clamp(1, 1000) as usize);
         serde_wasm_bindgen::to_value(&h).map_err(|e| JsValue::from_str(&e.to_string()))
     }
 }
@@ -516,10 +600,18 @@ fn set_key(obj: &js_sys::Object, key: &str, value: &JsValue) -> Result<(), JsVal
 /// half a cell for unsigned fields (their zero set is the target itself, not a surface).
 fn field_iso_level(level: f64, phi: f64, cell_scaled: f64, signed: bool) -> Result<f64, UiError> {
     if !level.is_finite() {
-        return Err(UiError { code: "bad-parameter", message: format!("isosurface level {level} is not a number"), hint: "Give a finite level in the target's units." });
+        return Err(UiError {
+            code: "bad-parameter",
+            message: format!("isosurface level {level} is not a number"),
+            hint: "Give a finite level in the target's units.",
+        });
     }
     let scaled = level * phi;
-    Ok(if signed { scaled } else { scaled.max(0.5 * cell_scaled) })
+    Ok(if signed {
+        scaled
+    } else {
+        scaled.max(0.5 * cell_scaled)
+    })
 }
 
 #[wasm_bindgen]
@@ -532,11 +624,12 @@ impl WrapSession {
     #[wasm_bindgen(js_name = fieldSlice)]
     pub fn field_slice(&self, axis: u32, t: f64) -> Result<js_sys::Object, JsValue> {
         let field = self.evolver.field();
-        let plane = crate::field::slice::node_plane(field, axis as usize, t).ok_or_else(|| UiError {
-            code: "bad-parameter",
-            message: format!("no field slice for axis {axis} at {t}"),
-            hint: "Use axis 0, 1 or 2 (x, y, z) and a position between 0 and 1.",
-        })?;
+        let plane =
+            crate::field::slice::node_plane(field, axis as usize, t).ok_or_else(|| UiError {
+                code: "bad-parameter",
+                message: format!("no field slice for axis {axis} at {t}"),
+                hint: "Use axis 0, 1 or 2 (x, y, z) and a position between 0 and 1.",
+            })?;
         let (phi, center) = (self.evolver.scale(), self.target.bbox.center());
         let corners: Vec<DVec3> = plane.corners.iter().map(|&p| p / phi + center).collect();
         let values: Vec<f32> = plane.values.iter().map(|&d| (d / phi) as f32).collect();

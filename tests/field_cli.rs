@@ -20,6 +20,7 @@ fn sdf_prints_json_and_writes_vtk() {
         truncate: None,
         unsigned: false,
         out: Some(out.clone()),
+        volume: Default::default(),
     };
     let text = run(&args).unwrap();
     println!("{text}");
@@ -67,6 +68,7 @@ fn sdf_prints_json_and_writes_vtk() {
         truncate: None,
         unsigned: false,
         out: None,
+        volume: Default::default(),
     })
     .unwrap_err();
     assert!(err.contains("no_such_file"), "{err}");

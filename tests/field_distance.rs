@@ -240,7 +240,12 @@ fn bad_inputs_give_typed_errors() {
     let flat: Vec<DVec3> = (0..400)
         .map(|i| DVec3::new((i % 20) as f64 * 0.1, (i / 20) as f64 * 0.05, 0.0))
         .collect();
-    let f = DistanceField::new(&Target::new(flat, vec![]).unwrap(), &s).unwrap();
+    // (Its points lie 0.05 apart: without the sparse-cloud floor, which would coarsen the grid.)
+    let dense = FieldSettings {
+        min_cell_spacings: 0.0,
+        ..s.clone()
+    };
+    let f = DistanceField::new(&Target::new(flat, vec![]).unwrap(), &dense).unwrap();
     assert!((f.cell_size() - 0.95 / 40.0).abs() < 1e-12);
     assert!(f.dims().iter().all(|&n| n >= 2) && f.values().iter().all(|v| v.is_finite()));
     // A line (two flat sides) also works; identical points do not.
@@ -309,7 +314,12 @@ fn bunny_sized_cloud_timing() {
     // in the browser, for benches/RESULTS.md).
     let t = Target::new(bunny_sized_cloud(11_988), vec![]).unwrap();
     let t0 = lsw::clock::now_ms();
-    let f = field(&t);
+    // The synthetic cloud is sparser than the real scan: keep the paper's grid regardless.
+    let settings = FieldSettings {
+        min_cell_spacings: 0.0,
+        ..FieldSettings::default()
+    };
+    let f = DistanceField::new(&t, &settings).unwrap();
     let ms = lsw::clock::now_ms() - t0;
     let msg = format!(
         "bunny-sized synthetic cloud: dims {:?}, {ms:.1} ms total, {:?}, {:?}",

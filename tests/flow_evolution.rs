@@ -9,7 +9,11 @@ wasm_bindgen_test_configure!(run_in_browser);
 
 /// `n` points spread evenly on a sphere of radius `r`.
 fn sphere_cloud(n: usize, r: f64) -> Target {
-    Target::new(fibonacci_sphere(n).into_iter().map(|p| r * p).collect(), vec![]).unwrap()
+    Target::new(
+        fibonacci_sphere(n).into_iter().map(|p| r * p).collect(),
+        vec![],
+    )
+    .unwrap()
 }
 
 #[wasm_bindgen_test(unsupported = test)]
@@ -46,7 +50,12 @@ fn wraps_a_sphere_cloud_onto_radius_r_plus_d0_and_stops_by_itself() {
     let r = 1.0;
     let target = sphere_cloud(20_000, r);
     // The evolution proper settles on d = d₀; the final fit (checked below) then moves it onto R.
-    let settings = WrapSettings { steps: 400, schedule: vec![3, 10, 20, 50], final_fit: false, ..WrapSettings::default() };
+    let settings = WrapSettings {
+        steps: 400,
+        schedule: vec![3, 10, 20, 50],
+        final_fit: false,
+        ..WrapSettings::default()
+    };
     let mut ev = Evolver::new(&target, settings.clone()).unwrap();
     // The default radius rule gives exactly 2R for a sphere's bounding cube.
     let start = mean_radius(&ev.positions());
@@ -76,13 +85,26 @@ fn wraps_a_sphere_cloud_onto_radius_r_plus_d0_and_stops_by_itself() {
     );
     assert!(worst < 0.5 * cell, "worst deviation {worst}");
 
-    let mut fitted = Evolver::new(&target, WrapSettings { final_fit: true, ..settings.clone() }).unwrap();
+    let mut fitted = Evolver::new(
+        &target,
+        WrapSettings {
+            final_fit: true,
+            ..settings.clone()
+        },
+    )
+    .unwrap();
     fitted.run(|_| {}).unwrap();
     fitted.mesh().validate().unwrap();
     let radii: Vec<f64> = fitted.positions().iter().map(|p| p.length()).collect();
     let worst = radii.iter().map(|x| (x - r).abs()).fold(0.0, f64::max);
-    println!("after the final fit: worst |r − R| = {:.4} cells", worst / cell);
-    assert!(worst < 0.1 * cell, "final fit left a vertex {worst} from the sphere");
+    println!(
+        "after the final fit: worst |r − R| = {:.4} cells",
+        worst / cell
+    );
+    assert!(
+        worst < 0.1 * cell,
+        "final fit left a vertex {worst} from the sphere"
+    );
 }
 
 #[wasm_bindgen_test(unsupported = test)]

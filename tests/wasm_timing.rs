@@ -23,7 +23,13 @@ fn sphere_cloud(n: usize) -> Target {
 fn time_lsw_steps_by_size() {
     let target = sphere_cloud(20_000);
     for level in [4u32, 5, 6] {
-        let settings = WrapSettings { icosphere_level: level, remesh: false, schedule: vec![], steps: 1000, ..WrapSettings::default() };
+        let settings = WrapSettings {
+            icosphere_level: level,
+            remesh: false,
+            schedule: vec![],
+            steps: 1000,
+            ..WrapSettings::default()
+        };
         // The first step from the start surface (as the native criterion bench times it): best
         // of three fresh evolvers, whole step and its phases.
         let (mut best, mut best_phases) = (f64::INFINITY, [0.0; 3]);
@@ -70,13 +76,19 @@ fn time_lsw_steps_by_size() {
 #[wasm_bindgen_test]
 fn time_mcf_step_level6() {
     let mut mesh = icosphere(6, 1.0, DVec3::ZERO).unwrap();
-    let settings = McfSettings { tau: 1e-4, ..Default::default() };
+    let settings = McfSettings {
+        tau: 1e-4,
+        ..Default::default()
+    };
     mcf_step(&mut mesh, &settings).unwrap();
     let t0 = now_ms();
     for _ in 0..5 {
         mcf_step(&mut mesh, &settings).unwrap();
     }
-    console_log!("wasm MCF step, level 6 (40 962 vertices): {:.2} ms", (now_ms() - t0) / 5.0);
+    console_log!(
+        "wasm MCF step, level 6 (40 962 vertices): {:.2} ms",
+        (now_ms() - t0) / 5.0
+    );
 }
 
 #[wasm_bindgen_test]
@@ -86,5 +98,9 @@ fn time_bunny_sized_field() {
     let target = sphere_cloud(11_988);
     let t0 = now_ms();
     let f = lsw::field::DistanceField::new(&target, &lsw::field::FieldSettings::default()).unwrap();
-    console_log!("wasm distance field, {:?} nodes from 11 988 points: {:.1} ms", f.dims(), now_ms() - t0);
+    console_log!(
+        "wasm distance field, {:?} nodes from 11 988 points: {:.1} ms",
+        f.dims(),
+        now_ms() - t0
+    );
 }

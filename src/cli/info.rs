@@ -1,7 +1,7 @@
 //! `lsw info FILE`: reads a geometry file and prints what it holds, as JSON — the quickest way
 //! to check that a scan or mesh will be accepted, and what kind of target it makes.
 
-use crate::io::{read_path, ReadResult};
+use crate::io::{read_path_with, ReadResult};
 use crate::mesh::HalfedgeMesh;
 use crate::target::TargetKind;
 use serde_json::json;
@@ -10,13 +10,19 @@ use std::path::PathBuf;
 /// Arguments of `lsw info`.
 #[derive(clap::Args, Debug)]
 pub struct InfoArgs {
-    /// The file to inspect (PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF, GLB, VTK).
+    /// The file to inspect (PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF, GLB, VTK; volumes NIfTI,
+    /// NRRD, VTI, MetaImage).
     pub file: PathBuf,
+    /// Volume inputs: iso-value, frame, inside, array, iso-surface output.
+    #[command(flatten)]
+    pub volume: super::volume::VolumeArgs,
 }
 
 /// The JSON `lsw info` prints for a read file. Keys: file, format, encoding, kind, vertices,
 /// faces, bbox {min, max, diagonal}; for meshes also closed, manifold, manifold_problem,
-/// euler_characteristic, edges, boundary_edges, non_manifold_edges, isolated_vertices.
+/// euler_characteristic, edges, boundary_edges, non_manifold_edges, isolated_vertices; for
+/// volumes also `volume` (see [`super::volume::volume_json`]; the mesh keys then describe the
+/// iso-surface).
 pub fn info_json(file: &str, r: &ReadResult) -> serde_json::Value {
     let t = &r.target;
     let mut v = json!({
@@ -32,9 +38,17 @@ pub fn info_json(file: &str, r: &ReadResult) -> serde_json::Value {
             "diagonal": t.bbox.diagonal(),
         },
     });
+    if let Some(vr) = &r.volume {
+        v.as_object_mut()
+            .expect("object")
+            .insert("volume".into(), super::volume::volume_json(vr));
+    }
     if t.kind() == TargetKind::Mesh {
-        let crate::mesh::EdgeCounts { edges, boundary, non_manifold: over } =
-            crate::mesh::edge_counts(&t.triangles);
+        let crate::mesh::EdgeCounts {
+            edges,
+            boundary,
+            non_manifold: over,
+        } = crate::mesh::edge_counts(&t.triangles);
         let mut used = vec![false; t.points.len()];
         for &i in t.triangles.iter().flatten() {
             used[i as usize] = true;
@@ -71,7 +85,8 @@ pub fn info_json(file: &str, r: &ReadResult) -> serde_json::Value {
 
 /// Reads the file and returns the pretty JSON; the error message names format and position.
 pub fn run(a: &InfoArgs) -> Result<String, String> {
-    let r = read_path(&a.file).map_err(|e| e.to_string())?;
+    let r = read_path_with(&a.file, &a.volume.options()).map_err(|e| e.to_string())?;
+    a.volume.write_isosurface(&r)?;
     let v = info_json(&a.file.display().to_string(), &r);
     Ok(serde_json::to_string_pretty(&v).expect("JSON of plain values"))
 }

@@ -8,6 +8,7 @@ pub mod info;
 pub mod mcf;
 pub mod metrics;
 pub mod sdf;
+pub mod volume;
 pub mod wrap;
 
 use clap::{Parser, Subcommand};

@@ -28,6 +28,9 @@ pub struct SdfArgs {
     /// Write the field (distance, band flag, gradient) as a legacy VTK structured-points file.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Volume inputs: iso-value, frame, inside, array, iso-surface output.
+    #[command(flatten)]
+    pub volume: super::volume::VolumeArgs,
 }
 
 /// Runs `lsw sdf`. JSON keys: input, kind, points, triangles, dims, nodes, cell_size, origin,
@@ -35,7 +38,10 @@ pub struct SdfArgs {
 /// memory_bytes, times_ms {read, band, sweep, sign, gradient, field, write}, out.
 pub fn run(a: &SdfArgs) -> Result<String, String> {
     let t0 = crate::clock::now_ms();
-    let read = crate::io::read_path(&a.input).map_err(|e| e.to_string())?;
+    let read =
+        crate::io::read_path_with(&a.input, &a.volume.options()).map_err(|e| e.to_string())?;
+    a.volume.write_isosurface(&read)?;
+    let volume = read.volume.as_deref().map(super::volume::volume_json);
     let target = read.target;
     let t1 = crate::clock::now_ms();
     let settings = FieldSettings {
@@ -88,6 +94,7 @@ pub fn run(a: &SdfArgs) -> Result<String, String> {
             "write": t3 - t2,
         },
         "out": a.out.as_ref().map(|p| p.display().to_string()),
+        "volume": volume,
     }))
     .expect("JSON of plain values"))
 }

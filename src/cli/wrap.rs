@@ -1,7 +1,7 @@
 //! `lsw wrap INPUT -o OUTPUT`: the whole pipeline, read → field → start surface → evolve → write.
 
 use crate::flow::{Evolver, Preset, StepReport, WrapSettings};
-use crate::io::{read_path, write_path, WriteInput};
+use crate::io::{read_path_with, write_path, WriteInput};
 use crate::metrics::certificate::certify;
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -35,6 +35,9 @@ pub struct WrapArgs {
     /// exit status is still non-zero.
     #[arg(long)]
     pub keep_invalid: bool,
+    /// Volume inputs: iso-value, frame, inside, array, iso-surface output.
+    #[command(flatten)]
+    pub volume: super::volume::VolumeArgs,
 }
 
 /// Applies `key=value` overrides to the settings' JSON form; unknown keys are errors.
@@ -66,7 +69,8 @@ pub fn apply_overrides(
 /// self_intersections, degenerate_faces, distance_min, distance_max, problem}, contacts,
 /// vertices, faces, steps, stopped_early,
 /// scale, result_hash, iso_level, times_ms {read, field, start, evolve, write, total}, evolve_ms {normals,
-/// assembly, solve, remesh}, distance_mean, distance_max.
+/// assembly, solve, remesh}, distance_mean, distance_max; for volumes also iso (the iso-value
+/// wrapped) and volume (see [`super::volume::volume_json`]).
 pub fn run(a: &WrapArgs) -> Result<String, String> {
     let t0 = crate::clock::now_ms();
     let preset = Preset::from_name(&a.preset).ok_or_else(|| {
@@ -84,7 +88,8 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
             format!("unknown start surface \"{start}\" (use auto, icosphere or isosurface)")
         })?;
     }
-    let read = read_path(&a.input).map_err(|e| e.to_string())?;
+    let read = read_path_with(&a.input, &a.volume.options()).map_err(|e| e.to_string())?;
+    a.volume.write_isosurface(&read)?;
     let t_read = crate::clock::now_ms();
     let mut ev = Evolver::new(&read.target, settings.clone()).map_err(|e| e.to_string())?;
     let t_setup = crate::clock::now_ms();
@@ -153,6 +158,8 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
         "iso_level": ev.iso_level(),
         "distance_mean": last.map_or(0.0, |r| r.distance_mean),
         "distance_max": last.map_or(0.0, |r| r.distance_max),
+        "iso": read.volume.as_ref().map(|v| v.iso),
+        "volume": read.volume.as_deref().map(super::volume::volume_json),
         "field_ms": field,
         "times_ms": {
             "read": t_read - t0,

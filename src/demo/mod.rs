@@ -11,6 +11,8 @@
 
 pub mod shapes;
 
+pub mod phantom;
+
 use crate::flow::controls::Controls;
 use crate::flow::WrapSettings;
 use glam::DVec3;

@@ -113,6 +113,9 @@ pub fn triangles_band(
     let n = grid.node_count();
     let [nx, ny, _] = grid.dims;
     let mut d2 = vec![init * init; n];
+    // √d2, kept so the bounding-sphere rejection below needs no square root per node visit
+    // (with many triangles much smaller than a cell almost every visit is rejected).
+    let mut d1 = vec![init; n];
     let mut nearest = vec![u32::MAX; n];
     for (t, tri) in triangles.iter().enumerate() {
         let [a, b, c] = tri.map(|v| points[v as usize]);
@@ -165,8 +168,9 @@ pub fn triangles_band(
                     // Cheap lower bound from the bounding sphere: skip nodes that already hold
                     // a value no farther than the sphere (most nodes, where neighbouring
                     // triangles' regions overlap).
-                    let lb = ((p - centre).length() - radius).max(0.0);
-                    if lb * lb >= d2[row + ix] {
+                    // (|p − centre| − radius ≥ d ⇔ |p − centre|² ≥ (radius + d)².)
+                    let reach = radius + d1[row + ix];
+                    if (p - centre).length_squared() >= reach * reach {
                         continue;
                     }
                     let q = closest_point_on_triangle(p, a, b, c).0;
@@ -174,6 +178,7 @@ pub fn triangles_band(
                     let i = row + ix;
                     if s < d2[i] {
                         d2[i] = s;
+                        d1[i] = s.sqrt();
                         nearest[i] = t as u32;
                     }
                 }

@@ -7,9 +7,9 @@ pub mod laplacian;
 pub mod mcf;
 pub mod scaling;
 pub mod settings;
-pub mod surface_terms;
 pub mod snap;
 pub mod start;
+pub mod surface_terms;
 pub mod tangential;
 
 pub use evolver::{EvolveError, Evolver, PhaseTimes, StepReport};

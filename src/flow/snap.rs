@@ -38,8 +38,17 @@ impl PointGrid {
     /// Buckets `points` into cells of size `cell` (> 0).
     pub fn new(points: &[DVec3], cell: f64) -> Self {
         let bbox = crate::geometry::aabb::Aabb::from_points(points);
-        let dims = ((bbox.size() / cell).floor() + DVec3::ONE).to_array().map(|d| (d as usize).clamp(1, 1 << 10));
-        let mut g = PointGrid { points: points.to_vec(), origin: bbox.min, cell, dims, start: vec![0; dims[0] * dims[1] * dims[2] + 1], order: vec![0; points.len()] };
+        let dims = ((bbox.size() / cell).floor() + DVec3::ONE)
+            .to_array()
+            .map(|d| (d as usize).clamp(1, 1 << 10));
+        let mut g = PointGrid {
+            points: points.to_vec(),
+            origin: bbox.min,
+            cell,
+            dims,
+            start: vec![0; dims[0] * dims[1] * dims[2] + 1],
+            order: vec![0; points.len()],
+        };
         let keys: Vec<usize> = points.iter().map(|&p| g.key(g.cell_of(p))).collect();
         for &k in &keys {
             g.start[k + 1] += 1;
@@ -94,7 +103,12 @@ pub enum SnapTarget {
 }
 
 /// Moves vertices along `normals` onto the target; returns how many moved.
-pub fn snap_to_target(mesh: &mut HalfedgeMesh, normals: &[DVec3], target: &SnapTarget, params: &SnapParams) -> usize {
+pub fn snap_to_target(
+    mesh: &mut HalfedgeMesh,
+    normals: &[DVec3],
+    target: &SnapTarget,
+    params: &SnapParams,
+) -> usize {
     let moves: Vec<Option<DVec3>> = mesh
         .positions()
         .iter()
@@ -122,7 +136,13 @@ pub fn snap_to_target(mesh: &mut HalfedgeMesh, normals: &[DVec3], target: &SnapT
     // Undo moves that would fold a face (turn its normal by more than 60°): the fit must not
     // create self-intersections where the offset surface bridges a hole or a narrow gap.
     for _ in 0..4 {
-        let apply = |i: usize| if accept[i] { moves[i].unwrap_or(old[i]) } else { old[i] };
+        let apply = |i: usize| {
+            if accept[i] {
+                moves[i].unwrap_or(old[i])
+            } else {
+                old[i]
+            }
+        };
         let mut changed = false;
         let mut reject = vec![];
         for f in 0..mesh.n_faces() as u32 {
@@ -174,7 +194,11 @@ fn plane_offset(grid: &PointGrid, p: DVec3, n: DVec3, params: &SnapParams) -> Op
     let keep = shallowest + 0.5 * params.radius;
     let (mut wsum, mut c, mut count) = (0.0, DVec3::ZERO, 0usize);
     for (q, depth) in &mut near {
-        let w = if *depth <= keep { (-(*q - p).length_squared() / h2).exp() } else { 0.0 };
+        let w = if *depth <= keep {
+            (-(*q - p).length_squared() / h2).exp()
+        } else {
+            0.0
+        };
         *depth = w;
         if w > 0.0 {
             wsum += w;
@@ -193,7 +217,14 @@ fn plane_offset(grid: &PointGrid, p: DVec3, n: DVec3, params: &SnapParams) -> Op
         cov += *w * v * v.transpose();
     }
     let eig = SymmetricEigen::new(cov);
-    let (imin, _) = eig.eigenvalues.iter().enumerate().fold((0, f64::INFINITY), |a, (i, &v)| if v < a.1 { (i, v) } else { a });
+    let (imin, _) = eig
+        .eigenvalues
+        .iter()
+        .enumerate()
+        .fold(
+            (0, f64::INFINITY),
+            |a, (i, &v)| if v < a.1 { (i, v) } else { a },
+        );
     let m = eig.eigenvectors.column(imin);
     let m = DVec3::new(m[0], m[1], m[2]);
     let cos = m.dot(n);
@@ -215,15 +246,35 @@ mod tests {
         let grid = PointGrid::new(&pts, 0.05);
         let mut mesh = icosphere(4, 1.05, DVec3::ZERO).unwrap();
         let normals: Vec<DVec3> = mesh.positions().iter().map(|p| p.normalize()).collect();
-        let params = SnapParams { radius: 0.1, max_move: 0.2, min_points: 6 };
+        let params = SnapParams {
+            radius: 0.1,
+            max_move: 0.2,
+            min_points: 6,
+        };
         let moved = snap_to_target(&mut mesh, &normals, &SnapTarget::Points(grid), &params);
         assert_eq!(moved, mesh.n_vertices());
-        let worst = mesh.positions().iter().map(|p| (p.length() - 1.0).abs()).fold(0.0, f64::max);
+        let worst = mesh
+            .positions()
+            .iter()
+            .map(|p| (p.length() - 1.0).abs())
+            .fold(0.0, f64::max);
         assert!(worst < 2e-3, "worst radial error {worst}");
         // A move longer than the limit is refused.
         let mut far = icosphere(2, 1.5, DVec3::ZERO).unwrap();
         let normals: Vec<DVec3> = far.positions().iter().map(|p| p.normalize()).collect();
-        let params = SnapParams { radius: 0.1, max_move: 0.2, min_points: 6 };
-        assert_eq!(snap_to_target(&mut far, &normals, &SnapTarget::Points(PointGrid::new(&pts, 0.05)), &params), 0);
+        let params = SnapParams {
+            radius: 0.1,
+            max_move: 0.2,
+            min_points: 6,
+        };
+        assert_eq!(
+            snap_to_target(
+                &mut far,
+                &normals,
+                &SnapTarget::Points(PointGrid::new(&pts, 0.05)),
+                &params
+            ),
+            0
+        );
     }
 }

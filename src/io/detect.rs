@@ -42,6 +42,21 @@ pub fn detect(bytes: &[u8], file_name: Option<&str>) -> Result<Format, IoError> 
     if bytes.starts_with(b"glTF") {
         return Ok(Format::Glb);
     }
+    // Volumes: NIfTI's binary header, gzip (only NIfTI is stored as a whole-file gzip among the
+    // formats read here), NRRD's magic line, VTK XML ImageData (may hold raw appended bytes), and
+    // MetaImage's first key (an .mha holds binary data after its text header).
+    if super::nifti::sniff(bytes) || super::volume::is_gzip(bytes) {
+        return Ok(Format::Nifti);
+    }
+    if super::nrrd::sniff(bytes) {
+        return Ok(Format::Nrrd);
+    }
+    if super::vti::sniff(bytes) {
+        return Ok(Format::Vti);
+    }
+    if super::metaimage::sniff(bytes) {
+        return Ok(Format::MetaImage);
+    }
     if bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r") {
         return Ok(Format::Ply);
     }
@@ -50,6 +65,9 @@ pub fn detect(bytes: &[u8], file_name: Option<&str>) -> Result<Format, IoError> 
     }
     // Formats that may be binary: let their own reader explain what is wrong.
     if let Some(f @ (Format::Glb | Format::Ply | Format::Stl)) = by_ext {
+        return Ok(f);
+    }
+    if let Some(f) = by_ext.filter(|f| f.is_volume()) {
         return Ok(f);
     }
     if let Some((at, b)) = first_binary_byte(bytes, SNIFF_BYTES) {

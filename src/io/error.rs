@@ -24,6 +24,14 @@ pub enum Format {
     Glb,
     /// Legacy VTK polydata (ASCII).
     Vtk,
+    /// NIfTI-1 or NIfTI-2 volume (`.nii`, `.nii.gz`, `.hdr`/`.img`).
+    Nifti,
+    /// NRRD volume (`.nrrd` attached, `.nhdr` detached).
+    Nrrd,
+    /// VTK XML ImageData volume (`.vti`).
+    Vti,
+    /// MetaImage volume (`.mha`, `.mhd` + raw).
+    MetaImage,
 }
 
 impl Format {
@@ -36,6 +44,14 @@ impl Format {
         Format::Vtk,
     ];
 
+    /// True for the voxel-volume formats (NIfTI, NRRD, VTI, MetaImage).
+    pub fn is_volume(self) -> bool {
+        matches!(
+            self,
+            Format::Nifti | Format::Nrrd | Format::Vti | Format::MetaImage
+        )
+    }
+
     /// Short lower-case name, as printed by `lsw info` and used in error messages.
     pub fn name(self) -> &'static str {
         match self {
@@ -47,6 +63,10 @@ impl Format {
             Format::Gltf => "gltf",
             Format::Glb => "glb",
             Format::Vtk => "vtk",
+            Format::Nifti => "nifti",
+            Format::Nrrd => "nrrd",
+            Format::Vti => "vti",
+            Format::MetaImage => "metaimage",
         }
     }
 
@@ -61,6 +81,10 @@ impl Format {
             "gltf" => Format::Gltf,
             "glb" => Format::Glb,
             "vtk" => Format::Vtk,
+            "nii" | "hdr" => Format::Nifti,
+            "nrrd" | "nhdr" => Format::Nrrd,
+            "vti" => Format::Vti,
+            "mha" | "mhd" => Format::MetaImage,
             _ => return None,
         })
     }
@@ -104,7 +128,7 @@ pub enum IoError {
         format: Option<Format>,
     },
     /// Neither the content nor the file name identify a supported format.
-    #[error("unrecognised file format: {reason}; supported: PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF, GLB, VTK")]
+    #[error("unrecognised file format: {reason}; supported: PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF, GLB, VTK; volumes NIfTI, NRRD, VTI, MetaImage")]
     UnknownFormat {
         /// What was seen instead.
         reason: String,
@@ -171,6 +195,14 @@ pub enum IoError {
         #[source]
         source: TargetError,
     },
+    /// A gzip or zlib stream inside the file is corrupt (bad header, checksum or deflate data).
+    /// Fix: re-export or re-download the file; `at` is where the compressed stream starts.
+    #[error("{format}: {at}: corrupt compressed data: {message}")]
+    Decompress {
+        format: Format,
+        at: Location,
+        message: String,
+    },
     /// The operating system could not read or write a file (native only).
     #[error("cannot access {path}: {message}")]
     Fs { path: String, message: String },
@@ -214,7 +246,7 @@ impl IoError {
     pub fn hint(&self) -> &'static str {
         match self {
             IoError::Empty { .. } => "The file has no content; check that it was saved or copied completely.",
-            IoError::UnknownFormat { .. } => "Export the geometry as PLY, OBJ, STL, OFF, XYZ, glTF/GLB or VTK.",
+            IoError::UnknownFormat { .. } => "Export the geometry as PLY, OBJ, STL, OFF, XYZ, glTF/GLB or VTK, or a volume as NIfTI, NRRD, VTI or MetaImage.",
             IoError::Syntax { .. } => "The file is damaged or not in the format it claims; re-export it from the original tool.",
             IoError::Truncated { .. } => "The file ends early; it was probably cut during download or copy.",
             IoError::CountTooLarge { .. } => "The header promises more data than the file holds; the file is truncated or its header is corrupt.",
@@ -223,6 +255,7 @@ impl IoError {
             IoError::Unsupported { .. } => "Convert the file to a supported variant (e.g. GLB with embedded buffers, ASCII VTK).",
             IoError::Gltf { .. } => "The glTF document is invalid; check it with the Khronos glTF validator.",
             IoError::Target { .. } => "The file holds no usable points.",
+            IoError::Decompress { .. } => "The compressed data is damaged; re-download or re-export the file.",
             IoError::Fs { .. } => "Check the path and the file permissions.",
             IoError::InvalidInput { .. } => "This is a bug in the caller: the mesh passed to the writer is inconsistent.",
         }
@@ -241,6 +274,7 @@ impl IoError {
             IoError::Unsupported { .. } => "io_unsupported",
             IoError::Gltf { .. } => "io_gltf",
             IoError::Target { .. } => "io_target",
+            IoError::Decompress { .. } => "io_decompress",
             IoError::Fs { .. } => "io_fs",
             IoError::InvalidInput { .. } => "io_invalid_input",
         }

@@ -1,5 +1,10 @@
 //! Reading and writing geometry files. Readers: PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF/GLB
-//! and legacy VTK polydata. Writers ([`write_bytes`]): OBJ, PLY, STL, GLB and VTK.
+//! and legacy VTK polydata; voxel volumes NIfTI-1/2, NRRD, VTI and MetaImage ([`volume`]).
+//! Writers ([`write_bytes`]): OBJ, PLY, STL, GLB and VTK.
+//!
+//! A volume becomes a target through its iso-surface (see [`Target::from_volume`]): the
+//! [`ReadResult`] then carries the volume itself in [`ReadResult::volume`], and the target is the
+//! closed surface {v = iso} in world millimetres, so the field and the flow need no volume code.
 //!
 //! One file per format; [`detect()`] sniffs the format from the content (the file name is only a
 //! hint). Reading gives a [`Target`] (points, or triangles indexing points). Readers never panic
@@ -13,16 +18,22 @@
 pub mod detect;
 pub mod error;
 pub mod gltf;
+pub mod metaimage;
+pub mod nifti;
+pub mod nrrd;
 pub mod obj;
 pub mod off;
 pub mod ply;
 pub mod stl;
 pub(crate) mod text;
+pub mod volume;
+pub mod vti;
 pub mod vtk;
 pub mod xyz;
 
 pub use detect::detect;
 pub use error::{Format, IoError, Location};
+pub use volume::{Inside, VolumeOptions, VoxelVolume};
 
 use crate::target::{Target, TargetError};
 use glam::DVec3;
@@ -55,21 +66,140 @@ pub struct ReadResult {
     pub format: Format,
     /// Text or binary (and byte order).
     pub encoding: Encoding,
+    /// For volume formats: the volume and the iso-surface the target was built from.
+    pub volume: Option<Box<VolumeRead>>,
+}
+
+/// A volume as read, and the level set of it that became the target.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VolumeRead {
+    /// The voxels and their index → world map.
+    pub volume: VoxelVolume,
+    /// The iso-value of the target surface.
+    pub iso: f64,
+    /// Where `iso` came from: "option" (given) or "otsu" (Otsu's threshold).
+    pub iso_source: &'static str,
+    /// Which side of the surface is inside.
+    pub inside: Inside,
 }
 
 /// Reads a geometry file from memory. `file_name` (optional, any path form) only breaks ties
 /// where the content is ambiguous (e.g. a point list vs. an OBJ without keywords).
 pub fn read_bytes(bytes: &[u8], file_name: Option<&str>) -> Result<ReadResult, IoError> {
-    let format = detect(bytes, file_name)?;
-    read_as(bytes, format)
+    read_bytes_with(bytes, file_name, &VolumeOptions::default())
 }
 
-/// Reads `bytes` as the given format, skipping detection.
-pub fn read_as(bytes: &[u8], format: Format) -> Result<ReadResult, IoError> {
+/// [`read_bytes`] with the options for volume files (frame, iso-value, inside; ignored for
+/// meshes and point clouds).
+pub fn read_bytes_with(
+    bytes: &[u8],
+    file_name: Option<&str>,
+    opts: &VolumeOptions,
+) -> Result<ReadResult, IoError> {
+    let format = detect(bytes, file_name)?;
+    read_as_with(bytes, format, opts)
+}
+
+/// Reads a volume file from memory (NIfTI, NRRD, VTI, MetaImage) without building a target:
+/// what the app needs for its histogram and slices. Detached data (`.hdr`/`.img`, `.nhdr`,
+/// `.mhd`) is refused here; [`read_volume_path`] reads it natively.
+pub fn read_volume_bytes(
+    bytes: &[u8],
+    file_name: Option<&str>,
+    opts: &VolumeOptions,
+) -> Result<(VoxelVolume, Format, Encoding), IoError> {
+    let format = detect(bytes, file_name)?;
+    let (v, e) = read_volume_as(bytes, format, opts, &|_| None)?;
+    Ok((v, format, e))
+}
+
+/// Dispatches to the volume readers; `resolve` fetches detached data files by relative name.
+fn read_volume_as(
+    bytes: &[u8],
+    format: Format,
+    opts: &VolumeOptions,
+    resolve: &dyn Fn(&str) -> Option<Vec<u8>>,
+) -> Result<(VoxelVolume, Encoding), IoError> {
     if bytes.is_empty() {
         return Err(IoError::Empty {
             format: Some(format),
         });
+    }
+    if opts.frame > 0 && format == Format::Vti {
+        return Err(IoError::Unsupported {
+            format,
+            what: format!("frame {} (a VTI file holds one volume)", opts.frame),
+        });
+    }
+    match format {
+        Format::Nifti => nifti::read(bytes, opts),
+        Format::Nrrd => nrrd::read_with(bytes, opts, resolve),
+        Format::Vti => vti::read(bytes, opts),
+        Format::MetaImage => metaimage::read_with(bytes, opts, resolve),
+        f => Err(IoError::Unsupported {
+            format: f,
+            what: "reading it as a voxel volume".into(),
+        }),
+    }
+}
+
+/// Builds the target of a volume: the closed iso-surface at `opts.iso` (or Otsu's threshold).
+pub fn volume_target(
+    format: Format,
+    volume: VoxelVolume,
+    encoding: Encoding,
+    opts: &VolumeOptions,
+) -> Result<ReadResult, IoError> {
+    let (iso, iso_source) = match opts.iso {
+        Some(i) => (i, "option"),
+        None => match volume.otsu() {
+            Some(i) => (i, "otsu"),
+            None => {
+                return Err(IoError::Target {
+                    format,
+                    source: TargetError::NoIsosurface {
+                        iso: f64::NAN,
+                        min: volume.value_range().map_or(f64::NAN, |r| r.0),
+                        max: volume.value_range().map_or(f64::NAN, |r| r.1),
+                    },
+                })
+            }
+        },
+    };
+    let target = Target::from_volume(&volume, iso, opts.inside)
+        .map_err(|source| IoError::Target { format, source })?;
+    Ok(ReadResult {
+        target,
+        format,
+        encoding,
+        volume: Some(Box::new(VolumeRead {
+            volume,
+            iso,
+            iso_source,
+            inside: opts.inside,
+        })),
+    })
+}
+
+/// Reads `bytes` as the given format, skipping detection.
+pub fn read_as(bytes: &[u8], format: Format) -> Result<ReadResult, IoError> {
+    read_as_with(bytes, format, &VolumeOptions::default())
+}
+
+/// [`read_as`] with volume options.
+pub fn read_as_with(
+    bytes: &[u8],
+    format: Format,
+    opts: &VolumeOptions,
+) -> Result<ReadResult, IoError> {
+    if bytes.is_empty() {
+        return Err(IoError::Empty {
+            format: Some(format),
+        });
+    }
+    if format.is_volume() {
+        let (v, e) = read_volume_as(bytes, format, opts, &|_| None)?;
+        return volume_target(format, v, e, opts);
     }
     let (points, triangles, encoding) = match format {
         Format::Ply => ply::read(bytes)?,
@@ -81,6 +211,9 @@ pub fn read_as(bytes: &[u8], format: Format) -> Result<ReadResult, IoError> {
         Format::Vtk => {
             let ((p, t), _) = vtk::read(bytes)?;
             (p, t, Encoding::Ascii)
+        }
+        Format::Nifti | Format::Nrrd | Format::Vti | Format::MetaImage => {
+            unreachable!("volumes returned above")
         }
     };
     finish(format, points, triangles, encoding)
@@ -113,18 +246,92 @@ fn finish(
         target,
         format,
         encoding,
+        volume: None,
     })
 }
 
 /// Reads a geometry file from disk (native only).
 #[cfg(not(target_arch = "wasm32"))]
 pub fn read_path(path: impl AsRef<std::path::Path>) -> Result<ReadResult, IoError> {
+    read_path_with(path, &VolumeOptions::default())
+}
+
+/// Reads a volume from disk without building a target, including detached data: a NIfTI
+/// `.hdr` with its `.img` (same stem; `.img.gz` too), an `.nhdr` or `.mhd` with the data file it
+/// names (relative to the header's folder).
+#[cfg(not(target_arch = "wasm32"))]
+pub fn read_volume_path(
+    path: impl AsRef<std::path::Path>,
+    opts: &VolumeOptions,
+) -> Result<(VoxelVolume, Format, Encoding), IoError> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|e| IoError::Fs {
+    let bytes = read_file(path)?;
+    let format = detect(&bytes, path.to_str())?;
+    let (v, e) = read_volume_file(path, &bytes, format, opts)?;
+    Ok((v, format, e))
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+fn read_file(path: &std::path::Path) -> Result<Vec<u8>, IoError> {
+    std::fs::read(path).map_err(|e| IoError::Fs {
         path: path.display().to_string(),
         message: e.to_string(),
-    })?;
+    })
+}
+
+/// The volume readers with detached files resolved next to `path`.
+#[cfg(not(target_arch = "wasm32"))]
+fn read_volume_file(
+    path: &std::path::Path,
+    bytes: &[u8],
+    format: Format,
+    opts: &VolumeOptions,
+) -> Result<(VoxelVolume, Encoding), IoError> {
+    let dir = path.parent().map(|d| d.to_path_buf()).unwrap_or_default();
+    if format == Format::Nifti && nifti::is_pair_header(bytes) {
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        let stem = name
+            .strip_suffix(".gz")
+            .unwrap_or(name)
+            .trim_end_matches(|c| c != '.')
+            .trim_end_matches('.');
+        let candidates = ["img", "IMG", "img.gz"].map(|e| dir.join(format!("{stem}.{e}")));
+        let img_path =
+            candidates
+                .iter()
+                .find(|p| p.is_file())
+                .ok_or_else(|| IoError::Unsupported {
+                    format,
+                    what: format!(
+                        "a .hdr header without its data file {}",
+                        candidates[0].display()
+                    ),
+                })?;
+        let img = read_file(img_path)?;
+        return nifti::read_pair(bytes, &img, opts);
+    }
+    let resolve = |name: &str| -> Option<Vec<u8>> {
+        if name.contains("://") {
+            return None;
+        }
+        std::fs::read(dir.join(name)).ok()
+    };
+    read_volume_as(bytes, format, opts, &resolve)
+}
+
+/// [`read_path`] with volume options (frame, iso-value, inside).
+#[cfg(not(target_arch = "wasm32"))]
+pub fn read_path_with(
+    path: impl AsRef<std::path::Path>,
+    opts: &VolumeOptions,
+) -> Result<ReadResult, IoError> {
+    let path = path.as_ref();
+    let bytes = read_file(path)?;
     let format = detect(&bytes, path.to_str())?;
+    if format.is_volume() {
+        let (v, e) = read_volume_file(path, &bytes, format, opts)?;
+        return volume_target(format, v, e, opts);
+    }
     if format == Format::Gltf {
         // External buffers (`"uri": "mesh.bin"`) are read from the glTF file's folder.
         let dir = path.parent().map(|d| d.to_path_buf()).unwrap_or_default();

@@ -1,10 +1,11 @@
 // Wiring only: UI events → worker messages; worker frames → render worker, plots and status.
 // The UI thread neither computes nor draws: the flow runs in one worker, three.js in another.
-import type { ColourMap, FieldView, FromRender, FromWorker, McfParams, Source, StepReport, TargetInfo, ToRender, ToWorker, UiError } from './protocol';
+import type { Certificate, ColourMap, FieldView, FromRender, FromWorker, McfParams, Source, StepReport, TargetInfo, ToRender, ToWorker, UiError } from './protocol';
 import { HistogramPlot, LinePlot, RadiusPlot } from './plots';
 import { SettingsPanel } from './panel';
 import { decode, DEFAULT_VIEW, encode, flatten, validDataset, type Flat, type ViewState } from './share';
 import { explain, showCertificate, showPending } from './health';
+import { VolumePanel } from './volume';
 
 const $ = <T extends HTMLElement>(id: string) => document.getElementById(id) as T;
 const status = $('status');
@@ -31,7 +32,7 @@ let dataset: string | null = null;
 let inputName = 'result';
 let view: ViewState = { ...DEFAULT_VIEW };
 /** The last completed wrap, kept so that cancel / errors can show it again and export it. */
-let kept: { positions: Float32Array; normals: Float32Array; indices: Uint32Array; hash: string; name: string; target: { positions: Float32Array; indices: Uint32Array } | null; valid: boolean; why: string } | null = null;
+let kept: { positions: Float32Array; normals: Float32Array; indices: Uint32Array; hash: string; name: string; target: { positions: Float32Array; indices: Uint32Array } | null; valid: boolean; why: string; certificate: Certificate; stopReason: string | null } | null = null;
 let currentTarget: { positions: Float32Array; indices: Uint32Array } | null = null;
 let cancelTimer: ReturnType<typeof setTimeout> | null = null;
 let restarting = false;
@@ -41,6 +42,14 @@ let lastDoneMs = 0;
 let runSeq = 0;
 
 const send = (m: ToWorker, transfer: Transferable[] = []) => worker.postMessage(m, transfer);
+const volumePanel = new VolumePanel($('volume'), {
+  onIso: (iso, frame) => {
+    if (!panel) return;
+    setState('loading', `Wrapping at iso-value ${iso.toPrecision(4)}…`);
+    send({ type: 'volume-iso', iso, frame, settings: panel.settings(), run: ++runSeq });
+  },
+  onSlice: (axis, index) => send({ type: 'volume-slice', axis, index }),
+});
 
 function setState(state: State, text: string): void {
   status.dataset.state = state;
@@ -206,6 +215,7 @@ function startWrap(source: Source, ds: string | null, name: string): void {
   setState('loading', `Loading ${name}…`);
   showPending(health, 'certificate: when the wrap ends');
   $('hash').textContent = kept ? `previous result ${kept.hash.slice(0, 12)}` : '';
+  volumePanel.hide();
   send({ type: 'wrap-load', source, settings: panel.settings(), autoplay: true, run: ++runSeq }, source.kind === 'bytes' ? [source.bytes] : []);
   updateShare();
 }
@@ -238,6 +248,8 @@ function restoreKept(): void {
   if (kept.target) draw({ type: 'target', positions: kept.target.positions.slice(), indices: kept.target.indices.slice() });
   $('hash').textContent = `result ${kept.hash.slice(0, 12)}`;
   $('hash').dataset.hash = kept.hash;
+  // The badge certifies what is on screen: the kept result again.
+  showCertificate(health, kept.certificate, kept.stopReason);
 }
 
 // ---- Worker messages --------------------------------------------------------------------------
@@ -327,7 +339,7 @@ function onWorkerMessage(ev: MessageEvent<FromWorker>): void {
     case 'result': {
       if (msg.run !== runSeq) break;
       const valid = msg.certificate.valid && !msg.stopReason;
-      kept = { positions: msg.positions, normals: msg.normals, indices: msg.indices, hash: msg.hash, name: msg.name, target: currentTarget, valid, why: explain(msg.certificate, msg.stopReason) };
+      kept = { positions: msg.positions, normals: msg.normals, indices: msg.indices, hash: msg.hash, name: msg.name, target: currentTarget, valid, why: explain(msg.certificate, msg.stopReason), certificate: msg.certificate, stopReason: msg.stopReason };
       showCertificate(health, msg.certificate, msg.stopReason);
       lastDoneMs = performance.now() - runStart;
       $('hash').textContent = `result ${msg.hash.slice(0, 12)}`;
@@ -371,6 +383,12 @@ function onWorkerMessage(ev: MessageEvent<FromWorker>): void {
       $('field-label').textContent = msg.label;
       break;
     }
+    case 'volume':
+      if (msg.run === runSeq) volumePanel.show(msg.info, msg.histogram, msg.iso);
+      break;
+    case 'volume-slice':
+      volumePanel.slice(msg);
+      break;
     case 'curves':
       controlPlot.set([msg.curves.delta, msg.curves.epsilon, msg.curves.eta_facing, msg.curves.eta_side]);
       break;

@@ -142,7 +142,11 @@ export type ToWorker =
   | { type: 'export'; format: string; kept?: { positions: Float32Array; indices: Uint32Array } }
   | { type: 'curves'; settings: Record<string, unknown> }
   /** Show the distance field: `t` ∈ [0, 1] is the slice position or the isosurface level's fraction. */
-  | { type: 'field'; view: FieldView; t: number };
+  | { type: 'field'; view: FieldView; t: number }
+  /** Volumes: wrap again at this iso-value and volume of a 4-D file; `run` as for a reset. */
+  | { type: 'volume-iso'; iso: number; frame: number; settings: Record<string, unknown>; run: number }
+  /** Volumes: send the slice normal to index axis `axis` at voxel `index`. */
+  | { type: 'volume-slice'; axis: number; index: number };
 
 /**
  * A frame of the evolving surface, ready to upload: the worker computes normals and colours so
@@ -188,7 +192,37 @@ export type FromWorker =
   | { type: 'curves'; curves: ControlCurves }
   /** The field view asked for (neither slice nor iso: nothing to show). `label` describes it. */
   | { type: 'field'; run: number; view: FieldView; slice?: FieldSlice; iso?: FieldIso; range: [number, number]; label: string }
-  | { type: 'error'; error: UiError };
+  | { type: 'error'; error: UiError }
+  /** The input is a voxel volume: its facts, value histogram and the iso-value being wrapped. */
+  | { type: 'volume'; run: number; info: VolumeInfo; histogram: { min: number; max: number; counts: Float64Array }; iso: number }
+  | VolumeSliceMsg;
+
+/** A voxel volume's facts (mirrors `VolumeView.info`). */
+export interface VolumeInfo {
+  format: string;
+  dims: [number, number, number];
+  voxelSize: [number, number, number];
+  datatype: string;
+  min: number;
+  max: number;
+  /** The world frame, in words. */
+  frame: string;
+  frameIndex: number;
+  frames: number;
+  otsu: number | null;
+  /** Index → world (mm), 16 numbers, row-major. */
+  affine: number[];
+}
+
+/** One slice of voxel values (`VolumeView.slice`): `width × height`, u fastest. */
+export interface VolumeSliceMsg {
+  type: 'volume-slice';
+  axis: number;
+  index: number;
+  width: number;
+  height: number;
+  values: Float32Array;
+}
 
 /** Turns anything thrown (a facade error object, an Error, a string) into a UiError. */
 export function toUiError(e: unknown): UiError {

@@ -3,8 +3,9 @@
 // when a single step (or the field construction) runs too long to answer a cancel in time.
 import init, {
   McfSession, WrapSession, presetSettings, settingsDocs, settingsEnums, demoShape, demoMesh, controlCurves, exportMesh,
+  VolumeView, phantomVolume,
 } from '../pkg/lsw.js';
-import type { Certificate, ColourMap, FieldView, FromWorker, Histogram, McfStats, Source, StepReport, TargetInfo, ToWorker } from './protocol';
+import type { Certificate, ColourMap, FieldView, FromWorker, Histogram, McfStats, Source, StepReport, TargetInfo, ToWorker, VolumeInfo } from './protocol';
 import { toUiError } from './protocol';
 import { batchSize } from './schedule';
 import { colorize, robustRange } from './colormap';
@@ -17,6 +18,8 @@ let wrap: WrapSession | null = null;
 /** The last completed wrap (kept until a new one completes). */
 let result: WrapSession | null = null;
 let source: { bytes: Uint8Array; name: string } | null = null;
+/** The source read as a voxel volume (null for meshes and clouds), and the iso-value chosen. */
+let volume: { view: VolumeView; iso: number | null; frame: number } | null = null;
 let wrapSettings: Record<string, unknown> = {};
 let playing = false;
 let msPerStep = 1;
@@ -157,7 +160,28 @@ async function demoBytes(id: string): Promise<{ bytes: Uint8Array; name: string 
     const { p, c } = flat((mod as unknown as { default: { positions: number[][]; cells: number[][] } }).default ?? mod);
     return { bytes: demoMesh(p, c, sampled ? 30000 : 0, 1), name: `${name}.ply` };
   }
+  if (base === 'phantom') return { bytes: phantomVolume(96), name: 'phantom.nii' };
   return { bytes: demoShape(base), name: `${name}.ply` };
+}
+
+/** Opens the source as a voxel volume when it is one (NIfTI, NRRD, VTI, MetaImage). */
+function openVolume(input: { bytes: Uint8Array; name: string }): void {
+  volume?.view.free();
+  volume = null;
+  try {
+    volume = { view: new VolumeView(input.bytes, input.name, 0), iso: null, frame: 0 };
+  } catch {
+    // Not a volume: the wrap reads it as a mesh or cloud (and reports its own errors).
+  }
+}
+
+/** Posts the volume's facts and histogram, and the iso-value being wrapped. */
+function postVolume(): void {
+  if (!volume) return;
+  const info = plain(volume.view.info()) as VolumeInfo;
+  const h = volume.view.histogram(128) as { min: number; max: number; counts: Float64Array };
+  const iso = volume.iso ?? info.otsu ?? 0.5 * (info.min + info.max);
+  post({ type: 'volume', run: pageRun, info, histogram: h, iso }, [h.counts.buffer]);
 }
 
 /** Downloads a URL, turning network and CORS refusals into a readable error. */
@@ -204,7 +228,7 @@ function sendWrapFrame(session: WrapSession): void {
   post(
     {
       type: 'frame', mode: 'wrap', run: pageRun, positions, normals, indices, colors, range, colour, report, reports: pendingReports, histogram, playing,
-      stepLimit: Number(wrapSettings.steps ?? 0), elapsedMs: performance.now() - startedAt,
+      stepLimit: session.stepLimit(), elapsedMs: performance.now() - startedAt,
     },
     transfer,
   );
@@ -269,6 +293,7 @@ async function loadWrap(src: Source, settings: Record<string, unknown>, autoplay
   const input = await sourceBytes(src);
   if (id !== runId) return;
   source = input;
+  openVolume(input);
   wrapSettings = settings;
   await startSession(autoplay, id);
 }
@@ -279,7 +304,10 @@ async function startSession(autoplay: boolean, id: number): Promise<void> {
   // Let the status message out before the (possibly long) construction.
   await new Promise((r) => setTimeout(r, 0));
   if (id !== runId) return;
-  const session = new WrapSession(source.bytes, source.name, JSON.stringify(wrapSettings));
+  if (volume) postVolume();
+  const session = volume
+    ? WrapSession.withVolume(source.bytes, source.name, JSON.stringify(wrapSettings), volume.iso ?? undefined, volume.frame, false)
+    : new WrapSession(source.bytes, source.name, JSON.stringify(wrapSettings));
   wrap = session;
   const tp = session.targetPositions();
   const ti = session.targetIndices();
@@ -375,6 +403,30 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
       case 'curves':
         post({ type: 'curves', curves: controlCurves(JSON.stringify(msg.settings), 121) });
         break;
+      case 'volume-iso':
+        if (mode === 'wrap' && source && volume) {
+          pageRun = msg.run;
+          dropRun();
+          volume.iso = msg.iso;
+          if (msg.frame !== volume.frame) {
+            const view = new VolumeView(source.bytes, source.name, msg.frame);
+            volume.view.free();
+            volume.view = view;
+            volume.frame = msg.frame;
+          }
+          wrapSettings = msg.settings;
+          startedAt = performance.now();
+          await startSession(true, runId);
+        }
+        break;
+      case 'volume-slice':
+        if (volume) {
+          const [nx, ny, nz] = (plain(volume.view.info()) as VolumeInfo).dims;
+          const [width, height] = msg.axis === 0 ? [ny, nz] : msg.axis === 1 ? [nx, nz] : [nx, ny];
+          const values = volume.view.slice(msg.axis, msg.index);
+          post({ type: 'volume-slice', axis: msg.axis, index: msg.index, width, height, values }, [values.buffer]);
+        }
+        break;
       case 'field':
         fieldView = msg.view;
         fieldT = Math.min(1, Math.max(0, Number.isFinite(msg.t) ? msg.t : 0.5));
@@ -382,7 +434,7 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
         break;
     }
   } catch (e) {
-    if (msg.type === 'wrap-load' || msg.type === 'reset') dropRun();
+    if (msg.type === 'wrap-load' || msg.type === 'reset' || msg.type === 'volume-iso') dropRun();
     fail(e);
   }
 };

@@ -1,0 +1,134 @@
+//! The volume part of the facade: a [`VolumeView`] of dropped volume bytes for the app's
+//! histogram, slices and marching-cubes preview; [`WrapSession::with_volume`] to wrap a chosen
+//! iso-value and frame; the procedural phantom as NIfTI bytes. Conversions only; the work is in
+//! [`crate::io::volume`].
+
+use super::{set_key, vec3_array, UiError, WrapSession};
+use crate::flow::{Evolver, WrapSettings};
+use crate::io::{Format, Inside, VolumeOptions, VoxelVolume};
+use js_sys::{Float32Array, Float64Array, Uint32Array};
+use wasm_bindgen::prelude::*;
+
+fn options(iso: Option<f64>, frame: u32, dark: bool) -> VolumeOptions {
+    VolumeOptions {
+        frame: frame as usize,
+        iso,
+        inside: if dark { Inside::Dark } else { Inside::Bright },
+        array: None,
+    }
+}
+
+/// A voxel volume read from bytes (NIfTI, NRRD, VTI, MetaImage), kept for viewing.
+#[wasm_bindgen]
+pub struct VolumeView {
+    volume: VoxelVolume,
+    format: Format,
+}
+
+#[wasm_bindgen]
+impl VolumeView {
+    /// Reads volume bytes (`file_name` breaks format ties); `frame` picks a volume of a 4-D file.
+    #[wasm_bindgen(constructor)]
+    pub fn new(bytes: &[u8], file_name: Option<String>, frame: u32) -> Result<VolumeView, JsValue> {
+        let (volume, format, _) =
+            crate::io::read_volume_bytes(bytes, file_name.as_deref(), &options(None, frame, false))
+                .map_err(UiError::from)?;
+        Ok(VolumeView { volume, format })
+    }
+
+    /// `{format, dims, voxelSize, datatype, min, max, frame, frameIndex, frames, otsu, affine}`
+    /// (`affine`: 16 numbers, row-major, index → world mm).
+    pub fn info(&self) -> Result<JsValue, JsValue> {
+        let v = &self.volume;
+        let (min, max) = v.value_range().unwrap_or((0.0, 0.0));
+        let info = serde_json::json!({
+            "format": self.format.name(),
+            "dims": v.dims,
+            "voxelSize": v.voxel_size(),
+            "datatype": v.datatype.name(),
+            "min": min,
+            "max": max,
+            "frame": v.frame,
+            "frameIndex": v.frame_index,
+            "frames": v.frames,
+            "otsu": v.otsu(),
+            "affine": v.affine_rows().concat(),
+        });
+        serde_wasm_bindgen::to_value(&info).map_err(|e| JsValue::from_str(&e.to_string()))
+    }
+
+    /// `{min, max, counts}` with `counts` a Float64Array of `bins` equal bins.
+    pub fn histogram(&self, bins: u32) -> Result<js_sys::Object, JsValue> {
+        let h =
+            crate::io::volume::histogram(&self.volume.values, bins as usize).ok_or_else(|| {
+                UiError {
+                    code: "bad-file",
+                    message: "the volume has no finite value".into(),
+                    hint: "The volume holds only NaN or infinite values.",
+                }
+            })?;
+        let counts: Vec<f64> = h.counts.iter().map(|&c| c as f64).collect();
+        let obj = js_sys::Object::new();
+        set_key(&obj, "min", &JsValue::from(h.min))?;
+        set_key(&obj, "max", &JsValue::from(h.max))?;
+        set_key(&obj, "counts", &Float64Array::from(counts.as_slice()))?;
+        Ok(obj)
+    }
+
+    /// The slice of voxel values normal to index axis `axis` (0, 1, 2) at `index`, the lower
+    /// remaining axis fastest (empty when out of range).
+    pub fn slice(&self, axis: u32, index: u32) -> Float32Array {
+        Float32Array::from(self.volume.slice(axis as usize, index as usize).as_slice())
+    }
+
+    /// The marching-cubes preview of {v = iso}: `{positions, indices}` in world mm.
+    pub fn isosurface(&self, iso: f64, dark: bool) -> Result<js_sys::Object, JsValue> {
+        let inside = if dark { Inside::Dark } else { Inside::Bright };
+        let (pos, tris) = self.volume.isosurface(iso, inside);
+        let flat: Vec<u32> = tris.into_iter().flatten().collect();
+        let obj = js_sys::Object::new();
+        set_key(&obj, "positions", &vec3_array(&pos))?;
+        set_key(&obj, "indices", &Uint32Array::from(flat.as_slice()))?;
+        Ok(obj)
+    }
+}
+
+#[wasm_bindgen]
+impl WrapSession {
+    /// Like the constructor, for volume bytes: wraps the iso-surface at `iso` (Otsu's threshold
+    /// when undefined) of volume `frame`, inside darker than `iso` when `dark`.
+    #[wasm_bindgen(js_name = withVolume)]
+    pub fn with_volume(
+        bytes: &[u8],
+        file_name: Option<String>,
+        settings_json: &str,
+        iso: Option<f64>,
+        frame: u32,
+        dark: bool,
+    ) -> Result<WrapSession, JsValue> {
+        let settings = WrapSettings::from_json(settings_json).map_err(|e| UiError {
+            code: "bad-parameter",
+            message: format!("settings: {e}"),
+            hint: "Reset the advanced settings or pick a preset.",
+        })?;
+        let read =
+            crate::io::read_bytes_with(bytes, file_name.as_deref(), &options(iso, frame, dark))
+                .map_err(UiError::from)?;
+        let evolver = Evolver::new(&read.target, settings.clone()).map_err(UiError::from)?;
+        Ok(WrapSession {
+            evolver,
+            target: read.target,
+            format: read.format,
+            settings_json: serde_json::to_string(&settings).unwrap_or_default(),
+            last: None,
+        })
+    }
+}
+
+/// The procedural head phantom (see [`crate::demo::phantom`]) with `n` voxels along x, as NIfTI
+/// bytes, so the gallery entry goes through the same reader as a dropped file.
+#[wasm_bindgen(js_name = phantomVolume)]
+pub fn phantom_volume(n: u32) -> js_sys::Uint8Array {
+    let v = crate::demo::phantom::phantom_volume(n as usize);
+    js_sys::Uint8Array::from(crate::io::nifti::write(&v).as_slice())
+}
