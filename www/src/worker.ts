@@ -279,7 +279,7 @@ function dropRun(): void {
   wrap = null;
 }
 
-async function loadWrap(src: Source, settings: Record<string, unknown>, autoplay: boolean): Promise<void> {
+async function loadWrap(src: Source, settings: Record<string, unknown>, autoplay: boolean, iso?: number): Promise<void> {
   dropRun();
   const id = runId;
   mode = 'wrap';
@@ -289,6 +289,7 @@ async function loadWrap(src: Source, settings: Record<string, unknown>, autoplay
   if (id !== runId) return;
   source = input;
   openVolume(input);
+  if (volume && iso !== undefined) volume.iso = iso;
   wrapSettings = settings;
   await startSession(autoplay, id);
 }
@@ -333,7 +334,7 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
       }
       case 'wrap-load':
         pageRun = msg.run;
-        await loadWrap(msg.source, msg.settings, msg.autoplay);
+        await loadWrap(msg.source, msg.settings, msg.autoplay, msg.iso);
         break;
       case 'play':
         if (playing) break;
