@@ -42,9 +42,14 @@ let lastDoneMs = 0;
 let runSeq = 0;
 
 const send = (m: ToWorker, transfer: Transferable[] = []) => worker.postMessage(m, transfer);
+/** Volumes: the iso-value chosen in the panel (for share links), and one asked for by a link. */
+let volumeIso: number | null = null;
+let linkIso: number | null = null;
 const volumePanel = new VolumePanel($('volume'), {
   onIso: (iso, frame) => {
     if (!panel) return;
+    volumeIso = Number(iso.toPrecision(6));
+    updateShare();
     setState('loading', `Wrapping at iso-value ${iso.toPrecision(4)}…`);
     send({ type: 'volume-iso', iso, frame, settings: panel.settings(), run: ++runSeq });
   },
@@ -136,7 +141,8 @@ $<HTMLInputElement>('scrub').oninput = (e) => {
 // ---- Share links ------------------------------------------------------------------------------
 
 function shareHash(): string {
-  return encode({ dataset: mode === 'mcf' ? 'demo:mcf' : dataset, preset: panel?.preset ?? 'full-wrap', changed: panel?.changed() ?? {}, view });
+  const iso = mode === 'wrap' && volumeIso !== null ? volumeIso : undefined;
+  return encode({ dataset: mode === 'mcf' ? 'demo:mcf' : dataset, preset: panel?.preset ?? 'full-wrap', changed: panel?.changed() ?? {}, view, iso });
 }
 
 function updateShare(): void {
@@ -216,7 +222,9 @@ function startWrap(source: Source, ds: string | null, name: string): void {
   showPending(health, 'certificate: when the wrap ends');
   $('hash').textContent = kept ? `previous result ${kept.hash.slice(0, 12)}` : '';
   volumePanel.hide();
-  send({ type: 'wrap-load', source, settings: panel.settings(), autoplay: true, run: ++runSeq }, source.kind === 'bytes' ? [source.bytes] : []);
+  volumeIso = linkIso;
+  linkIso = null;
+  send({ type: 'wrap-load', source, settings: panel.settings(), autoplay: true, run: ++runSeq, iso: volumeIso ?? undefined }, source.kind === 'bytes' ? [source.bytes] : []);
   updateShare();
 }
 
@@ -467,6 +475,7 @@ function onReady(presets: Record<string, Record<string, unknown>>, docs: Record<
   send({ type: 'colour', map: view.cmap as ColourMap });
   send({ type: 'curves', settings: panel.settings() });
   const d = state.dataset;
+  linkIso = state.iso ?? null;
   if (d && d !== 'demo:mcf') {
     if (d.startsWith('demo:')) startDemo(d.slice(5));
     else openUrl(d);

@@ -132,7 +132,7 @@ export type Source =
 /** UI → worker. */
 export type ToWorker =
   | { type: 'mcf-init'; params: McfParams }
-  | { type: 'wrap-load'; source: Source; settings: Record<string, unknown>; autoplay: boolean; run: number }
+  | { type: 'wrap-load'; source: Source; settings: Record<string, unknown>; autoplay: boolean; run: number; iso?: number }
   | { type: 'play' }
   | { type: 'pause' }
   | { type: 'step'; n: number }

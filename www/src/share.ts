@@ -33,6 +33,8 @@ export interface ShareState {
   /** Settings that differ from the preset's defaults. */
   changed: Flat;
   view: ViewState;
+  /** Volumes: the iso-value wrapped (absent for meshes, clouds and Otsu's default). */
+  iso?: number;
 }
 
 export interface Decoded {
@@ -99,6 +101,7 @@ export function encode(state: ShareState): string {
   q.set('v', String(SHARE_VERSION));
   if (state.dataset) q.set('d', state.dataset);
   q.set('p', state.preset);
+  if (state.iso !== undefined && Number.isFinite(state.iso)) q.set('iso', String(state.iso));
   for (const k of Object.keys(state.changed).sort()) q.set(`s.${k}`, JSON.stringify(state.changed[k]));
   const v = state.view;
   for (const k of Object.keys(DEFAULT_VIEW) as (keyof ViewState)[]) {
@@ -147,6 +150,12 @@ export function decode(hash: string, presets: Record<string, Flat>, defaultPrese
   const unknown: string[] = [];
   for (const [key, value] of q) {
     if (key === 'v' || key === 'd' || key === 'p' || key === 'dataset' || key === 'preset') continue;
+    if (key === 'iso') {
+      const n = Number(value);
+      if (value.trim() !== '' && Number.isFinite(n)) state.iso = n;
+      else notices.push(`Ignored iso = "${value.slice(0, 40)}": not a number; the volume's Otsu threshold is used.`);
+      continue;
+    }
     if (key.startsWith('s.') && !old) {
       const path = key.slice(2);
       if (!Object.prototype.hasOwnProperty.call(defaults, path)) {

@@ -284,7 +284,7 @@ function dropRun(): void {
   wrap = null;
 }
 
-async function loadWrap(src: Source, settings: Record<string, unknown>, autoplay: boolean): Promise<void> {
+async function loadWrap(src: Source, settings: Record<string, unknown>, autoplay: boolean, iso?: number): Promise<void> {
   dropRun();
   const id = runId;
   mode = 'wrap';
@@ -294,6 +294,7 @@ async function loadWrap(src: Source, settings: Record<string, unknown>, autoplay
   if (id !== runId) return;
   source = input;
   openVolume(input);
+  if (volume && iso !== undefined) volume.iso = iso;
   wrapSettings = settings;
   await startSession(autoplay, id);
 }
@@ -338,7 +339,7 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
       }
       case 'wrap-load':
         pageRun = msg.run;
-        await loadWrap(msg.source, msg.settings, msg.autoplay);
+        await loadWrap(msg.source, msg.settings, msg.autoplay, msg.iso);
         break;
       case 'play':
         if (playing) break;

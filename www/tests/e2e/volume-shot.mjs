@@ -41,6 +41,16 @@ try {
   await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 300000 });
   console.log(`re-wrapped at iso ${iso1.toFixed(2)}:`, await page.textContent('[data-testid=status]'));
   await page.screenshot({ path: join(shots, 'volume-iso.png') });
+  // The share link carries the iso-value, and opening it wraps at that value.
+  const hash = await page.evaluate(() => location.hash);
+  assert.match(hash, /[#&]iso=18\d/);
+  const page2 = await browser.newPage({ viewport: { width: 1200, height: 800 } });
+  await page2.goto(server.url + '#v=1&d=demo%3Aphantom&p=full-wrap&iso=150');
+  await page2.waitForSelector('[data-testid=volume]:not([hidden])', { timeout: 120000 });
+  assert.equal(Number(await page2.getAttribute('.volume-hist', 'data-iso')), 150);
+  await page2.waitForSelector('[data-testid=status][data-state=done]', { timeout: 300000 });
+  console.log('link with iso=150:', await page2.textContent('[data-testid=status]'), await page2.evaluate(() => location.hash));
+  await page2.close();
   // With the shared data: the brain files wrapped at iso 128 in the browser (timing, hash).
   const data = process.env.LSW_SHARED_DATA;
   if (!data) console.log('skipped the brain files: LSW_SHARED_DATA unset');
