@@ -40,9 +40,18 @@ fn bench(c: &mut Criterion) {
     // Push a cap of the sphere through to the other side.
     let dented: Vec<DVec3> = p
         .iter()
-        .map(|q| if q.z > 0.9 { DVec3::new(q.x, q.y, -q.z) } else { *q })
+        .map(|q| {
+            if q.z > 0.9 {
+                DVec3::new(q.x, q.y, -q.z)
+            } else {
+                *q
+            }
+        })
         .collect();
-    println!("dented: {} intersecting pairs", count_self_intersections(&dented, &t));
+    println!(
+        "dented: {} intersecting pairs",
+        count_self_intersections(&dented, &t)
+    );
     c.bench_function("self_intersections_82k_faces_dented", |b| {
         b.iter(|| count_self_intersections(&dented, &t))
     });

@@ -239,18 +239,32 @@ mod tests {
         ));
         assert!(matches!(
             check(vec![DVec3::ONE; 100], vec![]),
-            Err(TargetError::TooFewPoints { distinct: 1, total: 100 })
+            Err(TargetError::TooFewPoints {
+                distinct: 1,
+                total: 100
+            })
         ));
         let tilt = |x: f64, y: f64| DVec3::new(x, y, 0.3 * x - 0.7 * y + 2.0);
-        let plane: Vec<DVec3> = (0..50).map(|i| tilt((i % 7) as f64, (i / 7) as f64)).collect();
+        let plane: Vec<DVec3> = (0..50)
+            .map(|i| tilt((i % 7) as f64, (i / 7) as f64))
+            .collect();
         let e = check(plane, vec![]).unwrap_err();
         assert!(matches!(e, TargetError::Coplanar { .. }), "{e}");
         assert!(e.to_string().contains("one plane"));
         let line: Vec<DVec3> = (0..20).map(|i| DVec3::splat(i as f64)).collect();
-        assert!(matches!(check(line, vec![]), Err(TargetError::Collinear { .. })));
+        assert!(matches!(
+            check(line, vec![]),
+            Err(TargetError::Collinear { .. })
+        ));
         // A thin but real plate (1 % thick) passes; so does a tetrahedron.
         let plate: Vec<DVec3> = (0..200)
-            .map(|i| DVec3::new((i % 10) as f64, (i / 20) as f64, 0.1 * ((i / 10) % 2) as f64))
+            .map(|i| {
+                DVec3::new(
+                    (i % 10) as f64,
+                    (i / 20) as f64,
+                    0.1 * ((i / 10) % 2) as f64,
+                )
+            })
             .collect();
         assert_eq!(check(plate, vec![]), Ok(()));
         let tet = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];

@@ -410,7 +410,11 @@ impl WrapSession {
     /// The certificate of the current surface against the target (see
     /// [`crate::metrics::certificate::Certificate`]; keys in snake_case).
     pub fn certificate(&self) -> Result<JsValue, JsValue> {
-        let c = crate::metrics::certificate::certify(&self.evolver.positions(), &self.evolver.triangles(), Some(&self.target));
+        let c = crate::metrics::certificate::certify(
+            &self.evolver.positions(),
+            &self.evolver.triangles(),
+            Some(&self.target),
+        );
         serde_wasm_bindgen::to_value(&c).map_err(|e| JsValue::from_str(&e.to_string()))
     }
 
@@ -429,7 +433,10 @@ impl WrapSession {
     /// The start surface actually used ("icosphere" or "isosurface").
     #[wasm_bindgen(js_name = startSurface)]
     pub fn start_surface(&self) -> String {
-        serde_json::to_value(self.evolver.start_surface()).ok().and_then(|v| v.as_str().map(str::to_owned)).unwrap_or_default()
+        serde_json::to_value(self.evolver.start_surface())
+            .ok()
+            .and_then(|v| v.as_str().map(str::to_owned))
+            .unwrap_or_default()
     }
 
     /// Fingerprint of the current surface (see [`crate::mesh::fingerprint::mesh_hash`]).

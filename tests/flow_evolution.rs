@@ -173,12 +173,19 @@ fn a_forced_divergence_is_rolled_back_and_reported() {
         }
     };
     assert!(
-        matches!(err, lsw::flow::EvolveError::Divergence { .. } | lsw::flow::EvolveError::Diverged { .. }),
+        matches!(
+            err,
+            lsw::flow::EvolveError::Divergence { .. } | lsw::flow::EvolveError::Diverged { .. }
+        ),
         "{err}"
     );
     // The surface is the last good one, the run is over and says why.
     assert!(ev.is_done());
-    assert!(ev.stop_reason().unwrap().contains("diverged"), "{:?}", ev.stop_reason());
+    assert!(
+        ev.stop_reason().unwrap().contains("diverged"),
+        "{:?}",
+        ev.stop_reason()
+    );
     ev.mesh().validate().unwrap();
     if matches!(err, lsw::flow::EvolveError::Divergence { .. }) {
         assert_eq!(ev.mesh().positions(), &before[..]);
@@ -190,9 +197,16 @@ fn a_forced_divergence_is_rolled_back_and_reported() {
 #[wasm_bindgen_test(unsupported = test)]
 fn degenerate_targets_fail_before_any_work() {
     let three = Target::new(vec![lsw::DVec3::ZERO, lsw::DVec3::X, lsw::DVec3::Y], vec![]).unwrap();
-    let err = Evolver::new(&three, WrapSettings::default()).err().expect("refused");
+    let err = Evolver::new(&three, WrapSettings::default())
+        .err()
+        .expect("refused");
     assert!(err.to_string().contains("distinct point"), "{err}");
-    let flat: Vec<lsw::DVec3> = fibonacci_sphere(300).into_iter().map(|p| lsw::DVec3::new(p.x, p.y, 0.0)).collect();
-    let err = Evolver::new(&Target::new(flat, vec![]).unwrap(), WrapSettings::default()).err().expect("refused");
+    let flat: Vec<lsw::DVec3> = fibonacci_sphere(300)
+        .into_iter()
+        .map(|p| lsw::DVec3::new(p.x, p.y, 0.0))
+        .collect();
+    let err = Evolver::new(&Target::new(flat, vec![]).unwrap(), WrapSettings::default())
+        .err()
+        .expect("refused");
     assert!(err.to_string().contains("one plane"), "{err}");
 }

@@ -125,12 +125,9 @@ fn every_format_round_trips_header_values_and_world_coordinates() {
         // NIfTI-1 stores the affine in f32.
         let err = world_error(&vol.affine, &v);
         assert!(err < 1e-4, "{name}: world coordinates off by {err} mm");
-        let sp = v.voxel_size();
-        for k in 0..3 {
-            assert!(
-                (sp[k] - vol.affine.spacing()[k]).abs() < 1e-5,
-                "{name}: voxel size"
-            );
+        let (sp, expect) = (v.voxel_size(), vol.affine.spacing());
+        for (got, want) in sp.iter().zip(expect.iter()) {
+            assert!((got - want).abs() < 1e-5, "{name}: voxel size");
         }
     }
 }

@@ -26,9 +26,9 @@
 
 use crate::io::read_path;
 use crate::mesh::{HalfedgeMesh, ValidationError};
+use crate::metrics::certificate::certify;
 use crate::metrics::distance::{two_sided_distance_values, DistanceStats, TwoSidedDistances};
 use crate::metrics::histogram::Histogram;
-use crate::metrics::certificate::certify;
 use crate::metrics::quality::{covolume_stats, face_quality, quality_stats};
 use crate::metrics::volume::enclosed_volume;
 use crate::target::{Target, TargetKind};

@@ -38,7 +38,8 @@ pub fn exterior_mask(values: &[f64], dims: [usize; 3], level: f64) -> Vec<bool> 
     for z in 0..nz {
         for y in 0..ny {
             for x in 0..nx {
-                let border = x == 0 || y == 0 || z == 0 || x + 1 == nx || y + 1 == ny || z + 1 == nz;
+                let border =
+                    x == 0 || y == 0 || z == 0 || x + 1 == nx || y + 1 == ny || z + 1 == nz;
                 if border {
                     ext[idx(x, y, z)] = true;
                     queue.push([x, y, z]);

@@ -10,11 +10,11 @@ use super::guard::{
     check_divergence, held_mask, release_held, resolve_contacts, ContactReport, Divergence,
     DivergenceLimits,
 };
-use super::settings::{RemeshTrigger, StartSurface, WrapSettings};
-use super::start::build_start;
-use super::snap::{snap_to_target, PointGrid, SnapParams, SnapTarget};
-use super::surface_terms::SurfaceTerms;
 use super::mcf::stats;
+use super::settings::{RemeshTrigger, StartSurface, WrapSettings};
+use super::snap::{snap_to_target, PointGrid, SnapParams, SnapTarget};
+use super::start::build_start;
+use super::surface_terms::SurfaceTerms;
 use crate::clock::now_ms;
 use crate::field::{DistanceField, FieldError};
 use crate::geometry::icosphere::IcosphereError;

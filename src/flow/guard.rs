@@ -12,6 +12,9 @@
 //! a runaway area or vertex count: the step is rolled back and the evolution stops with the
 //! reason.
 
+// `!(x > y)` is used deliberately: it is also true when x is NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::mesh::HalfedgeMesh;
 use crate::metrics::bvh::Bvh;
 use crate::metrics::intersections::{pair_intersects, self_intersecting_pairs};

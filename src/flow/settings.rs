@@ -292,11 +292,19 @@ impl WrapSettings {
         let pick = |mine: f64, def: f64, theirs: f64| if mine == def { theirs } else { mine };
         WrapSettings {
             start: StartSurface::Isosurface,
-            steps: if self.steps == d.steps { iso.steps } else { self.steps },
+            steps: if self.steps == d.steps {
+                iso.steps
+            } else {
+                self.steps
+            },
             tau: pick(self.tau, d.tau, iso.tau),
             c1: pick(self.c1, d.c1, iso.c1),
             d1: pick(self.d1, d.d1, iso.d1),
-            iso_level_factor: pick(self.iso_level_factor, d.iso_level_factor, iso.iso_level_factor),
+            iso_level_factor: pick(
+                self.iso_level_factor,
+                d.iso_level_factor,
+                iso.iso_level_factor,
+            ),
             schedule: if self.schedule == d.schedule {
                 iso.schedule.clone()
             } else {

@@ -53,8 +53,11 @@ pub fn build_start(
                 settings.icosphere_level,
             );
             let mesh = icosphere(settings.icosphere_level, phi * r, DVec3::ZERO)?;
-            let sizes =
-                icosphere_sizes(settings.min_edge_multiplier, phi * r, settings.icosphere_level);
+            let sizes = icosphere_sizes(
+                settings.min_edge_multiplier,
+                phi * r,
+                settings.icosphere_level,
+            );
             Ok(Start {
                 mesh,
                 phi,
@@ -74,7 +77,8 @@ pub fn build_start(
                 iso = iso.max(ISO_SPACINGS * median_spacing(&target.points));
             }
             let c_r = settings.isosurface_resampling * c;
-            let (pos, tris) = field.exterior_isosurface_resampled(iso, settings.isosurface_resampling);
+            let (pos, tris) =
+                field.exterior_isosurface_resampled(iso, settings.isosurface_resampling);
             if tris.is_empty() {
                 return Err(EvolveError::EmptyIsosurface { iso });
             }

@@ -155,14 +155,14 @@ mod tests {
         let normals = angle_weighted_normals(&m);
         let obtuse = lap.edge_weights.iter().filter(|w| **w < 0.0).count();
         assert!(obtuse > 0, "the test mesh should have obtuse pairs");
-        for v in 0..m.n_vertices() {
-            assert!((t.normals[v] - normals[v]).length() < 1e-12, "normal {v}");
+        for (v, normal) in normals.iter().enumerate() {
+            assert!((t.normals[v] - *normal).length() < 1e-12, "normal {v}");
             let a = lap.covolumes[v];
             assert!(
                 (t.laplacian.covolumes[v] - a).abs() < 1e-12 * a,
                 "co-volume {v}"
             );
-            let reference = tangential_velocity(&m, v as u32, normals[v], 0.3);
+            let reference = tangential_velocity(&m, v as u32, *normal, 0.3);
             let scale = reference.length().max(1e-3);
             assert!(
                 (t.tangential(v, 0.3) - reference).length() < 1e-12 * scale,

@@ -185,7 +185,10 @@ mod tests {
     fn crossing_separated_and_touching() {
         let crossing = [v(0.2, 0.2, -1.0), v(0.2, 0.2, 1.0), v(0.9, 0.9, 0.0)];
         assert!(triangles_intersect(T, crossing));
-        assert!(!triangles_intersect(T, crossing.map(|q| q + 2.0 * DVec3::X)));
+        assert!(!triangles_intersect(
+            T,
+            crossing.map(|q| q + 2.0 * DVec3::X)
+        ));
         // A vertex exactly on the other triangle's interior, edge, corner: touching counts.
         for tip in [v(0.25, 0.25, 0.0), v(0.5, 0.0, 0.0), v(0.0, 0.0, 0.0)] {
             let u = [tip, tip + v(0.0, 0.0, 1.0), tip + v(0.3, -0.7, 1.0)];

@@ -43,7 +43,11 @@ pub struct Certificate {
 }
 
 /// Certifies `(positions, triangles)`; with `target`, also measures vertex → target distances.
-pub fn certify(positions: &[DVec3], triangles: &[[u32; 3]], target: Option<&Target>) -> Certificate {
+pub fn certify(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    target: Option<&Target>,
+) -> Certificate {
     let finite = positions.iter().all(|p| p.is_finite());
     let edges = edge_counts(triangles);
     let closed = edges.boundary == 0 && !triangles.is_empty();
@@ -85,19 +89,17 @@ pub fn certify(positions: &[DVec3], triangles: &[[u32; 3]], target: Option<&Targ
     };
     let valid = closed && manifold && oriented && finite && self_intersections == 0;
     if problem.is_none() && !valid {
-        problem = Some(
-            if !finite {
-                "a vertex has a non-finite position".to_string()
-            } else if !closed {
-                format!("the mesh is not closed ({} boundary edges)", edges.boundary)
-            } else if !manifold {
-                "the mesh is not manifold".to_string()
-            } else if !oriented {
-                "the faces are not consistently oriented".to_string()
-            } else {
-                format!("{self_intersections} pairs of faces intersect")
-            },
-        );
+        problem = Some(if !finite {
+            "a vertex has a non-finite position".to_string()
+        } else if !closed {
+            format!("the mesh is not closed ({} boundary edges)", edges.boundary)
+        } else if !manifold {
+            "the mesh is not manifold".to_string()
+        } else if !oriented {
+            "the faces are not consistently oriented".to_string()
+        } else {
+            format!("{self_intersections} pairs of faces intersect")
+        });
     }
     let (distance_min, distance_max) = match target {
         Some(t) if finite && !positions.is_empty() => {
@@ -157,7 +159,10 @@ mod tests {
         let (p, t) = (m.positions().to_vec(), m.triangles());
         let c = certify(&p, &t, None);
         assert!(c.valid, "{c:?}");
-        assert_eq!((c.genus, c.components, c.self_intersections), (Some(0), Some(1), 0));
+        assert_eq!(
+            (c.genus, c.components, c.self_intersections),
+            (Some(0), Some(1), 0)
+        );
         // Open: drop a face.
         let c = certify(&p, &t[1..], None);
         assert!(!c.valid && !c.closed && c.problem.is_some());

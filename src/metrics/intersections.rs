@@ -7,6 +7,9 @@
 //! cheap floating-point plane-side filter with a safe margin rejects most pairs before the exact
 //! test (it only ever says "certainly apart").
 
+// `!(x > y)` is used deliberately: it is also true when x is NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use super::bvh::Bvh;
 use crate::geometry::predicates::faces_intersect;
 use glam::DVec3;

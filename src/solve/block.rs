@@ -252,8 +252,8 @@ pub fn bicgstab3(
         finite &= x[i].iter().all(|v| v.is_finite());
     });
     let mut worst = 0.0f64;
-    for c in 0..3 {
-        if bn[c] == 0.0 {
+    for (c, &norm) in bn.iter().enumerate() {
+        if norm == 0.0 {
             continue;
         }
         let e = relative(err.total(), c);

@@ -2,6 +2,9 @@
 //! with anisotropic voxels and a rotated + translated affine) and minimal writers for NIfTI-1/2,
 //! NRRD, VTI and MetaImage, written from the format specifications independently of the readers.
 #![allow(dead_code)]
+// Header writers address fields by byte offset: index loops mirror the format tables, and the
+// explicit casts name each field's on-disk type even where it is already that type.
+#![allow(clippy::needless_range_loop, clippy::unnecessary_cast)]
 
 use flate2::write::{GzEncoder, ZlibEncoder};
 use flate2::Compression;

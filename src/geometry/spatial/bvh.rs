@@ -76,7 +76,8 @@ impl Bvh {
             .enumerate()
             .map(|(i, (a, b))| {
                 let q = ((0.5 * (*a + *b) - lo) * scale).max(DVec3::ZERO);
-                let code = spread3(q.x as u64) | spread3(q.y as u64) << 1 | spread3(q.z as u64) << 2;
+                let code =
+                    spread3(q.x as u64) | spread3(q.y as u64) << 1 | spread3(q.z as u64) << 2;
                 (code, i as u32)
             })
             .collect();
