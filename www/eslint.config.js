@@ -9,6 +9,6 @@ export default tseslint.config(
   ...tseslint.configs.recommended,
   {
     files: ['tests/**/*.mjs'],
-    languageOptions: { globals: { process: 'readonly', console: 'readonly', setTimeout: 'readonly', URL: 'readonly', Buffer: 'readonly', performance: 'readonly', clearTimeout: 'readonly', document: 'readonly', window: 'readonly', DataTransfer: 'readonly', File: 'readonly', PerformanceObserver: 'readonly', atob: 'readonly', MutationObserver: 'readonly' } },
+    languageOptions: { globals: { process: 'readonly', console: 'readonly', setTimeout: 'readonly', URL: 'readonly', Buffer: 'readonly', performance: 'readonly', clearTimeout: 'readonly', document: 'readonly', window: 'readonly', DataTransfer: 'readonly', File: 'readonly', PerformanceObserver: 'readonly', atob: 'readonly', MutationObserver: 'readonly', location: 'readonly' } },
   },
 );
