@@ -36,6 +36,13 @@ pub enum RemeshTrigger {
     QualityBand,
 }
 
+/// λ_min of the isosurface start when `auto` picks it: half the isosurface preset's 0.4. Measured
+/// (quick build, 2026-11-23): spot.obj 5 268 vertices, Hausdorff 1.36 %, mean 0.012 / 0.095 % in
+/// 1.1 s (0.4: 1 304 vertices, 2.51 %, 0.038 / 0.239 %; the icosphere full wrap: 1.99 %,
+/// 0.058 / 0.16 % in 2.0 s); the half-resolution brain at iso 128: mean distance to the
+/// iso-surface 0.52 mm (icosphere: 1.61 mm) in half the time.
+pub const AUTO_ISOSURFACE_MIN_EDGE: f64 = 0.2;
+
 /// A named bundle of settings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -285,10 +292,13 @@ impl WrapSettings {
             // would shrink them to millions of vertices).
             _ => {}
         }
-        let (d, iso) = (
+        let (d, mut iso) = (
             WrapSettings::default(),
             WrapSettings::default().with_isosurface_start(),
         );
+        if self.start == StartSurface::Auto {
+            iso.min_edge_multiplier = AUTO_ISOSURFACE_MIN_EDGE;
+        }
         let pick = |mine: f64, def: f64, theirs: f64| if mine == def { theirs } else { mine };
         WrapSettings {
             start: StartSurface::Isosurface,
@@ -435,7 +445,13 @@ mod tests {
         assert_eq!(cloud.start, StartSurface::Icosphere);
         assert_eq!(cloud.steps, auto.steps);
         let closed = auto.clone().resolved_for(true);
-        assert_eq!(closed, WrapSettings::default().with_isosurface_start());
+        assert_eq!(
+            closed,
+            WrapSettings {
+                min_edge_multiplier: AUTO_ISOSURFACE_MIN_EDGE,
+                ..WrapSettings::default().with_isosurface_start()
+            }
+        );
         // An explicit isosurface start gets the same defaults; a changed τ survives.
         let mine = WrapSettings {
             start: StartSurface::Isosurface,
