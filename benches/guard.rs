@@ -5,6 +5,7 @@
 //! Run: `cargo bench --bench guard`. Results go to benches/RESULTS.md.
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use lsw::demo::Rng;
 use lsw::geometry::icosphere::icosphere;
 use lsw::metrics::intersections::count_self_intersections;
 use lsw::DVec3;
@@ -12,13 +13,8 @@ use lsw::DVec3;
 /// Level-6 icosphere with every vertex jittered tangentially (≈ 25 % of an edge).
 fn perturbed_sphere() -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let m = icosphere(6, 1.0, DVec3::ZERO).unwrap();
-    let mut s = 0x1234_5678_9ABC_DEF0u64;
-    let mut r = move || {
-        s = s
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
+    let mut rng = Rng::new(0x1234_5678_9ABC_DEF0);
+    let mut r = move || rng.uniform() - 0.5;
     let p = m
         .positions()
         .iter()

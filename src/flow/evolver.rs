@@ -57,15 +57,17 @@ pub enum EvolveError {
     /// The remesher refused its sizes.
     #[error(transparent)]
     Remesh(#[from] RemeshError),
-    /// The step showed a sign of divergence; the surface was rolled back to the previous step and
-    /// the evolution stopped. Fix: a smaller τ, or report the input.
+    /// The step showed a sign of divergence; the surface was rolled back to the last state the
+    /// contact guard certified (`previous`) and the evolution stopped. Fix: a smaller τ, or
+    /// report the input.
     #[error("the evolution diverged at step {step} ({reason}); rolled back to step {previous}")]
     Divergence {
         step: u32,
         previous: u32,
         reason: Divergence,
     },
-    /// A step failed even after retrying with τ halved `retries` times (the mesh is unchanged).
+    /// A step failed even after retrying with τ halved `retries` times (the surface is the last
+    /// certified one and the evolution stopped).
     #[error("step {step} failed after {retries} retries with τ halved down to {tau:.3e}: {cause}")]
     Diverged {
         step: u32,

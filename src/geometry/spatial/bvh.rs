@@ -116,14 +116,7 @@ impl Bvh {
                 bvh.nodes[ni].max = a.max.max(b.max);
                 continue;
             }
-            let left = bvh.nodes.len();
-            let blank = bvh.nodes[ni];
-            bvh.nodes.push(blank);
-            bvh.nodes.push(blank);
-            let node = &mut bvh.nodes[ni];
-            node.start = left as u32;
-            node.right = left as u32 + 1;
-            node.count = 0;
+            let left = bvh.split(ni);
             let mid = s + (e - s) / 2;
             stack.push((ni, s, e, true));
             stack.push((left + 1, mid, e, false));
@@ -187,18 +180,25 @@ impl Bvh {
                     .total_cmp(&centroids[b as usize][axis])
                     .then(a.cmp(&b))
             });
-            let left = bvh.nodes.len();
-            let blank = bvh.nodes[ni];
-            bvh.nodes.push(blank);
-            bvh.nodes.push(blank);
-            let node = &mut bvh.nodes[ni];
-            node.start = left as u32;
-            node.right = left as u32 + 1;
-            node.count = 0;
+            let left = bvh.split(ni);
             stack.push((left, s, mid));
             stack.push((left + 1, mid, e));
         }
         bvh
+    }
+
+    /// Turns node `ni` into an inner node with two new children (placeholders, filled in by the
+    /// caller); returns the left child's index (the right one follows it).
+    fn split(&mut self, ni: usize) -> usize {
+        let left = self.nodes.len();
+        let blank = self.nodes[ni];
+        self.nodes.push(blank);
+        self.nodes.push(blank);
+        let node = &mut self.nodes[ni];
+        node.start = left as u32;
+        node.right = left as u32 + 1;
+        node.count = 0;
+        left
     }
 
     /// True when built over no primitives.
