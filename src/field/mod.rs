@@ -240,7 +240,15 @@ impl DistanceField {
 
         let t1 = crate::clock::now_ms();
         let mesh = !target.triangles.is_empty();
-        let b = if mesh {
+        let b = if mesh && target.triangles.len() >= band::NODE_QUERY_TRIANGLES {
+            band::triangles_band_by_nodes(
+                &grid,
+                &target.points,
+                &target.triangles,
+                settings.band_cells,
+                init,
+            )
+        } else if mesh {
             band::triangles_band(
                 &grid,
                 &target.points,

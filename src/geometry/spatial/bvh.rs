@@ -208,11 +208,24 @@ impl Bvh {
 
     /// Nearest primitive to `p` under `dist2(id, p)` (an exact squared distance that is at least
     /// the squared distance to the primitive's box). Returns `(id, squared distance)`.
-    pub fn nearest(&self, p: DVec3, mut dist2: impl FnMut(u32) -> f64) -> Option<(u32, f64)> {
+    pub fn nearest(&self, p: DVec3, dist2: impl FnMut(u32) -> f64) -> Option<(u32, f64)> {
+        self.nearest_within(p, f64::INFINITY, dist2)
+    }
+
+    /// [`Bvh::nearest`] among the primitives with squared distance ≤ `max_d2` (`None` when there
+    /// is none): boxes farther than that are never opened, so a query far from everything ends
+    /// at once.
+    pub fn nearest_within(
+        &self,
+        p: DVec3,
+        max_d2: f64,
+        mut dist2: impl FnMut(u32) -> f64,
+    ) -> Option<(u32, f64)> {
         if self.nodes.is_empty() {
             return None;
         }
-        let mut best = (u32::MAX, f64::INFINITY);
+        // Just above the bound, so that a primitive exactly at it is still taken.
+        let mut best = (u32::MAX, max_d2 * (1.0 + 1e-12) + f64::MIN_POSITIVE);
         // (node, squared distance to its box), so a popped node is pruned without recomputing.
         let mut stack: [(u32, f64); 64] = [(0, 0.0); 64];
         let mut sp = 1usize;
