@@ -38,6 +38,8 @@ let cancelTimer: ReturnType<typeof setTimeout> | null = null;
 let restarting = false;
 let runStart = 0;
 let lastDoneMs = 0;
+/** Size of the core's wasm memory at the last result (bytes). */
+let wasmBytes = 0;
 /** Number of the current wrap run; frames of older runs still in flight are ignored. */
 let runSeq = 0;
 
@@ -349,6 +351,7 @@ function onWorkerMessage(ev: MessageEvent<FromWorker>): void {
       const valid = msg.certificate.valid && !msg.stopReason;
       kept = { positions: msg.positions, normals: msg.normals, indices: msg.indices, hash: msg.hash, name: msg.name, target: currentTarget, valid, why: explain(msg.certificate, msg.stopReason), certificate: msg.certificate, stopReason: msg.stopReason };
       showCertificate(health, msg.certificate, msg.stopReason);
+      wasmBytes = msg.wasmBytes;
       lastDoneMs = performance.now() - runStart;
       $('hash').textContent = `result ${msg.hash.slice(0, 12)}`;
       $('hash').dataset.hash = msg.hash;
@@ -603,6 +606,7 @@ function meshPixelFraction(): Promise<number> {
   controlSeries: () => controlPlot.series(),
   resultHash: () => kept?.hash ?? null,
   dropToDoneMs: () => lastDoneMs,
+  wasmMemoryBytes: () => wasmBytes,
   meshPixelFraction,
   fieldShown: () => fieldShown,
 };

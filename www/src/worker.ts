@@ -12,6 +12,9 @@ import { colorize, robustRange } from './colormap';
 
 const PRESETS = ['full-wrap', 'obstacle', 'isosurface', 'mcf'];
 const ready = init();
+/** Bytes of the wasm instance's linear memory (it only grows): the tab's memory for the core. */
+let wasmMemory: WebAssembly.Memory | null = null;
+void ready.then((exports) => (wasmMemory = exports.memory));
 let mode: 'mcf' | 'wrap' = 'mcf';
 let mcf: McfSession | null = null;
 let wrap: WrapSession | null = null;
@@ -248,7 +251,7 @@ function finish(session: WrapSession): void {
   post(
     {
       type: 'result', run: pageRun, hash: session.resultHash(), name: source?.name ?? 'result', positions, normals, indices, elapsedMs: performance.now() - startedAt, steps: report?.step ?? 0,
-      certificate, stopReason: session.stopReason() ?? null, start: session.startSurface(),
+      certificate, stopReason: session.stopReason() ?? null, start: session.startSurface(), wasmBytes: wasmMemory?.buffer.byteLength ?? 0,
     },
     [positions.buffer, normals.buffer, indices.buffer],
   );
