@@ -1,27 +1,32 @@
 //! The typical sampling spacing of a point cloud: the median distance from a point to its
-//! nearest other point, over an evenly strided sample of at most 4096 points (deterministic).
+//! nearest other distinct point, over an evenly strided sample of at most 4096 points
+//! (deterministic).
 
-use super::bvh::PointBvh;
+use super::bvh::Bvh;
 use glam::DVec3;
 
-/// Median nearest-neighbour distance of the distinct points of `points` (0 for fewer than two
-/// distinct points).
+/// Median distance from a point to its nearest *distinct* point (0 when there is none), over an
+/// evenly strided sample of at most 4096 points. The tree is the Morton-ordered one: on a million
+/// points it builds in a fraction of the median-split tree's time, and the distances are exact
+/// either way.
 pub fn median_spacing(points: &[DVec3]) -> f64 {
-    let mut pts = points.to_vec();
-    pts.sort_unstable_by(|a, b| {
-        a.x.total_cmp(&b.x)
-            .then(a.y.total_cmp(&b.y))
-            .then(a.z.total_cmp(&b.z))
-    });
-    pts.dedup();
-    if pts.len() < 2 {
+    if points.len() < 2 {
         return 0.0;
     }
-    let bvh = PointBvh::new(&pts);
-    let stride = pts.len().div_ceil(4096);
-    let mut d: Vec<f64> = (0..pts.len())
+    let bvh = Bvh::new_morton(points, points, 4);
+    let stride = points.len().div_ceil(4096);
+    let mut d: Vec<f64> = (0..points.len())
         .step_by(stride)
-        .filter_map(|i| bvh.nearest_other(pts[i], i as u32).map(|(_, d2)| d2.sqrt()))
+        .filter_map(|i| {
+            let p = points[i];
+            // Copies of `p` (distance 0) do not count as neighbours.
+            bvh.nearest(p, |j| match (points[j as usize] - p).length_squared() {
+                0.0 => f64::INFINITY,
+                d2 => d2,
+            })
+            .filter(|&(_, d2)| d2.is_finite())
+            .map(|(_, d2)| d2.sqrt())
+        })
         .collect();
     if d.is_empty() {
         return 0.0;
