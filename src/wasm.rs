@@ -251,6 +251,28 @@ pub struct WrapSession {
     last: Option<StepReport>,
 }
 
+impl WrapSession {
+    /// The session for what was read (a file or a volume) under `settings_json`.
+    pub(crate) fn prepare(
+        read: crate::io::ReadResult,
+        settings_json: &str,
+    ) -> Result<WrapSession, JsValue> {
+        let settings = WrapSettings::from_json(settings_json).map_err(|e| UiError {
+            code: "bad-parameter",
+            message: format!("settings: {e}"),
+            hint: "Reset the advanced settings or pick a preset.",
+        })?;
+        let evolver = Evolver::new(&read.target, settings.clone()).map_err(UiError::from)?;
+        Ok(WrapSession {
+            evolver,
+            target: read.target,
+            format: read.format,
+            settings_json: serde_json::to_string(&settings).unwrap_or_default(),
+            last: None,
+        })
+    }
+}
+
 #[wasm_bindgen]
 impl WrapSession {
     /// Reads `bytes` (format sniffed from content, `file_name` breaks ties) and prepares the
@@ -261,21 +283,8 @@ impl WrapSession {
         file_name: Option<String>,
         settings_json: &str,
     ) -> Result<WrapSession, JsValue> {
-        let settings = WrapSettings::from_json(settings_json).map_err(|e| UiError {
-            code: "bad-parameter",
-            message: format!("settings: {e}"),
-            hint: "Reset the advanced settings or pick a preset.",
-        })?;
         let read = crate::io::read_bytes(bytes, file_name.as_deref()).map_err(UiError::from)?;
-        let evolver = Evolver::new(&read.target, settings.clone()).map_err(UiError::from)?;
-        let settings_json = serde_json::to_string(&settings).unwrap_or_default();
-        Ok(WrapSession {
-            evolver,
-            target: read.target,
-            format: read.format,
-            settings_json,
-            last: None,
-        })
+        WrapSession::prepare(read, settings_json)
     }
 
     /// Runs up to `n` steps; returns true when the wrap is done.

@@ -12,8 +12,8 @@
 use super::error::{Format, IoError, Location};
 use super::text::{parse_f64, show};
 use super::volume::{
-    affine, checked_count, decode_samples, inflate_prefix, is_gzip, parse_ascii_samples, Packing,
-    ScalarType, VolumeOptions, VoxelVolume, MAX_INFLATE_RATIO,
+    affine, checked_count, decode_samples, inflate_prefix, is_gzip, parse_ascii_samples,
+    parse_sizes, Packing, ScalarType, VolumeOptions, VoxelVolume, MAX_INFLATE_RATIO,
 };
 use super::Encoding;
 use glam::DVec3;
@@ -143,22 +143,13 @@ pub fn read_with(
         .filter(|d| (1..=4).contains(d))
         .ok_or_else(|| IoError::syntax(F, Location::Line(nd_f.line), "NDims 1…4", &nd_f.value))?;
     let ds_f = need("DimSize")?;
-    let sizes: Vec<usize> = ds_f
-        .value
-        .split_whitespace()
-        .map(|t| t.parse::<usize>().ok().filter(|&s| s >= 1))
-        .collect::<Option<Vec<_>>>()
-        .filter(|v| v.len() == ndims)
-        .ok_or_else(|| {
-            IoError::syntax(
-                F,
-                Location::Line(ds_f.line),
-                format!("{ndims} sizes ≥ 1 (DimSize)"),
-                &ds_f.value,
-            )
-        })?;
-    // Every product of sizes below fits in usize (also on 32-bit wasm).
-    checked_count(&sizes, 1, usize::MAX / 16, 1, F, Location::Line(ds_f.line))?;
+    let sizes = parse_sizes(
+        &ds_f.value,
+        ndims,
+        F,
+        ds_f.line,
+        format!("{ndims} sizes ≥ 1 (DimSize)"),
+    )?;
     let et_f = need("ElementType")?;
     let ty = scalar_type(&et_f.value).ok_or_else(|| IoError::Unsupported {
         format: F,

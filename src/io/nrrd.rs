@@ -12,8 +12,8 @@
 use super::error::{Format, IoError, Location};
 use super::text::{parse_f64, show, trim};
 use super::volume::{
-    affine, checked_count, decode_samples, inflate_prefix, parse_ascii_samples, Packing,
-    ScalarType, VolumeOptions, VoxelVolume, MAX_INFLATE_RATIO,
+    affine, checked_count, decode_samples, inflate_prefix, parse_ascii_samples, parse_sizes,
+    Packing, ScalarType, VolumeOptions, VoxelVolume, MAX_INFLATE_RATIO,
 };
 use super::Encoding;
 use glam::DVec3;
@@ -235,22 +235,7 @@ pub fn read_with(
             IoError::syntax(F, Location::Line(df.line), "a dimension in 1…16", &df.value)
         })?;
     let sf = need("sizes")?;
-    let sizes: Vec<usize> = sf
-        .value
-        .split_whitespace()
-        .map(|t| t.parse::<usize>().ok().filter(|&s| s >= 1))
-        .collect::<Option<Vec<_>>>()
-        .filter(|v| v.len() == dim)
-        .ok_or_else(|| {
-            IoError::syntax(
-                F,
-                Location::Line(sf.line),
-                format!("{dim} sizes ≥ 1"),
-                &sf.value,
-            )
-        })?;
-    // Every product of sizes below fits in usize (also on 32-bit wasm).
-    checked_count(&sizes, 1, usize::MAX / 16, 1, F, Location::Line(sf.line))?;
+    let sizes = parse_sizes(&sf.value, dim, F, sf.line, format!("{dim} sizes ≥ 1"))?;
     // Spatial axes: those with a space direction (or, without directions, the first three).
     let directions: Option<Vec<Option<Vec<f64>>>> = match h.get("space directions") {
         None => None,

@@ -429,6 +429,25 @@ pub(crate) fn parse_ascii_samples(
     Ok(out)
 }
 
+/// A text header's list of exactly `n` voxel counts (each ≥ 1), at `line`; every product of them
+/// fits in usize (also on 32-bit wasm). `expected` names the field in the error.
+pub(crate) fn parse_sizes(
+    text: &str,
+    n: usize,
+    format: Format,
+    line: usize,
+    expected: String,
+) -> Result<Vec<usize>, IoError> {
+    let sizes = text
+        .split_whitespace()
+        .map(|t| t.parse::<usize>().ok().filter(|&s| s >= 1))
+        .collect::<Option<Vec<_>>>()
+        .filter(|v| v.len() == n)
+        .ok_or_else(|| IoError::syntax(format, Location::Line(line), expected, text))?;
+    checked_count(&sizes, 1, usize::MAX / 16, 1, format, Location::Line(line))?;
+    Ok(sizes)
+}
+
 /// The number of voxels `dims` describe, refusing overflow and anything larger than
 /// `available` bytes could hold at `bytes_each` (× `max_ratio` for compressed data: deflate
 /// cannot expand more than about 1032:1).

@@ -4,7 +4,6 @@
 //! [`crate::io::volume`].
 
 use super::{set_key, vec3_array, UiError, WrapSession};
-use crate::flow::{Evolver, WrapSettings};
 use crate::io::{Format, Inside, VolumeOptions, VoxelVolume};
 use js_sys::{Float32Array, Float64Array, Uint32Array};
 use wasm_bindgen::prelude::*;
@@ -106,22 +105,10 @@ impl WrapSession {
         frame: u32,
         dark: bool,
     ) -> Result<WrapSession, JsValue> {
-        let settings = WrapSettings::from_json(settings_json).map_err(|e| UiError {
-            code: "bad-parameter",
-            message: format!("settings: {e}"),
-            hint: "Reset the advanced settings or pick a preset.",
-        })?;
         let read =
             crate::io::read_bytes_with(bytes, file_name.as_deref(), &options(iso, frame, dark))
                 .map_err(UiError::from)?;
-        let evolver = Evolver::new(&read.target, settings.clone()).map_err(UiError::from)?;
-        Ok(WrapSession {
-            evolver,
-            target: read.target,
-            format: read.format,
-            settings_json: serde_json::to_string(&settings).unwrap_or_default(),
-            last: None,
-        })
+        WrapSession::prepare(read, settings_json)
     }
 }
 

@@ -26,6 +26,17 @@ struct Node {
     right: u32,
 }
 
+impl Node {
+    /// A node whose box and links the builder fills in later.
+    const PLACEHOLDER: Node = Node {
+        min: DVec3::ZERO,
+        max: DVec3::ZERO,
+        start: 0,
+        count: 0,
+        right: 0,
+    };
+}
+
 /// A BVH over primitives given by their boxes. Primitive ids are indices into the input.
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
@@ -83,13 +94,7 @@ impl Bvh {
             .collect();
         keyed.sort_unstable();
         bvh.order.extend(keyed.iter().map(|k| k.1));
-        bvh.nodes.push(Node {
-            min: DVec3::ZERO,
-            max: DVec3::ZERO,
-            start: 0,
-            count: 0,
-            right: 0,
-        });
+        bvh.nodes.push(Node::PLACEHOLDER);
         // Children are built before their parent's box is needed: a post-order pass over an
         // explicit stack of (node, start, end, children done).
         let mut stack = vec![(0usize, 0usize, n, false)];
@@ -140,13 +145,7 @@ impl Bvh {
             .zip(maxs)
             .map(|(a, b)| 0.5 * (*a + *b))
             .collect();
-        bvh.nodes.push(Node {
-            min: DVec3::ZERO,
-            max: DVec3::ZERO,
-            start: 0,
-            count: 0,
-            right: 0,
-        });
+        bvh.nodes.push(Node::PLACEHOLDER);
         // Explicit stack: (node index, start, end).
         let mut stack = vec![(0usize, 0usize, n)];
         while let Some((ni, s, e)) = stack.pop() {
