@@ -203,7 +203,7 @@ impl McfSession {
 
     /// Angle-weighted unit vertex normals as a flat `Float32Array`, for shading.
     pub fn normals(&self) -> Float32Array {
-        let flat: Vec<f32> = crate::geometry::normals::angle_weighted_normals(&self.mesh)
+        let flat: Vec<f32> = crate::geometry::operators::normals::angle_weighted_normals(&self.mesh)
             .iter()
             .flat_map(|p| [p.x as f32, p.y as f32, p.z as f32])
             .collect();
@@ -345,7 +345,7 @@ impl WrapSession {
 
     /// Angle-weighted unit vertex normals.
     pub fn normals(&self) -> Float32Array {
-        vec3_array(&crate::geometry::normals::angle_weighted_normals(
+        vec3_array(&crate::geometry::operators::normals::angle_weighted_normals(
             self.evolver.mesh(),
         ))
     }
@@ -368,7 +368,7 @@ impl WrapSession {
                 .map(|h| h * self.evolver.scale())
                 .collect(),
             "kappa" => crate::metrics::quality::vertex_kappa(mesh),
-            "covolume" => flow::CotanLaplacian::new(mesh).covolumes,
+            "covolume" => crate::geometry::operators::CotanLaplacian::new(mesh).covolumes,
             "features" => {
                 let f = crate::remesh::features::detect(mesh, &self.evolver.settings().features);
                 f.vertices.into_iter().map(|b| b as u8 as f64).collect()

@@ -4,9 +4,10 @@
 #![cfg(not(target_arch = "wasm32"))]
 
 use lsw::flow::tangential::tangential_velocity;
-use lsw::flow::{CotanLaplacian, Evolver, Preset, WrapSettings};
+use lsw::flow::{Evolver, Preset, WrapSettings};
+use lsw::geometry::operators::CotanLaplacian;
 use lsw::geometry::icosphere::icosphere;
-use lsw::geometry::normals::angle_weighted_normals;
+use lsw::geometry::operators::normals::angle_weighted_normals;
 use lsw::metrics::distance::two_sided_distances;
 use lsw::DVec3;
 

@@ -1,7 +1,7 @@
 //! Metrics against brute force and hand-computed values. Runs natively and in headless Chromium.
 
 use lsw::geometry::icosphere::icosphere;
-use lsw::metrics::bvh::closest_point_on_triangle;
+use lsw::geometry::spatial::bvh::closest_point_on_triangle;
 use lsw::metrics::distance::{two_sided_distances, DistanceStats};
 use lsw::metrics::intersections::count_self_intersections;
 use lsw::metrics::quality::{kappa, quality_stats, radius_ratio};

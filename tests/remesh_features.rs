@@ -4,7 +4,7 @@
 
 use lsw::geometry::icosphere::icosphere;
 use lsw::mesh::HalfedgeMesh;
-use lsw::metrics::bvh::TriangleBvh;
+use lsw::geometry::spatial::bvh::TriangleBvh;
 use lsw::remesh::features::detect;
 use lsw::remesh::{remesh, FeatureDetector, FeatureSettings, RemeshSettings};
 use lsw::DVec3;

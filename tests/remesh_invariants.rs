@@ -208,7 +208,7 @@ fn invalid_sizes_are_rejected_and_leave_the_mesh_alone() {
 fn back_projection_keeps_vertices_on_the_input_surface() {
     let mut m = icosphere(3, 1.0, DVec3::ZERO).unwrap();
     perturb(&mut m, 0.04, 42);
-    let reference = lsw::metrics::bvh::TriangleBvh::new(m.positions(), &m.triangles());
+    let reference = lsw::geometry::spatial::bvh::TriangleBvh::new(m.positions(), &m.triangles());
     let s = RemeshSettings {
         use_projection: true,
         ..uniform(0.07)

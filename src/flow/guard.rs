@@ -16,7 +16,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use crate::mesh::HalfedgeMesh;
-use crate::metrics::bvh::Bvh;
+use crate::geometry::spatial::bvh::Bvh;
 use crate::metrics::intersections::{pair_intersects, self_intersecting_pairs};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};

@@ -3,7 +3,8 @@
 //! Implicit diffusion is unconditionally stable, so τ is limited by accuracy only. The pure flow
 //! shrinks a sphere as r(t) = sqrt(r0² − 4t), which the tests check.
 
-use super::{CotanLaplacian, FlowError};
+use super::FlowError;
+use crate::geometry::operators::CotanLaplacian;
 use crate::mesh::HalfedgeMesh;
 use crate::solve::{solve_xyz_scaled, SolveReport, SolverSettings};
 use glam::DVec3;

@@ -3,7 +3,6 @@
 pub mod controls;
 pub mod evolver;
 pub mod guard;
-pub mod laplacian;
 pub mod mcf;
 pub mod scaling;
 pub mod settings;
@@ -13,7 +12,6 @@ pub mod surface_terms;
 pub mod tangential;
 
 pub use evolver::{EvolveError, Evolver, PhaseTimes, StepReport};
-pub use laplacian::{CotanLaplacian, COT_CLAMP};
 pub use mcf::{exact_sphere_radius, mcf_step, McfSettings, McfStepReport};
 pub use settings::{Preset, RemeshTrigger, StartSurface, WrapSettings};
 

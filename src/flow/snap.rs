@@ -9,7 +9,7 @@
 //! where the surface bridges a hole in a scan) stay where they are.
 
 use crate::mesh::HalfedgeMesh;
-use crate::metrics::bvh::TriangleBvh;
+use crate::geometry::spatial::bvh::TriangleBvh;
 use glam::DVec3;
 use nalgebra::{Matrix3, SymmetricEigen};
 

@@ -8,10 +8,10 @@
 //! result equals its stand-alone definition — [`angle_weighted_normals`],
 //! [`CotanLaplacian::new`], [`tangential_velocity`] — up to rounding; the tests check that.
 //!
-//! [`angle_weighted_normals`]: crate::geometry::normals::angle_weighted_normals
+//! [`angle_weighted_normals`]: crate::geometry::operators::normals::angle_weighted_normals
 //! [`tangential_velocity`]: super::tangential::tangential_velocity
 
-use super::laplacian::{corner_covolumes, cot_of, CotanLaplacian};
+use crate::geometry::operators::laplacian::{corner_covolumes, cot_of, CotanLaplacian};
 use crate::geometry::angle::corner_angle;
 use crate::mesh::HalfedgeMesh;
 use glam::DVec3;
@@ -134,7 +134,7 @@ mod tests {
     use super::*;
     use crate::flow::tangential::tangential_velocity;
     use crate::geometry::icosphere::icosphere;
-    use crate::geometry::normals::angle_weighted_normals;
+    use crate::geometry::operators::normals::angle_weighted_normals;
 
     /// An icosphere with every vertex pushed off the sphere and sideways by a different amount,
     /// so that the faces are irregular, some obtuse.

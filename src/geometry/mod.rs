@@ -4,7 +4,7 @@ pub mod aabb;
 pub mod angle;
 pub mod icosphere;
 pub mod marching_cubes;
-pub mod normals;
+pub mod operators;
 pub mod predicates;
 pub mod primitives;
 pub mod spatial;

@@ -413,8 +413,8 @@ impl HalfedgeMesh {
             "reorder_spatially needs a garbage-free mesh"
         );
         let (nv, ne, nf) = (self.n_vertices(), self.n_edges(), self.n_faces());
-        let bb = crate::geometry::aabb::Aabb::from_points(&self.positions);
-        let ext = bb.size().max_element().max(f64::MIN_POSITIVE);
+        let (lo, hi) = self.bounds();
+        let ext = (hi - lo).max_element().max(f64::MIN_POSITIVE);
         // 21 bits per axis, interleaved into a 63-bit key.
         fn spread(mut x: u64) -> u64 {
             x &= 0x1f_ffff;
@@ -430,7 +430,7 @@ impl HalfedgeMesh {
             .iter()
             .enumerate()
             .map(|(i, p)| {
-                let q = (*p - bb.min) * scale;
+                let q = (*p - lo) * scale;
                 let k = spread(q.x as u64) | spread(q.y as u64) << 1 | spread(q.z as u64) << 2;
                 (k, i as u32)
             })

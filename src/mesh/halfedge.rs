@@ -185,6 +185,15 @@ impl HalfedgeMesh {
         self.f_halfedge.len()
     }
 
+    /// Corners (min, max) of the vertices' bounding box; (+∞, −∞) without vertices. The mesh
+    /// sits below `geometry` in the layers, so it keeps this one fold instead of using `Aabb`.
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        self.positions.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        )
+    }
+
     /// Vertex positions.
     pub fn positions(&self) -> &[DVec3] {
         &self.positions

@@ -125,8 +125,8 @@ impl HalfedgeMesh {
                 });
             }
         }
-        let bbox = crate::geometry::aabb::Aabb::from_points(&self.positions);
-        let min_area = 1e-14 * bbox.size().length_squared();
+        let (lo, hi) = self.bounds();
+        let min_area = 1e-14 * (hi - lo).length_squared();
         for f in 0..self.n_faces() as u32 {
             let (_, area) = self.face_normal_area(f);
             if area.is_nan() || area <= min_area {

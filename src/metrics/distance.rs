@@ -11,7 +11,7 @@
 //!
 //! The Hausdorff distance is the larger of the two maxima.
 
-use super::bvh::{PointBvh, TriangleBvh};
+use crate::geometry::spatial::bvh::{PointBvh, TriangleBvh};
 use super::quality::percentile_sorted;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};

@@ -10,7 +10,7 @@
 // `!(x > y)` is used deliberately: it is also true when x is NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::bvh::Bvh;
+use crate::geometry::spatial::bvh::Bvh;
 use crate::geometry::predicates::faces_intersect;
 use glam::DVec3;
 

@@ -6,11 +6,9 @@
 //! * [`intersections`] — count of intersecting non-adjacent face pairs.
 //! * [`volume`] — enclosed volume.
 //! * [`histogram`] — fixed-bin histograms.
-//! * [`bvh`] — bounding-volume hierarchy and exact closest points on triangles / points.
+//!
+//! The BVH they use lives in [`crate::geometry::spatial::bvh`].
 
-/// The BVH moved to [`crate::geometry::spatial::bvh`] (it serves the field and the flow too);
-/// this path stays for existing users.
-pub use crate::geometry::spatial::bvh;
 pub mod certificate;
 pub mod distance;
 pub mod histogram;

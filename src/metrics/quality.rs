@@ -13,7 +13,7 @@
 // `!(x > y)` is used deliberately: it is also true when x is NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use crate::flow::laplacian::CotanLaplacian;
+use crate::geometry::operators::laplacian::CotanLaplacian;
 use crate::mesh::HalfedgeMesh;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};

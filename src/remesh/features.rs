@@ -16,7 +16,7 @@
 //!   `include_concave_edges`); its ends become feature vertices. Only this detector marks edges,
 //!   so only it lets the remesher slide vertices along feature lines.
 
-use super::curvature::Curvatures;
+use crate::geometry::operators::curvature::Curvatures;
 use crate::mesh::{HalfedgeMesh, INVALID};
 use serde::{Deserialize, Serialize};
 
@@ -165,6 +165,6 @@ pub fn detect_features(
 
 /// Convenience: curvatures (one smoothing pass) and features in one call.
 pub fn detect(mesh: &HalfedgeMesh, settings: &FeatureSettings) -> Features {
-    let curv = super::curvature::principal_curvatures(mesh, None, 1);
+    let curv = crate::geometry::operators::curvature::principal_curvatures(mesh, None, 1);
     detect_features(mesh, &curv, settings)
 }

@@ -5,10 +5,10 @@
 //! * [`sizing`] — the sizing field and the start-size rules and schedule of §6.6 / §7.2.
 //! * [`features`] — convex crease and corner detection (mean-curvature angle, dihedral angle).
 //! * [`trigger`] — when to remesh (worst vertex-averaged κ above a bound).
-//! * [`curvature`] — principal curvatures from the edge-based curvature tensor (§8.1).
+//!
+//! Principal curvatures come from [`crate::geometry::operators::curvature`].
 
 pub mod adaptive;
-pub mod curvature;
 pub mod features;
 pub mod sizing;
 pub mod trigger;

@@ -1,7 +1,7 @@
 //! Target edge lengths: the curvature-adaptive sizing field of one remesh call (method spec §7.3
 //! step 4) and the start-size rules and schedule of §7.2 / §6.6.
 
-use super::curvature::Curvatures;
+use crate::geometry::operators::curvature::Curvatures;
 use crate::mesh::HalfedgeMesh;
 use serde::{Deserialize, Serialize};
 

@@ -1,0 +1,97 @@
+//! The layering of `src/`: data flows one way, so no module may name a module of a higher layer.
+//! Reads every `crate::…` path in the sources (production code only: everything from a file's
+//! `#[cfg(test)]` on is test code, which may use fixtures from anywhere). The same table is
+//! drawn in the README's "What is where".
+
+use std::path::Path;
+
+/// Top-level modules by layer, bottom first. A module may use its own layer and those below.
+const LAYERS: &[&[&str]] = &[
+    &["clock", "solve"],
+    &["mesh"],
+    &["geometry"],
+    &["io", "target"],
+    &["field"],
+    &["metrics"],
+    &["remesh"],
+    &["flow"],
+    &["demo"],
+    &["error", "cli", "wasm", "bin", "lib"],
+];
+
+fn layer_of(module: &str) -> Option<usize> {
+    LAYERS.iter().position(|l| l.contains(&module))
+}
+
+fn rust_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
+    for entry in std::fs::read_dir(dir).expect("src/ is readable") {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            rust_files(&path, out);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
+        }
+    }
+}
+
+/// The top-level modules named as `crate::name` in the production part of `src`.
+fn crate_paths(src: &str) -> Vec<String> {
+    let code = src.split("#[cfg(test)]").next().unwrap_or("");
+    let mut out = Vec::new();
+    for line in code.lines() {
+        let line = line.trim_start();
+        if line.starts_with("//") {
+            continue; // doc links may point anywhere
+        }
+        let mut rest = line;
+        while let Some(i) = rest.find("crate::") {
+            let tail = &rest[i + 7..];
+            let name: String = tail
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                .collect();
+            if !name.is_empty() {
+                out.push(name);
+            }
+            rest = tail;
+        }
+    }
+    out
+}
+
+#[test]
+fn no_module_uses_a_higher_layer() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&root, &mut files);
+    assert!(files.len() > 50, "found only {} source files", files.len());
+    let mut violations = Vec::new();
+    for file in &files {
+        let rel = file.strip_prefix(&root).unwrap();
+        let first = rel.components().next().unwrap().as_os_str().to_string_lossy();
+        let module = first.trim_end_matches(".rs").to_string();
+        let own = layer_of(&module)
+            .unwrap_or_else(|| panic!("src/{module} is in no layer: add it to LAYERS"));
+        let text = std::fs::read_to_string(file).unwrap();
+        for used in crate_paths(&text) {
+            let Some(theirs) = layer_of(&used) else {
+                continue; // a crate-root item (a macro or re-export), not a module
+            };
+            if theirs > own {
+                violations.push(format!("src/{} uses crate::{used}", rel.display()));
+            }
+        }
+    }
+    assert!(
+        violations.is_empty(),
+        "imports against the layers (bottom first: {LAYERS:?}):\n{}",
+        violations.join("\n")
+    );
+}
+
+#[test]
+fn the_scanner_sees_paths_and_skips_comments_and_tests() {
+    let src = "use crate::mesh::X;\n// crate::flow in a comment\nfn f() { crate::geometry::aabb::Aabb::EMPTY; }\n#[cfg(test)]\nmod tests { use crate::demo::Rng; }\n";
+    assert_eq!(crate_paths(src), vec!["mesh", "geometry"]);
+    assert!(layer_of("flow") > layer_of("remesh"));
+}
