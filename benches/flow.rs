@@ -20,12 +20,13 @@ fn bench_flow(c: &mut Criterion) {
     let mut g = c.benchmark_group("lsw_step");
     g.sample_size(20);
     for level in [4u32, 5, 6] {
-        let settings = WrapSettings {
-            icosphere_level: level,
-            remesh: false,
-            schedule: vec![],
-            steps: 100_000,
-            ..WrapSettings::default()
+        let settings = {
+            let mut w = WrapSettings::default();
+            w.start.icosphere_level = level;
+            w.remesh.enabled = false;
+            w.flow.schedule = vec![];
+            w.stop.steps = 100_000;
+            w
         };
         let ev = Evolver::new(&target, settings).unwrap();
         let n = ev.mesh().n_vertices();

@@ -203,10 +203,11 @@ impl McfSession {
 
     /// Angle-weighted unit vertex normals as a flat `Float32Array`, for shading.
     pub fn normals(&self) -> Float32Array {
-        let flat: Vec<f32> = crate::geometry::operators::normals::angle_weighted_normals(&self.mesh)
-            .iter()
-            .flat_map(|p| [p.x as f32, p.y as f32, p.z as f32])
-            .collect();
+        let flat: Vec<f32> =
+            crate::geometry::operators::normals::angle_weighted_normals(&self.mesh)
+                .iter()
+                .flat_map(|p| [p.x as f32, p.y as f32, p.z as f32])
+                .collect();
         Float32Array::from(flat.as_slice())
     }
 
@@ -345,9 +346,9 @@ impl WrapSession {
 
     /// Angle-weighted unit vertex normals.
     pub fn normals(&self) -> Float32Array {
-        vec3_array(&crate::geometry::operators::normals::angle_weighted_normals(
-            self.evolver.mesh(),
-        ))
+        vec3_array(
+            &crate::geometry::operators::normals::angle_weighted_normals(self.evolver.mesh()),
+        )
     }
 
     /// Surface triangles as a flat `Uint32Array`.
@@ -370,7 +371,8 @@ impl WrapSession {
             "kappa" => crate::metrics::quality::vertex_kappa(mesh),
             "covolume" => crate::geometry::operators::CotanLaplacian::new(mesh).covolumes,
             "features" => {
-                let f = crate::remesh::features::detect(mesh, &self.evolver.settings().features);
+                let f =
+                    crate::remesh::features::detect(mesh, &self.evolver.settings().remesh.features);
                 f.vertices.into_iter().map(|b| b as u8 as f64).collect()
             }
             other => {
@@ -430,7 +432,7 @@ impl WrapSession {
     /// The step limit in force (the start's own when `auto` resolved to the isosurface start).
     #[wasm_bindgen(js_name = stepLimit)]
     pub fn step_limit(&self) -> u32 {
-        self.evolver.settings().steps
+        self.evolver.settings().stop.steps
     }
 
     /// Why the wrap stopped before its rule said so (divergence, solver failure), or null.
@@ -567,20 +569,34 @@ pub fn control_curves(settings_json: &str, n: u32) -> Result<JsValue, JsValue> {
 /// settings JSON (`tau`, `field.band_cells`, …).
 #[wasm_bindgen(js_name = settingsDocs)]
 pub fn settings_docs() -> String {
-    let map: serde_json::Map<String, serde_json::Value> = crate::demo::settings_docs()
-        .into_iter()
-        .map(|(k, v)| (k, serde_json::Value::String(v)))
-        .collect();
+    let map: serde_json::Map<String, serde_json::Value> =
+        crate::flow::settings::docs::settings_docs()
+            .into_iter()
+            .map(|(k, v)| (k, serde_json::Value::String(v)))
+            .collect();
     serde_json::Value::Object(map).to_string()
 }
 
 /// The options of every enum-valued settings field, as a JSON object keyed by the field's path.
 #[wasm_bindgen(js_name = settingsEnums)]
 pub fn settings_enums() -> String {
-    let map: serde_json::Map<String, serde_json::Value> = crate::demo::settings_enums()
-        .into_iter()
-        .map(|(k, v)| (k, serde_json::Value::from(v)))
-        .collect();
+    let map: serde_json::Map<String, serde_json::Value> =
+        crate::flow::settings::docs::settings_enums()
+            .into_iter()
+            .map(|(k, v)| (k, serde_json::Value::from(v)))
+            .collect();
+    serde_json::Value::Object(map).to_string()
+}
+
+/// The old flat settings keys (down to the leaves) with their current nested keys, as a JSON
+/// object: share links made before the settings were nested still decode.
+#[wasm_bindgen(js_name = settingAliases)]
+pub fn setting_aliases() -> String {
+    let map: serde_json::Map<String, serde_json::Value> =
+        crate::flow::settings::aliases::leaf_aliases()
+            .into_iter()
+            .map(|(k, v)| (k, serde_json::Value::String(v)))
+            .collect();
     serde_json::Value::Object(map).to_string()
 }
 

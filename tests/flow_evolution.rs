@@ -21,14 +21,15 @@ fn pure_mcf_preset_follows_the_sphere_law() {
     // ε ≡ 1, η ≡ 0: the evolver's step is the semi-implicit MCF of the skeleton, in the
     // stabilised frame. Checked while r ≥ 0.6·r0, where the scheme's O(τ) lag stays below 1 %.
     let target = sphere_cloud(500, 1.0);
-    let settings = WrapSettings {
-        icosphere_level: 4,
-        steps: 1000,
-        ..Preset::Mcf.settings()
+    let settings = {
+        let mut w = Preset::Mcf.settings();
+        w.start.icosphere_level = 4;
+        w.stop.steps = 1000;
+        w
     };
     let mut ev = Evolver::new(&target, settings).unwrap();
     let r0 = mean_radius(ev.mesh().positions());
-    let tau = ev.settings().tau;
+    let tau = ev.settings().flow.tau;
     for k in 1.. {
         let rep = ev.step().unwrap();
         assert_eq!(rep.vertices, 2562, "no remeshing in the MCF preset");
@@ -50,11 +51,12 @@ fn wraps_a_sphere_cloud_onto_radius_r_plus_d0_and_stops_by_itself() {
     let r = 1.0;
     let target = sphere_cloud(20_000, r);
     // The evolution proper settles on d = d₀; the final fit (checked below) then moves it onto R.
-    let settings = WrapSettings {
-        steps: 400,
-        schedule: vec![3, 10, 20, 50],
-        final_fit: false,
-        ..WrapSettings::default()
+    let settings = {
+        let mut w = WrapSettings::default();
+        w.stop.steps = 400;
+        w.flow.schedule = vec![3, 10, 20, 50];
+        w.fit.enabled = false;
+        w
     };
     let mut ev = Evolver::new(&target, settings.clone()).unwrap();
     // The default radius rule gives exactly 2R for a sphere's bounding cube.
@@ -85,13 +87,11 @@ fn wraps_a_sphere_cloud_onto_radius_r_plus_d0_and_stops_by_itself() {
     );
     assert!(worst < 0.5 * cell, "worst deviation {worst}");
 
-    let mut fitted = Evolver::new(
-        &target,
-        WrapSettings {
-            final_fit: true,
-            ..settings.clone()
-        },
-    )
+    let mut fitted = Evolver::new(&target, {
+        let mut w = settings.clone();
+        w.fit.enabled = true;
+        w
+    })
     .unwrap();
     fitted.run(|_| {}).unwrap();
     fitted.mesh().validate().unwrap();
@@ -134,9 +134,10 @@ fn failing_solves_are_retried_then_reported_without_touching_the_mesh() {
 #[wasm_bindgen_test(unsupported = test)]
 fn same_input_same_mesh() {
     let target = sphere_cloud(3000, 1.0);
-    let settings = WrapSettings {
-        steps: 25,
-        ..WrapSettings::default()
+    let settings = {
+        let mut w = WrapSettings::default();
+        w.stop.steps = 25;
+        w
     };
     let run = || {
         let mut ev = Evolver::new(&target, settings.clone()).unwrap();
@@ -156,10 +157,11 @@ fn same_input_same_mesh() {
 fn a_forced_divergence_is_rolled_back_and_reported() {
     // τ at the top of its range makes the explicit advection overshoot by orders of magnitude.
     let target = sphere_cloud(2000, 1.0);
-    let settings = WrapSettings {
-        tau: 10.0,
-        d1: 50.0,
-        ..WrapSettings::default()
+    let settings = {
+        let mut w = WrapSettings::default();
+        w.flow.tau = 10.0;
+        w.flow.d1 = 50.0;
+        w
     };
     let mut ev = Evolver::new(&target, settings).unwrap();
     let mut before = ev.mesh().positions().to_vec();

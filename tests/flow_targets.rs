@@ -5,9 +5,9 @@
 
 use lsw::flow::tangential::tangential_velocity;
 use lsw::flow::{Evolver, Preset, WrapSettings};
-use lsw::geometry::operators::CotanLaplacian;
 use lsw::geometry::icosphere::icosphere;
 use lsw::geometry::operators::normals::angle_weighted_normals;
+use lsw::geometry::operators::CotanLaplacian;
 use lsw::metrics::distance::two_sided_distances;
 use lsw::DVec3;
 
@@ -30,10 +30,11 @@ fn full_wrap_gets_closer_than_obstacle_on_spot() {
     let diag = target.bbox.diagonal();
     let mut means = vec![];
     for preset in [Preset::Obstacle, Preset::FullWrap] {
-        let mut settings = WrapSettings {
-            steps: 100,
-            schedule: vec![3, 10, 20, 50],
-            ..preset.settings()
+        let mut settings = {
+            let mut w = preset.settings();
+            w.stop.steps = 100;
+            w.flow.schedule = vec![3, 10, 20, 50];
+            w
         };
         // The paper's grid (40 cells per β_min), not the coarser one the defaults give this
         // sparse cloud: on it the concavities are resolved well enough to compare.

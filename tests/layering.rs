@@ -68,7 +68,12 @@ fn no_module_uses_a_higher_layer() {
     let mut violations = Vec::new();
     for file in &files {
         let rel = file.strip_prefix(&root).unwrap();
-        let first = rel.components().next().unwrap().as_os_str().to_string_lossy();
+        let first = rel
+            .components()
+            .next()
+            .unwrap()
+            .as_os_str()
+            .to_string_lossy();
         let module = first.trim_end_matches(".rs").to_string();
         let own = layer_of(&module)
             .unwrap_or_else(|| panic!("src/{module} is in no layer: add it to LAYERS"));

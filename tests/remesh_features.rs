@@ -3,8 +3,8 @@
 //! marked. Runs natively and in headless Chromium.
 
 use lsw::geometry::icosphere::icosphere;
-use lsw::mesh::HalfedgeMesh;
 use lsw::geometry::spatial::bvh::TriangleBvh;
+use lsw::mesh::HalfedgeMesh;
 use lsw::remesh::features::detect;
 use lsw::remesh::{remesh, FeatureDetector, FeatureSettings, RemeshSettings};
 use lsw::DVec3;

@@ -26,11 +26,9 @@ fn target(name: &str) -> Target {
 /// certificate of the result.
 fn wrap(name: &str, start: StartSurface) -> (StartSurface, Certificate) {
     let target = target(name);
-    let mut settings = WrapSettings {
-        start,
-        min_edge_multiplier: 0.3,
-        ..WrapSettings::default()
-    };
+    let mut settings = WrapSettings::default();
+    settings.start.surface = start;
+    settings.remesh.min_edge_multiplier = 0.3;
     settings.field.cells_per_min_dimension = 24;
     let mut ev = Evolver::new(&target, settings).unwrap_or_else(|e| panic!("{name}: {e}"));
     ev.run(|_| {}).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -105,9 +103,10 @@ fn every_start_is_valid_on_a_genus_two_torus() {
     // result, or a clear refusal when the exterior leaks through the gaps between the points.
     for name in ["sphere-cut-cloud", "torus-g2-cloud"] {
         let target = target(name);
-        let settings = WrapSettings {
-            start: StartSurface::Isosurface,
-            ..WrapSettings::default()
+        let settings = {
+            let mut w = WrapSettings::default();
+            w.start.surface = StartSurface::Isosurface;
+            w
         };
         match Evolver::new(&target, settings) {
             Ok(mut ev) => {

@@ -23,12 +23,13 @@ fn sphere_cloud(n: usize) -> Target {
 fn time_lsw_steps_by_size() {
     let target = sphere_cloud(20_000);
     for level in [4u32, 5, 6] {
-        let settings = WrapSettings {
-            icosphere_level: level,
-            remesh: false,
-            schedule: vec![],
-            steps: 1000,
-            ..WrapSettings::default()
+        let settings = {
+            let mut w = WrapSettings::default();
+            w.start.icosphere_level = level;
+            w.remesh.enabled = false;
+            w.flow.schedule = vec![];
+            w.stop.steps = 1000;
+            w
         };
         // The first step from the start surface (as the native criterion bench times it): best
         // of three fresh evolvers, whole step and its phases.

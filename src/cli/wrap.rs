@@ -40,7 +40,8 @@ pub struct WrapArgs {
     pub volume: super::volume::VolumeArgs,
 }
 
-/// Applies `key=value` overrides to the settings' JSON form; unknown keys are errors.
+/// Applies `key=value` overrides to the settings' JSON form; keys are nested (`flow.tau`) or the
+/// old flat ones (`tau`, see [`crate::flow::settings::aliases`]); unknown keys are errors.
 pub fn apply_overrides(
     settings: WrapSettings,
     overrides: &[String],
@@ -52,8 +53,9 @@ pub fn apply_overrides(
             .ok_or_else(|| format!("--set {o}: expected KEY=VALUE"))?;
         let value: Value =
             serde_json::from_str(raw).unwrap_or_else(|_| Value::String(raw.to_owned()));
+        let path = crate::flow::settings::aliases::canonical_key(key);
         let mut slot = &mut v;
-        for part in key.split('.') {
+        for part in path.split('.') {
             slot = slot
                 .as_object_mut()
                 .and_then(|m| m.get_mut(part))
@@ -81,12 +83,13 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
     })?;
     let mut settings = apply_overrides(preset.settings(), &a.set)?;
     if let Some(n) = a.steps {
-        settings.steps = n;
+        settings.stop.steps = n;
     }
     if let Some(start) = &a.start {
-        settings.start = serde_json::from_value(Value::String(start.clone())).map_err(|_| {
-            format!("unknown start surface \"{start}\" (use auto, icosphere or isosurface)")
-        })?;
+        settings.start.surface =
+            serde_json::from_value(Value::String(start.clone())).map_err(|_| {
+                format!("unknown start surface \"{start}\" (use auto, icosphere or isosurface)")
+            })?;
     }
     let read = read_path_with(&a.input, &a.volume.options()).map_err(|e| e.to_string())?;
     a.volume.write_isosurface(&read)?;
@@ -152,7 +155,7 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
         "vertices": positions.len(),
         "faces": triangles.len(),
         "steps": ev.steps_done(),
-        "stopped_early": ev.steps_done() < settings.steps,
+        "stopped_early": ev.steps_done() < settings.stop.steps,
         "scale": ev.scale(),
         "result_hash": crate::mesh::fingerprint::mesh_hash(&positions, &triangles),
         "iso_level": ev.iso_level(),
@@ -207,9 +210,26 @@ mod tests {
             ],
         )
         .unwrap();
-        assert_eq!(s.tau, 0.01);
+        assert_eq!(s.flow.tau, 0.01);
         assert_eq!(s.field.cells_per_min_dimension, 60);
-        assert_eq!(s.start, crate::flow::StartSurface::Isosurface);
+        assert_eq!(s.start.surface, crate::flow::StartSurface::Isosurface);
+        let s = apply_overrides(
+            WrapSettings::default(),
+            &[
+                "flow.d2=0".into(),
+                "remesh_iterations=3".into(),
+                "features.detector=both".into(),
+                "stop.steps=7".into(),
+            ],
+        )
+        .unwrap();
+        assert_eq!(s.flow.d2, 0.0);
+        assert_eq!(s.remesh.iterations, 3);
+        assert_eq!(
+            s.remesh.features.detector,
+            crate::remesh::FeatureDetector::Both
+        );
+        assert_eq!(s.stop.steps, 7);
         assert!(apply_overrides(WrapSettings::default(), &["nope=1".into()]).is_err());
         assert!(apply_overrides(WrapSettings::default(), &["tau".into()]).is_err());
         assert!(apply_overrides(WrapSettings::default(), &["tau=\"fast\"".into()]).is_err());

@@ -209,14 +209,14 @@ pub struct ControlCurves {
 /// ε(δ) and η(δ) of `settings` at `n` points of δ ∈ [−0.5·w, 3·w], w = max(1, √C2).
 pub fn control_curves(settings: &WrapSettings, n: usize) -> ControlCurves {
     let c = Controls {
-        c1: settings.c1,
-        c2: settings.c2,
-        d1: settings.d1,
-        d2: settings.d2,
-        mcf_positive_support: settings.mcf_positive_support,
-        advection_positive_support: settings.advection_positive_support,
+        c1: settings.flow.c1,
+        c2: settings.flow.c2,
+        d1: settings.flow.d1,
+        d2: settings.flow.d2,
+        mcf_positive_support: settings.flow.mcf_positive_support,
+        advection_positive_support: settings.flow.advection_positive_support,
     };
-    let w = settings.c2.max(1.0).sqrt();
+    let w = settings.flow.c2.max(1.0).sqrt();
     let n = n.clamp(2, 10_000);
     let delta: Vec<f64> = (0..n)
         .map(|i| -0.5 * w + 3.5 * w * i as f64 / (n - 1) as f64)
@@ -227,125 +227,6 @@ pub fn control_curves(settings: &WrapSettings, n: usize) -> ControlCurves {
         eta_side: delta.iter().map(|&d| c.eta(d, 0.0)).collect(),
         delta,
     }
-}
-
-/// Sources whose struct fields are documented for the settings panel: (struct name, source).
-const DOC_SOURCES: [(&str, &str, &str); 5] = [
-    ("", "WrapSettings", include_str!("../flow/settings.rs")),
-    ("guard", "GuardSettings", include_str!("../flow/guard.rs")),
-    ("field", "FieldSettings", include_str!("../field/mod.rs")),
-    ("solver", "SolverSettings", include_str!("../solve/mod.rs")),
-    (
-        "features",
-        "FeatureSettings",
-        include_str!("../remesh/features.rs"),
-    ),
-];
-
-/// The text of `pub struct name { … }` in `src`, from its header to before the closing brace.
-fn struct_body<'a>(src: &'a str, name: &str) -> Option<&'a str> {
-    let body = &src[src.find(&format!("pub struct {name} {{"))?..];
-    Some(&body[..body.find("\n}").unwrap_or(body.len())])
-}
-
-/// The doc comment of every public field of the settings structs, keyed by its path in the
-/// settings JSON (`tau`, `field.band_cells`, …). Read from the Rust sources at compile time, so
-/// the panel's help text is the code's own documentation.
-pub fn settings_docs() -> Vec<(String, String)> {
-    let mut out = Vec::new();
-    for (prefix, name, src) in DOC_SOURCES {
-        let Some(body) = struct_body(src, name) else {
-            continue;
-        };
-        let mut doc = String::new();
-        for line in body.lines().skip(1) {
-            let t = line.trim();
-            if let Some(d) = t.strip_prefix("///") {
-                if !doc.is_empty() {
-                    doc.push(' ');
-                }
-                doc.push_str(d.trim());
-            } else if let Some(rest) = t.strip_prefix("pub ") {
-                if let Some((field, _)) = rest.split_once(':') {
-                    let key = if prefix.is_empty() {
-                        field.to_string()
-                    } else {
-                        format!("{prefix}.{field}")
-                    };
-                    out.push((
-                        key,
-                        doc.replace("[`", "").replace("`]", "").replace('`', ""),
-                    ));
-                }
-                doc.clear();
-            } else if !t.starts_with("#[") {
-                doc.clear();
-            }
-        }
-    }
-    out
-}
-
-/// CamelCase → snake_case (serde's `rename_all = "snake_case"`, used by every settings enum).
-fn snake_case(name: &str) -> String {
-    let mut out = String::new();
-    for (i, ch) in name.chars().enumerate() {
-        if ch.is_uppercase() {
-            if i > 0 {
-                out.push('_');
-            }
-            out.extend(ch.to_lowercase());
-        } else {
-            out.push(ch);
-        }
-    }
-    out
-}
-
-/// The variants (as serialised) of every enum-typed settings field, keyed like
-/// [`settings_docs`]: read from the Rust sources at compile time.
-pub fn settings_enums() -> Vec<(String, Vec<String>)> {
-    let all_src: String = DOC_SOURCES.iter().map(|s| s.2).collect();
-    let mut out = Vec::new();
-    for (prefix, name, src) in DOC_SOURCES {
-        let Some(body) = struct_body(src, name) else {
-            continue;
-        };
-        for line in body.lines().skip(1) {
-            let Some(rest) = line.trim().strip_prefix("pub ") else {
-                continue;
-            };
-            let Some((field, ty)) = rest.split_once(':') else {
-                continue;
-            };
-            let ty = ty.trim().trim_end_matches(',');
-            let Some(e) = all_src.find(&format!("pub enum {ty} {{")) else {
-                continue;
-            };
-            let ebody = &all_src[e..];
-            let ebody = &ebody[..ebody.find("\n}").unwrap_or(ebody.len())];
-            let variants: Vec<String> = ebody
-                .lines()
-                .skip(1)
-                .map(str::trim)
-                .filter(|l| !l.starts_with("//") && !l.starts_with("#[") && !l.is_empty())
-                .filter_map(|l| {
-                    let id: String = l
-                        .chars()
-                        .take_while(|c| c.is_alphanumeric() || *c == '_')
-                        .collect();
-                    (!id.is_empty()).then(|| snake_case(&id))
-                })
-                .collect();
-            let key = if prefix.is_empty() {
-                field.to_string()
-            } else {
-                format!("{prefix}.{field}")
-            };
-            out.push((key, variants));
-        }
-    }
-    out
 }
 
 #[cfg(test)]
@@ -436,51 +317,6 @@ mod tests {
             assert!((c.eta_facing[i] - eta).abs() < 1e-12);
             let side = if d < 0.0 { 0.0 } else { -2.0 * d };
             assert!((c.eta_side[i] - side).abs() < 1e-12);
-        }
-    }
-
-    #[test]
-    fn settings_docs_cover_every_field() {
-        let docs = settings_docs();
-        let json = serde_json::to_value(WrapSettings::default()).unwrap();
-        let obj = json.as_object().unwrap();
-        for (k, v) in obj {
-            if let Some(inner) = v.as_object() {
-                for k2 in inner.keys() {
-                    let key = format!("{k}.{k2}");
-                    assert!(
-                        docs.iter().any(|(d, text)| d == &key && !text.is_empty()),
-                        "no doc for {key}"
-                    );
-                }
-            } else {
-                assert!(
-                    docs.iter().any(|(d, text)| d == k && !text.is_empty()),
-                    "no doc for {k}"
-                );
-            }
-        }
-    }
-    #[test]
-    fn settings_enums_list_the_serialised_variants() {
-        let e = settings_enums();
-        let get = |k: &str| {
-            e.iter()
-                .find(|(key, _)| key == k)
-                .map(|(_, v)| v.clone())
-                .unwrap()
-        };
-        assert_eq!(get("start"), ["auto", "icosphere", "isosurface"]);
-        assert_eq!(get("remesh_trigger"), ["always", "quality_band"]);
-        assert_eq!(
-            get("features.detector"),
-            ["off", "mean_curvature", "dihedral_angle", "both"]
-        );
-        assert_eq!(get("field.sign"), ["auto", "unsigned"]);
-        // Every listed variant deserialises.
-        for v in get("start") {
-            let json = format!("{{\"start\": \"{v}\"}}");
-            assert!(WrapSettings::from_json(&json).is_ok(), "{json}");
         }
     }
 }

@@ -19,8 +19,8 @@ use crate::clock::now_ms;
 use crate::field::{DistanceField, FieldError};
 use crate::geometry::icosphere::IcosphereError;
 use crate::geometry::operators::normals::angle_weighted_normals;
-use crate::mesh::{HalfedgeMesh, MeshBuildError};
 use crate::geometry::spatial::bvh::TriangleBvh;
+use crate::mesh::{HalfedgeMesh, MeshBuildError};
 use crate::metrics::intersections::count_self_intersections;
 use crate::remesh::adaptive::{remesh, RemeshError, RemeshReport, RemeshSettings};
 use crate::remesh::sizing::{decayed, EdgeSizes};
@@ -197,19 +197,19 @@ impl Evolver {
         let (mesh, phi, sizes) = (start.mesh, start.phi, start.sizes);
         let limits = divergence_limits(target, &mesh, phi, center, &settings);
         let field = field.scaled(center, phi);
-        let fit_target = (settings.final_fit && settings.use_target).then(|| {
+        let fit_target = (settings.fit.enabled && settings.flow.use_target).then(|| {
             let pts: Vec<DVec3> = target.points.iter().map(|&p| phi * (p - center)).collect();
             if target.triangles.is_empty() {
-                SnapTarget::Points(PointGrid::new(&pts, settings.fit_radius_cells * c * phi))
+                SnapTarget::Points(PointGrid::new(&pts, settings.fit.radius_cells * c * phi))
             } else {
                 SnapTarget::Triangles(TriangleBvh::new(&pts, &target.triangles))
             }
         });
-        let d0 = settings.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
+        let d0 = settings.flow.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
         let mut ev = Evolver {
-            tau: settings.tau,
-            d1: settings.d1,
-            settle_threshold: settings.stop_displacement_cells * c * phi,
+            tau: settings.flow.tau,
+            d1: settings.flow.d1,
+            settle_threshold: settings.stop.displacement_cells * c * phi,
             settings,
             mesh,
             field,
@@ -238,7 +238,7 @@ impl Evolver {
         };
         ev.save_checkpoint();
         ev.refresh_distances();
-        ev.done = ev.settings.steps == 0;
+        ev.done = ev.settings.stop.steps == 0;
         Ok(ev)
     }
 
@@ -366,12 +366,12 @@ impl Evolver {
         let n = self.mesh.n_vertices();
         let s = &self.settings;
         let controls = Controls {
-            c1: s.c1,
-            c2: s.c2,
+            c1: s.flow.c1,
+            c2: s.flow.c2,
             d1: self.d1,
-            d2: s.d2,
-            mcf_positive_support: s.mcf_positive_support,
-            advection_positive_support: s.advection_positive_support,
+            d2: s.flow.d2,
+            mcf_positive_support: s.flow.mcf_positive_support,
+            advection_positive_support: s.flow.advection_positive_support,
         };
         // One pass over the faces gives normals, the Laplacian and the tangential sums.
         let terms = SurfaceTerms::new(&self.mesh);
@@ -379,18 +379,18 @@ impl Evolver {
         let held = held_mask(&self.mesh);
         let held_count = held.iter().filter(|&&h| h).count();
         let (mut eps, mut eta) = (vec![1.0; n], vec![0.0; n]);
-        if s.use_target {
+        if s.flow.use_target {
             for i in 0..n {
                 let delta = self.distances[i] - self.d0;
                 eps[i] = controls.epsilon(delta);
-                let advects = eps[i] != 0.0 || !s.advection_positive_support || delta >= 0.0;
+                let advects = eps[i] != 0.0 || !s.flow.advection_positive_support || delta >= 0.0;
                 if advects && !held[i] {
                     eta[i] = controls.eta(delta, self.gradients[i].dot(normals[i]));
                 }
             }
         }
         let tangential: Vec<DVec3> = (0..n)
-            .map(|v| terms.tangential(v, s.tangential_weight * eps[v]))
+            .map(|v| terms.tangential(v, s.flow.tangential_weight * eps[v]))
             .collect();
         let t_normals = now_ms();
         times.normals = t_normals - t_start;
@@ -398,7 +398,7 @@ impl Evolver {
         let lap = &terms.laplacian;
         let (covolume_min, covolume_mean, covolume_max) = stats(&lap.covolumes);
         let old = self.mesh.positions().to_vec();
-        let (solver, max_retries) = (s.solver.clone(), s.max_retries);
+        let (solver, max_retries) = (s.solver.clone(), s.flow.max_retries);
         let mut retries = 0;
         let (x, solve) = loop {
             let t0 = now_ms();
@@ -451,7 +451,7 @@ impl Evolver {
         self.step += 1;
 
         let s = &self.settings;
-        let remesh_due = s.remesh && self.step >= s.remesh_from_step && self.needs_remesh();
+        let remesh_due = s.remesh.enabled && self.step >= s.remesh.from_step && self.needs_remesh();
         let mut remesh_report = None;
         if remesh_due {
             remesh_report = Some(self.remesh_phase(&mut times)?);
@@ -463,9 +463,9 @@ impl Evolver {
         // Whether this step ends the evolution (the schedule is step-indexed, so this is known
         // before the guard; a roll-back below simply redoes it).
         let settled_fraction = settled as f64 / n.max(1) as f64;
-        let schedule_over = self.settings.schedule.iter().all(|&t| t < self.step);
-        let ends = self.step >= self.settings.steps
-            || (schedule_over && settled_fraction >= self.settings.stop_fraction);
+        let schedule_over = self.settings.flow.schedule.iter().all(|&t| t < self.step);
+        let ends = self.step >= self.settings.stop.steps
+            || (schedule_over && settled_fraction >= self.settings.stop.fraction);
         let g = &self.settings.guard;
         let check = g.contact
             && (pre.is_some() || ends || self.step >= self.checkpoint.step + g.check_every);
@@ -509,8 +509,8 @@ impl Evolver {
             self.guarded_left = self.guarded_left.saturating_sub(1);
             self.save_checkpoint();
         }
-        if self.settings.schedule.contains(&self.step) {
-            let decay = self.settings.decay;
+        if self.settings.flow.schedule.contains(&self.step) {
+            let decay = self.settings.flow.decay;
             self.sizes = decayed(self.sizes, decay);
             self.sizes_changed = true;
             self.tau *= decay * decay;
@@ -581,9 +581,9 @@ impl Evolver {
         let t0 = now_ms();
         let s = &self.settings;
         let rs = RemeshSettings {
-            iterations: s.remesh_iterations,
-            smoothing_iterations: s.smoothing_iterations,
-            features: s.features.clone(),
+            iterations: s.remesh.iterations,
+            smoothing_iterations: s.remesh.smoothing_iterations,
+            features: s.remesh.features.clone(),
             ..RemeshSettings::with_sizes(self.sizes)
         };
         self.sizes_changed = false;
@@ -647,8 +647,8 @@ impl Evolver {
         let target = self.fit_target.as_ref()?;
         let c = self.field.cell_size();
         let params = SnapParams {
-            radius: self.settings.fit_radius_cells * c,
-            max_move: self.settings.fit_max_move_cells * c,
+            radius: self.settings.fit.radius_cells * c,
+            max_move: self.settings.fit.max_move_cells * c,
             min_points: 6,
         };
         // The fit must never make things worse: keep the settled surface if it breaks validity.
@@ -657,12 +657,12 @@ impl Evolver {
         let rs = RemeshSettings {
             iterations: 1,
             use_projection: true,
-            smoothing_iterations: self.settings.smoothing_iterations,
-            features: self.settings.features.clone(),
+            smoothing_iterations: self.settings.remesh.smoothing_iterations,
+            features: self.settings.remesh.features.clone(),
             ..RemeshSettings::with_sizes(self.sizes)
         };
-        let (contact, remeshing) = (self.settings.guard.contact, self.settings.remesh);
-        for _ in 0..self.settings.fit_passes {
+        let (contact, remeshing) = (self.settings.guard.contact, self.settings.remesh.enabled);
+        for _ in 0..self.settings.fit.passes {
             // The surface here is certified; keep it to redo the pass with the guard if needed.
             let clean = contact.then(|| self.mesh.clone());
             let normals = angle_weighted_normals(&self.mesh);
@@ -697,13 +697,13 @@ impl Evolver {
     }
 
     fn needs_remesh(&self) -> bool {
-        match self.settings.remesh_trigger {
+        match self.settings.remesh.trigger {
             RemeshTrigger::Always => true,
             RemeshTrigger::QualityBand => {
                 self.sizes_changed
                     || crate::remesh::trigger::needs_remesh(
                         &self.mesh,
-                        self.settings.remesh_max_kappa,
+                        self.settings.remesh.max_kappa,
                     )
             }
         }

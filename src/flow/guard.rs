@@ -15,8 +15,8 @@
 // `!(x > y)` is used deliberately: it is also true when x is NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use crate::mesh::HalfedgeMesh;
 use crate::geometry::spatial::bvh::Bvh;
+use crate::mesh::HalfedgeMesh;
 use crate::metrics::intersections::{pair_intersects, self_intersecting_pairs};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};

@@ -13,7 +13,10 @@ pub mod tangential;
 
 pub use evolver::{EvolveError, Evolver, PhaseTimes, StepReport};
 pub use mcf::{exact_sphere_radius, mcf_step, McfSettings, McfStepReport};
-pub use settings::{Preset, RemeshTrigger, StartSurface, WrapSettings};
+pub use settings::{
+    FitSettings, FlowSettings, Preset, RemeshTrigger, RemeshingSettings, StartSettings,
+    StartSurface, StopSettings, WrapSettings,
+};
 
 use crate::solve::SolveError;
 

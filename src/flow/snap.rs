@@ -8,8 +8,8 @@
 //! (too few points, plane nearly parallel to the normal, a move longer than the limit — e.g.
 //! where the surface bridges a hole in a scan) stay where they are.
 
-use crate::mesh::HalfedgeMesh;
 use crate::geometry::spatial::bvh::TriangleBvh;
+use crate::mesh::HalfedgeMesh;
 use glam::DVec3;
 use nalgebra::{Matrix3, SymmetricEigen};
 

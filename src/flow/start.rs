@@ -41,22 +41,22 @@ pub fn build_start(
 ) -> Result<Start, EvolveError> {
     let center = target.bbox.center();
     let c = field.cell_size();
-    match settings.start {
+    match settings.start.surface {
         StartSurface::Auto | StartSurface::Icosphere => {
             let size = target.bbox.size();
             let (bmin, bmax) = (size.min_element(), size.max_element());
-            let r = settings.icosphere_radius_factor * 0.4 * (bmin + 1.5 * bmax);
+            let r = settings.start.icosphere_radius_factor * 0.4 * (bmin + 1.5 * bmax);
             let phi = scaling::icosphere_scale(
-                settings.tau,
-                settings.shrink_factor,
+                settings.flow.tau,
+                settings.flow.shrink_factor,
                 r,
-                settings.icosphere_level,
+                settings.start.icosphere_level,
             );
-            let mesh = icosphere(settings.icosphere_level, phi * r, DVec3::ZERO)?;
+            let mesh = icosphere(settings.start.icosphere_level, phi * r, DVec3::ZERO)?;
             let sizes = icosphere_sizes(
-                settings.min_edge_multiplier,
+                settings.remesh.min_edge_multiplier,
                 phi * r,
-                settings.icosphere_level,
+                settings.start.icosphere_level,
             );
             Ok(Start {
                 mesh,
@@ -66,8 +66,8 @@ pub fn build_start(
             })
         }
         StartSurface::Isosurface => {
-            let d0 = settings.iso_level_factor * 0.5 * 3f64.sqrt() * c;
-            let mut iso = settings.isosurface_level_cells * c;
+            let d0 = settings.flow.iso_level_factor * 0.5 * 3f64.sqrt() * c;
+            let mut iso = settings.start.isosurface_level_cells * c;
             if iso <= d0 {
                 iso = 1.1 * d0;
             }
@@ -76,16 +76,17 @@ pub fn build_start(
                 // reach about three median spacings in a random sampling.
                 iso = iso.max(ISO_SPACINGS * median_spacing(&target.points));
             }
-            let c_r = settings.isosurface_resampling * c;
+            let c_r = settings.start.isosurface_resampling * c;
             let (pos, tris) =
-                field.exterior_isosurface_resampled(iso, settings.isosurface_resampling);
+                field.exterior_isosurface_resampled(iso, settings.start.isosurface_resampling);
             if tris.is_empty() {
                 return Err(EvolveError::EmptyIsosurface { iso });
             }
-            let phi = scaling::isosurface_scale(settings.tau, settings.shrink_factor, c_r);
+            let phi =
+                scaling::isosurface_scale(settings.flow.tau, settings.flow.shrink_factor, c_r);
             let scaled: Vec<DVec3> = pos.into_iter().map(|p| phi * (p - center)).collect();
             let mut mesh = HalfedgeMesh::from_triangles(scaled, &tris)?;
-            let sizes = isosurface_sizes(settings.min_edge_multiplier, c_r, phi);
+            let sizes = isosurface_sizes(settings.remesh.min_edge_multiplier, c_r, phi);
             // One remesh with back-projection onto the marching-cubes surface (spec §5.3). If it
             // leaves intersecting faces the start is refused: the raw marching-tetrahedra surface
             // is full of slivers on which the flow is not stable (measured: it blows up within a
@@ -93,8 +94,8 @@ pub fn build_start(
             let rs = RemeshSettings {
                 iterations: 1,
                 use_projection: true,
-                smoothing_iterations: settings.smoothing_iterations,
-                features: settings.features.clone(),
+                smoothing_iterations: settings.remesh.smoothing_iterations,
+                features: settings.remesh.features.clone(),
                 ..RemeshSettings::with_sizes(sizes)
             };
             remesh(&mut mesh, &rs)?;

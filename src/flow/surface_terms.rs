@@ -11,8 +11,8 @@
 //! [`angle_weighted_normals`]: crate::geometry::operators::normals::angle_weighted_normals
 //! [`tangential_velocity`]: super::tangential::tangential_velocity
 
-use crate::geometry::operators::laplacian::{corner_covolumes, cot_of, CotanLaplacian};
 use crate::geometry::angle::corner_angle;
+use crate::geometry::operators::laplacian::{corner_covolumes, cot_of, CotanLaplacian};
 use crate::mesh::HalfedgeMesh;
 use glam::DVec3;
 use std::f64::consts::PI;

@@ -3,8 +3,8 @@
 //! `valid` is the first promise of the tool — closed, manifold, oriented, finite and without a
 //! single intersecting face pair; a result that is not valid is never presented as done.
 
-use crate::geometry::spatial::bvh::{PointBvh, TriangleBvh};
 use super::intersections::count_self_intersections;
+use crate::geometry::spatial::bvh::{PointBvh, TriangleBvh};
 use crate::mesh::{edge_counts, HalfedgeMesh, MeshBuildError, ValidationError};
 use crate::target::Target;
 use glam::DVec3;

@@ -11,8 +11,8 @@
 //!
 //! The Hausdorff distance is the larger of the two maxima.
 
-use crate::geometry::spatial::bvh::{PointBvh, TriangleBvh};
 use super::quality::percentile_sorted;
+use crate::geometry::spatial::bvh::{PointBvh, TriangleBvh};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 

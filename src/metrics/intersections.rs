@@ -10,8 +10,8 @@
 // `!(x > y)` is used deliberately: it is also true when x is NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use crate::geometry::spatial::bvh::Bvh;
 use crate::geometry::predicates::faces_intersect;
+use crate::geometry::spatial::bvh::Bvh;
 use glam::DVec3;
 
 pub use crate::geometry::predicates::triangles_intersect;

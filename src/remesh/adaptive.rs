@@ -17,12 +17,12 @@
 // `!(x > y)` is used deliberately: it is also true when x is NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use crate::geometry::operators::curvature::principal_curvatures;
 use super::features::{detect_features, FeatureDetector, FeatureSettings, Features};
 use super::sizing::{curvature_sizing, EdgeSizes};
 use crate::clock::now_ms;
-use crate::mesh::{HalfedgeMesh, INVALID};
+use crate::geometry::operators::curvature::principal_curvatures;
 use crate::geometry::spatial::bvh::TriangleBvh;
+use crate::mesh::{HalfedgeMesh, INVALID};
 use glam::{DMat3, DVec3};
 use serde::{Deserialize, Serialize};
 

@@ -1,0 +1,443 @@
+//! Settings of a wrap, nested by stage (start, field, flow, remesh, fit, guard, solver, stop),
+//! with the method's names and defaults (method spec §10.1), and the presets users pick from.
+//! Everything (de)serialises with serde so a URL or a JSON file can carry it; unknown keys are
+//! rejected by [`WrapSettings::from_json`], missing keys default, and the flat keys of the first
+//! releases are still read ([`aliases`]).
+
+pub mod aliases;
+pub mod docs;
+mod stages;
+
+pub use stages::{
+    FitSettings, FlowSettings, RemeshTrigger, RemeshingSettings, StartSettings, StartSurface,
+    StopSettings,
+};
+
+use super::guard::GuardSettings;
+use crate::field::FieldSettings;
+use crate::solve::SolverSettings;
+use serde::{Deserialize, Serialize};
+
+/// λ_min of the isosurface start when `auto` picks it: half the isosurface preset's 0.4. Measured
+/// (quick build, 2026-11-23): spot.obj 5 268 vertices, Hausdorff 1.36 %, mean 0.012 / 0.095 % in
+/// 1.1 s (0.4: 1 304 vertices, 2.51 %, 0.038 / 0.239 %; the icosphere full wrap: 1.99 %,
+/// 0.058 / 0.16 % in 2.0 s); the half-resolution brain at iso 128: mean distance to the
+/// iso-surface 0.52 mm (icosphere: 1.61 mm) in half the time.
+pub const AUTO_ISOSURFACE_MIN_EDGE: f64 = 0.2;
+
+/// A named bundle of settings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Preset {
+    /// The paper's bunny settings (D2 = 1 pushes into concavities), d₀ retuned for the exact field.
+    FullWrap,
+    /// D2 = 0: the surface stops at the first obstacle and bridges concavities.
+    Obstacle,
+    /// Marching-cubes start for higher-genus targets (spec §10.2).
+    Isosurface,
+    /// Pure mean-curvature flow of the icosphere (ε ≡ 1, η ≡ 0), for teaching and checking.
+    Mcf,
+}
+
+impl Preset {
+    /// All presets, in menu order.
+    pub const ALL: [Preset; 4] = [
+        Preset::FullWrap,
+        Preset::Obstacle,
+        Preset::Isosurface,
+        Preset::Mcf,
+    ];
+
+    /// The preset's kebab-case name (as on the command line and in URLs).
+    pub fn name(self) -> &'static str {
+        match self {
+            Preset::FullWrap => "full-wrap",
+            Preset::Obstacle => "obstacle",
+            Preset::Isosurface => "isosurface",
+            Preset::Mcf => "mcf",
+        }
+    }
+
+    /// Parses a kebab-case name.
+    pub fn from_name(name: &str) -> Option<Preset> {
+        Preset::ALL.into_iter().find(|p| p.name() == name)
+    }
+
+    /// The settings of this preset.
+    pub fn settings(self) -> WrapSettings {
+        let base = WrapSettings::default();
+        match self {
+            Preset::FullWrap => base,
+            Preset::Obstacle => {
+                let mut s = base;
+                s.flow.d2 = 0.0;
+                s
+            }
+            Preset::Isosurface => base.with_isosurface_start(),
+            Preset::Mcf => {
+                let mut s = base;
+                s.flow.use_target = false;
+                s.flow.schedule = vec![];
+                s.remesh.enabled = false;
+                s.stop.steps = 100;
+                s
+            }
+        }
+    }
+}
+
+/// Every setting of a wrap, by stage. Lengths a user sets are relative to the target (cells of
+/// the distance grid, or multiples of the start surface).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct WrapSettings {
+    /// The start surface: icosphere, isosurface of the field, or chosen per target.
+    pub start: StartSettings,
+    /// The distance field: grid, near band, sign.
+    pub field: FieldSettings,
+    /// The evolution: time step, curvature and advection controls, size schedule.
+    pub flow: FlowSettings,
+    /// Adaptive remeshing: when, how often, edge sizes, features.
+    pub remesh: RemeshingSettings,
+    /// The final fit onto the target.
+    pub fit: FitSettings,
+    /// Guards: contact (no self-intersection) and divergence.
+    pub guard: GuardSettings,
+    /// The linear solver.
+    pub solver: SolverSettings,
+    /// When the evolution ends.
+    pub stop: StopSettings,
+}
+
+/// A setting out of its range.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("setting {name} = {value} is out of range ({range})")]
+pub struct SettingError {
+    /// The setting's name.
+    pub name: &'static str,
+    /// The offending value.
+    pub value: f64,
+    /// The allowed range.
+    pub range: &'static str,
+}
+
+impl WrapSettings {
+    /// These settings with the isosurface start and its parameters (spec §10.2): 20 steps of
+    /// τ = 0.05, C1 = D1 = 1/(1 − e⁻⁴) (the reference's `PreComputeAdvectionDiffusionParams(2.0)`),
+    /// no size schedule, λ_min = 0.4, 3 remesh iterations from step 1.
+    pub fn with_isosurface_start(mut self) -> Self {
+        let c = 1.0 / (1.0 - (-4.0f64).exp());
+        self.start.surface = StartSurface::Isosurface;
+        self.stop.steps = 20;
+        self.flow.tau = 0.05;
+        self.flow.c1 = c;
+        self.flow.d1 = c;
+        self.flow.iso_level_factor = 1.0;
+        self.flow.schedule = vec![];
+        self.remesh.min_edge_multiplier = 0.4;
+        self.remesh.iterations = 3;
+        self.remesh.from_step = 1;
+        self
+    }
+
+    /// Resolves [`StartSurface::Auto`] for a target whose field is signed (`signed`) or not: the
+    /// start becomes isosurface or icosphere. With the isosurface start (chosen or resolved),
+    /// every parameter the isosurface start has its own default for takes that default if it is
+    /// still at the full-wrap default (a value the user changed is kept).
+    pub fn resolved_for(mut self, signed: bool) -> Self {
+        match self.start.surface {
+            StartSurface::Icosphere => return self,
+            StartSurface::Auto if !signed => {
+                self.start.surface = StartSurface::Icosphere;
+                return self;
+            }
+            // Auto on a signed field, or an explicit isosurface start: the isosurface start's
+            // own defaults (its sizes are relative to the grid cell, so the full-wrap schedule
+            // would shrink them to millions of vertices).
+            _ => {}
+        }
+        let (d, mut iso) = (
+            WrapSettings::default(),
+            WrapSettings::default().with_isosurface_start(),
+        );
+        if self.start.surface == StartSurface::Auto {
+            iso.remesh.min_edge_multiplier = AUTO_ISOSURFACE_MIN_EDGE;
+        }
+        fn pick<T: PartialEq>(mine: &mut T, def: T, theirs: T) {
+            if *mine == def {
+                *mine = theirs;
+            }
+        }
+        self.start.surface = StartSurface::Isosurface;
+        pick(&mut self.stop.steps, d.stop.steps, iso.stop.steps);
+        pick(&mut self.flow.tau, d.flow.tau, iso.flow.tau);
+        pick(&mut self.flow.c1, d.flow.c1, iso.flow.c1);
+        pick(&mut self.flow.d1, d.flow.d1, iso.flow.d1);
+        pick(
+            &mut self.flow.iso_level_factor,
+            d.flow.iso_level_factor,
+            iso.flow.iso_level_factor,
+        );
+        pick(&mut self.flow.schedule, d.flow.schedule, iso.flow.schedule);
+        pick(
+            &mut self.remesh.min_edge_multiplier,
+            d.remesh.min_edge_multiplier,
+            iso.remesh.min_edge_multiplier,
+        );
+        pick(
+            &mut self.remesh.iterations,
+            d.remesh.iterations,
+            iso.remesh.iterations,
+        );
+        pick(
+            &mut self.remesh.from_step,
+            d.remesh.from_step,
+            iso.remesh.from_step,
+        );
+        self
+    }
+
+    /// Checks ranges (the field and solver settings are checked where they are used).
+    pub fn check(&self) -> Result<(), SettingError> {
+        let (st, f, r) = (&self.start, &self.flow, &self.remesh);
+        let checks: [(&'static str, f64, bool, &'static str); 12] = [
+            (
+                "start.icosphere_level",
+                st.icosphere_level as f64,
+                st.icosphere_level <= 7,
+                "0–7",
+            ),
+            (
+                "start.icosphere_radius_factor",
+                st.icosphere_radius_factor,
+                (0.1..=10.0).contains(&st.icosphere_radius_factor),
+                "0.1–10",
+            ),
+            ("flow.tau", f.tau, f.tau > 0.0 && f.tau <= 10.0, "(0, 10]"),
+            (
+                "stop.steps",
+                self.stop.steps as f64,
+                self.stop.steps <= 100_000,
+                "0–100000",
+            ),
+            ("flow.c2", f.c2, f.c2 > 0.0 && f.c2.is_finite(), "> 0"),
+            (
+                "flow.tangential_weight",
+                f.tangential_weight,
+                (0.0..=1.0).contains(&f.tangential_weight),
+                "0–1",
+            ),
+            (
+                "flow.iso_level_factor",
+                f.iso_level_factor,
+                (0.0..=10.0).contains(&f.iso_level_factor),
+                "0–10",
+            ),
+            (
+                "flow.shrink_factor",
+                f.shrink_factor,
+                f.shrink_factor > 0.0 && f.shrink_factor <= 10.0,
+                "(0, 10]",
+            ),
+            (
+                "flow.decay",
+                f.decay,
+                f.decay > 0.0 && f.decay <= 1.0,
+                "(0, 1]",
+            ),
+            (
+                "remesh.min_edge_multiplier",
+                r.min_edge_multiplier,
+                r.min_edge_multiplier > 0.0 && r.min_edge_multiplier <= 10.0,
+                "(0, 10]",
+            ),
+            (
+                "stop.fraction",
+                self.stop.fraction,
+                self.stop.fraction > 0.0 && self.stop.fraction <= 1.0,
+                "(0, 1]",
+            ),
+            (
+                "start.isosurface_resampling",
+                st.isosurface_resampling,
+                (0.5..=8.0).contains(&st.isosurface_resampling),
+                "0.5–8",
+            ),
+        ];
+        for (name, value, ok, range) in checks {
+            if !ok || !value.is_finite() {
+                return Err(SettingError { name, value, range });
+            }
+        }
+        for (name, value) in [("flow.c1", f.c1), ("flow.d1", f.d1), ("flow.d2", f.d2)] {
+            if !(value >= 0.0 && value.is_finite()) {
+                return Err(SettingError {
+                    name,
+                    value,
+                    range: "≥ 0",
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Parses settings from JSON, nested or with the old flat keys ([`aliases`]); missing keys
+    /// take their defaults, unknown keys are an error.
+    pub fn from_json(json: &str) -> Result<Self, serde_json::Error> {
+        Self::from_value(serde_json::from_str(json)?)
+    }
+
+    /// [`Self::from_json`] on a parsed value.
+    pub fn from_value(value: serde_json::Value) -> Result<Self, serde_json::Error> {
+        serde_json::from_value(aliases::migrate(value))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn auto_start_resolves_by_signedness_and_keeps_user_values() {
+        let auto = WrapSettings::default();
+        assert_eq!(auto.start.surface, StartSurface::Auto);
+        let cloud = auto.clone().resolved_for(false);
+        assert_eq!(cloud.start.surface, StartSurface::Icosphere);
+        assert_eq!(cloud.stop.steps, auto.stop.steps);
+        let closed = auto.clone().resolved_for(true);
+        assert_eq!(closed, {
+            let mut w = WrapSettings::default().with_isosurface_start();
+            w.remesh.min_edge_multiplier = AUTO_ISOSURFACE_MIN_EDGE;
+            w
+        });
+        // An explicit isosurface start gets the same defaults; a changed τ survives.
+        let mine = {
+            let mut w = WrapSettings::default();
+            w.start.surface = StartSurface::Isosurface;
+            w.flow.tau = 0.01;
+            w
+        }
+        .resolved_for(false);
+        assert_eq!(
+            (mine.flow.tau, mine.stop.steps, mine.flow.schedule.len()),
+            (0.01, 20, 0)
+        );
+        let ico = {
+            let mut w = WrapSettings::default();
+            w.start.surface = StartSurface::Icosphere;
+            w
+        };
+        assert_eq!(ico.clone().resolved_for(true), ico);
+    }
+
+    #[test]
+    fn presets_round_trip_and_check() {
+        for p in Preset::ALL {
+            let s = p.settings();
+            s.check().unwrap();
+            let json = serde_json::to_string(&s).unwrap();
+            assert_eq!(WrapSettings::from_json(&json).unwrap(), s);
+            assert_eq!(Preset::from_name(p.name()), Some(p));
+        }
+        assert_eq!(Preset::Obstacle.settings().flow.d2, 0.0);
+        assert!(
+            WrapSettings::from_json(r#"{"tau": 0.01}"#)
+                .unwrap()
+                .flow
+                .tau
+                == 0.01
+        );
+        assert!(WrapSettings::from_json(r#"{"bogus": 1}"#).is_err());
+        let bad = {
+            let mut w = WrapSettings::default();
+            w.flow.tau = -1.0;
+            w
+        };
+        assert_eq!(bad.check().unwrap_err().name, "flow.tau");
+    }
+
+    /// Settings JSON saved by the flat-settings releases (every old key, non-default values)
+    /// decodes to the same settings as its nested form.
+    #[test]
+    fn old_flat_settings_json_still_decodes() {
+        let old = r#"{"start": "isosurface", "icosphere_level": 3, "icosphere_radius_factor": 1.2,
+            "tau": 0.05, "steps": 30, "c1": 1.5, "c2": 2.0, "d1": 3.0, "d2": 0.0,
+            "tangential_weight": 0.1, "mcf_positive_support": false,
+            "advection_positive_support": false, "iso_level_factor": 2.0, "shrink_factor": 0.3,
+            "schedule": [2, 4], "decay": 0.5, "use_target": true, "remesh": false,
+            "remesh_from_step": 2, "remesh_trigger": "quality_band", "remesh_max_kappa": 1.7,
+            "min_edge_multiplier": 0.2, "remesh_iterations": 3, "smoothing_iterations": 4,
+            "features": {"detector": "both"}, "isosurface_level_cells": 2.5,
+            "isosurface_resampling": 2.0, "stop_fraction": 0.9, "stop_displacement_cells": 0.01,
+            "final_fit": false, "fit_radius_cells": 3.0, "fit_max_move_cells": 4.0,
+            "fit_passes": 1, "max_retries": 2, "guard": {"check_every": 4},
+            "field": {"band_cells": 4.0}, "solver": {"max_iterations": 50}}"#;
+        let s = WrapSettings::from_json(old).unwrap();
+        let want = WrapSettings {
+            start: StartSettings {
+                surface: StartSurface::Isosurface,
+                icosphere_level: 3,
+                icosphere_radius_factor: 1.2,
+                isosurface_level_cells: 2.5,
+                isosurface_resampling: 2.0,
+            },
+            flow: FlowSettings {
+                use_target: true,
+                tau: 0.05,
+                c1: 1.5,
+                c2: 2.0,
+                d1: 3.0,
+                d2: 0.0,
+                tangential_weight: 0.1,
+                mcf_positive_support: false,
+                advection_positive_support: false,
+                iso_level_factor: 2.0,
+                shrink_factor: 0.3,
+                schedule: vec![2, 4],
+                decay: 0.5,
+                max_retries: 2,
+            },
+            remesh: RemeshingSettings {
+                enabled: false,
+                from_step: 2,
+                trigger: RemeshTrigger::QualityBand,
+                max_kappa: 1.7,
+                min_edge_multiplier: 0.2,
+                iterations: 3,
+                smoothing_iterations: 4,
+                features: crate::remesh::FeatureSettings {
+                    detector: crate::remesh::FeatureDetector::Both,
+                    ..Default::default()
+                },
+            },
+            fit: FitSettings {
+                enabled: false,
+                radius_cells: 3.0,
+                max_move_cells: 4.0,
+                passes: 1,
+            },
+            stop: StopSettings {
+                steps: 30,
+                fraction: 0.9,
+                displacement_cells: 0.01,
+            },
+            guard: GuardSettings {
+                check_every: 4,
+                ..Default::default()
+            },
+            field: FieldSettings {
+                band_cells: 4.0,
+                ..Default::default()
+            },
+            solver: SolverSettings {
+                max_iterations: 50,
+                ..Default::default()
+            },
+        };
+        assert_eq!(s, want);
+        // The nested form round-trips, and old keys cover every leaf they used to.
+        let json = serde_json::to_string(&want).unwrap();
+        assert_eq!(WrapSettings::from_json(&json).unwrap(), want);
+        assert_eq!(aliases::ALIASES.len(), 34);
+    }
+}
