@@ -3,6 +3,7 @@
 // every enum field (both read from the Rust sources by `settingsDocs` / `settingsEnums`).
 // Nothing about individual settings is written here.
 import GUI from 'lil-gui';
+import type { Send } from './protocol';
 import { diff, flatten, unflatten, type Flat, type Leaf } from './share';
 
 /** Display form of a leaf: arrays and optional numbers become text fields. */
@@ -96,6 +97,66 @@ export class SettingsPanel {
     }
     if (typeof base === 'number') return typeof v === 'number' && Number.isFinite(v) ? v : undefined;
     return v as Leaf;
+  }
+}
+
+/**
+ * The run's settings as one source: the preset <select> and the advanced panel. The panel exists
+ * once the worker has reported the presets; until then there are no settings (`panel` is null).
+ * The worker computes the control curves of the settings, so every change is sent to it.
+ */
+export class RunSettings {
+  panel: SettingsPanel | null = null;
+
+  /** `container`: where the panel goes; `changed`: runs after the user changed the settings (the share link follows). */
+  constructor(
+    private readonly select: HTMLSelectElement,
+    private readonly container: HTMLElement,
+    private readonly send: Send,
+    private readonly changed: () => void,
+  ) {
+    select.onchange = () => {
+      this.panel?.set(select.value);
+      this.sendCurves();
+      changed();
+    };
+  }
+
+  /** Builds the panel from the worker's presets (nested JSON), docs and enum options; returns the presets flattened. */
+  build(presets: Record<string, Record<string, unknown>>, docs: Record<string, string>, enums: Record<string, string[]>): Record<string, Flat> {
+    const flat = Object.fromEntries(Object.entries(presets).map(([k, v]) => [k, flatten(v)]));
+    this.panel = new SettingsPanel(this.container, flat, docs, enums, () => {
+      this.sendCurves();
+      this.changed();
+    });
+    return flat;
+  }
+
+  /** Applies a link's preset and changed settings. */
+  apply(preset: string, changed: Flat): void {
+    this.panel!.set(preset, changed);
+    this.select.value = this.panel!.preset;
+  }
+
+  /** A demo's preset: the one its button names (genus 2 → isosurface), else the current one for the lesson, else full-wrap. */
+  forDemo(demo: string, named: string | undefined): void {
+    const panel = this.panel;
+    const preset = named ?? (demo === 'mcf' ? panel?.preset : 'full-wrap') ?? 'full-wrap';
+    if (panel && preset !== panel.preset) {
+      panel.set(preset);
+      this.select.value = preset;
+      this.sendCurves();
+    }
+  }
+
+  /** Full settings as the nested JSON object the core takes (the panel must exist). */
+  values(): Record<string, unknown> {
+    return this.panel!.settings();
+  }
+
+  /** Asks the worker for the control curves of the current settings. */
+  sendCurves(): void {
+    this.send({ type: 'curves', settings: this.values() });
   }
 }
 

@@ -254,6 +254,12 @@ export type ToRender =
   | { type: 'field'; slice?: FieldSlice; iso?: FieldIso }
   | { type: 'probe' };
 
+/** Posts to the computation worker; the page's modules take this rather than the Worker, which is replaced after a crash. */
+export type Send = (m: ToWorker, transfer?: Transferable[]) => void;
+
+/** Posts to the render worker. */
+export type Draw = (m: ToRender, transfer?: Transferable[]) => void;
+
 /** Render worker → UI: probe answers, recorded-frame counts and the camera (for share links). */
 export type FromRender =
   | { type: 'probe'; meshPixelFraction: number }

@@ -1,0 +1,70 @@
+// The MCF lesson: a sphere under mean-curvature flow, plotted against the exact law
+// r(t) = √(r₀² − 4t). Its parameters are the subdivision level and the time step τ; changing
+// either starts the lesson afresh.
+import { byId } from './dom';
+import type { FieldControls } from './field-view';
+import type { ModeSwitch } from './mode';
+import { RadiusPlot } from './plots';
+import type { Draw, McfParams, McfStats, Send } from './protocol';
+import type { StatusLine } from './status';
+
+export interface LessonDeps {
+  mode: ModeSwitch;
+  status: StatusLine;
+  field: FieldControls;
+  draw: Draw;
+  send: Send;
+  /** Rewrites the share link. */
+  share: () => void;
+}
+
+export class Lesson {
+  /** Status text when the flow stops by itself. */
+  static readonly DONE = 'Done — the sphere has shrunk to 15 % of its radius';
+  private readonly plot = new RadiusPlot(byId('plot'));
+
+  constructor(private readonly d: LessonDeps) {
+    byId('level').onchange = () => this.reset();
+    byId('tau').onchange = () => this.reset();
+  }
+
+  params(): McfParams {
+    return { level: Number(byId<HTMLSelectElement>('level').value), radius: 1, tau: Number(byId<HTMLInputElement>('tau').value) };
+  }
+
+  /** Switches to the lesson and starts it from the initial sphere (no target, no field). */
+  reset(): void {
+    const { mode, status, field, draw, send, share } = this.d;
+    mode.set('mcf');
+    field.hide();
+    status.error(null);
+    this.plot.clear();
+    draw({ type: 'clear-frames' });
+    draw({ type: 'target', positions: new Float32Array(0), indices: null });
+    draw({ type: 'refit' });
+    send({ type: 'mcf-init', params: this.params() });
+    status.set('idle', 'Ready');
+    share();
+  }
+
+  /** A frame's statistics: the radius plot and the numbers beside it. */
+  frame(s: McfStats, playing: boolean): void {
+    this.plot.push(s.time, s.meanRadius, s.exactRadius);
+    const err = s.exactRadius > 0 ? (100 * (s.meanRadius - s.exactRadius)) / s.exactRadius : NaN;
+    byId('stats').textContent =
+      `step ${s.step}   t = ${s.time.toFixed(4)}\n` +
+      `mean radius ${s.meanRadius.toFixed(5)}   exact ${s.exactRadius.toFixed(5)}   (${err.toFixed(3)} %)\n` +
+      `co-volume min/mean/max ${s.covolumeMin.toExponential(2)} / ${s.covolumeMean.toExponential(2)} / ${s.covolumeMax.toExponential(2)}\n` +
+      `solver ${s.solverIterations} it, residual ${s.solverResidual.toExponential(1)}   ${s.msPerStep.toFixed(2)} ms/step\n` +
+      `${s.vertices} vertices, ${s.faces} faces`;
+    byId('stats').dataset.step = String(s.step);
+    byId('progress').hidden = true;
+    byId('progress-text').textContent = '';
+    if (playing) this.d.status.set('running', `Running — step ${s.step}`);
+  }
+
+  /** The plotted series (for tests). */
+  series(): ReturnType<RadiusPlot['series']> {
+    return this.plot.series();
+  }
+}

@@ -1,0 +1,22 @@
+// What the page is showing: the MCF lesson or a wrap. The two differ in their controls, plots and
+// which worker messages still count, so several modules read the mode; only this one switches it.
+import { byId } from './dom';
+
+export type Mode = 'mcf' | 'wrap';
+
+export class ModeSwitch {
+  private mode: Mode = 'mcf';
+
+  get current(): Mode {
+    return this.mode;
+  }
+
+  /** Switches and shows the matching controls and plots (the page starts in the lesson's layout). */
+  set(m: Mode): void {
+    this.mode = m;
+    byId('hash').hidden = m === 'mcf';
+    byId('mcf-box').hidden = m !== 'mcf';
+    byId('mcf-plots').hidden = m !== 'mcf';
+    byId('wrap-plots').hidden = m !== 'wrap';
+  }
+}

@@ -1,0 +1,75 @@
+// The camera and the View fieldset. The render worker owns the camera; the page turns pointer,
+// wheel and double-click into orbit messages and remembers the view (angles, zoom, wireframe,
+// shading, colour map) so that a share link can carry it.
+import { byId } from './dom';
+import type { ColourMap, Draw, Send } from './protocol';
+import { DEFAULT_VIEW, type ViewState } from './share';
+
+/** Drag orbits, the wheel zooms, a double-click refits the camera to the surface. */
+export function bindOrbit(canvas: HTMLCanvasElement, draw: Draw): void {
+  let dragging: { x: number; y: number } | null = null;
+  canvas.addEventListener('pointerdown', (e) => {
+    dragging = { x: e.clientX, y: e.clientY };
+    canvas.setPointerCapture(e.pointerId);
+  });
+  canvas.addEventListener('pointermove', (e) => {
+    if (!dragging) return;
+    draw({ type: 'rotate', dx: e.clientX - dragging.x, dy: e.clientY - dragging.y });
+    dragging = { x: e.clientX, y: e.clientY };
+  });
+  canvas.addEventListener('pointerup', () => (dragging = null));
+  canvas.addEventListener('wheel', (e) => {
+    e.preventDefault();
+    draw({ type: 'zoom', factor: Math.exp(e.deltaY * 0.001) });
+  }, { passive: false });
+  canvas.addEventListener('dblclick', () => draw({ type: 'refit' }));
+}
+
+export class ViewControls {
+  /** The view as a share link has it. */
+  view: ViewState = { ...DEFAULT_VIEW };
+
+  /** `send` gets the colour map (the computation worker colours the vertices); `changed` runs after every change of the view. */
+  constructor(private readonly draw: Draw, private readonly send: Send, private readonly changed: () => void) {
+    byId('fit').onclick = () => draw({ type: 'fit' });
+    byId<HTMLInputElement>('wireframe').onchange = (e) => {
+      this.view.wire = (e.target as HTMLInputElement).checked;
+      draw({ type: 'wireframe', on: this.view.wire });
+      changed();
+    };
+    byId<HTMLInputElement>('smooth').onchange = (e) => {
+      this.view.smooth = (e.target as HTMLInputElement).checked;
+      draw({ type: 'smooth', on: this.view.smooth });
+      changed();
+    };
+    byId<HTMLInputElement>('show-target').onchange = (e) => draw({ type: 'show-target', on: (e.target as HTMLInputElement).checked });
+    byId<HTMLSelectElement>('cmap').onchange = (e) => {
+      this.view.cmap = (e.target as HTMLSelectElement).value;
+      this.sendColour();
+      changed();
+    };
+  }
+
+  /** The render worker moved the camera. */
+  camera(yaw: number, pitch: number, zoom: number): void {
+    this.view = { ...this.view, yaw, pitch, zoom };
+    this.changed();
+  }
+
+  /** Takes a view from a share link: the controls show it, both workers get it. */
+  apply(view: ViewState): void {
+    this.view = view;
+    byId<HTMLInputElement>('wireframe').checked = view.wire;
+    byId<HTMLInputElement>('smooth').checked = view.smooth;
+    byId<HTMLSelectElement>('cmap').value = view.cmap;
+    this.draw({ type: 'wireframe', on: view.wire });
+    this.draw({ type: 'smooth', on: view.smooth });
+    this.draw({ type: 'set-view', yaw: view.yaw, pitch: view.pitch, zoom: view.zoom });
+    this.sendColour();
+  }
+
+  /** Tells the computation worker the colour map (again after it was restarted). */
+  sendColour(): void {
+    this.send({ type: 'colour', map: this.view.cmap as ColourMap });
+  }
+}

@@ -1,0 +1,61 @@
+// What a running wrap shows besides the surface: the progress bar, the step statistics and the
+// per-step plots (distance, co-volume, vertices, κ histogram); and the control curves ε(δ), η(δ)
+// of the chosen settings, which the worker computes whenever the settings change.
+import { byId } from './dom';
+import { HistogramPlot, LinePlot } from './plots';
+import type { ControlCurves, Frame } from './protocol';
+
+export class WrapReadout {
+  private readonly distance = new LinePlot(byId('plot-distance'), 'Distance to target per step', ['mean |d|', 'max |d|'], ['#4aa3ff', '#ff7a59'], { log: true });
+  private readonly covolume = new LinePlot(byId('plot-covolume'), 'Co-volume min / mean / max', ['min', 'mean', 'max'], ['#ff7a59', '#4aa3ff', '#9fd39f'], { log: true });
+  private readonly vertices = new LinePlot(byId('plot-vertices'), 'Vertices', ['vertices'], ['#ffb347']);
+  private readonly kappa = new HistogramPlot(byId('plot-kappa'), 'κ(J_Δ) of the current frame (1 = equilateral)', 'κ');
+  private readonly controls = new LinePlot(byId('plot-controls'), 'Controls ε(δ), η(δ) (stabilised units)', ['ε', 'η facing', 'η side-on'], ['#4aa3ff', '#ffb347', '#ff7a59'], { xLabel: 'δ = d − d₀' });
+
+  /** Empties the per-step plots for a new run. */
+  clear(): void {
+    this.distance.clear();
+    this.covolume.clear();
+    this.vertices.clear();
+    this.kappa.clear();
+  }
+
+  /** A wrap frame: progress, statistics and the reports of the steps since the last frame. */
+  frame(msg: Frame): void {
+    const r = msg.report;
+    if (msg.histogram) this.kappa.set(msg.histogram.lo, msg.histogram.hi, msg.histogram.counts);
+    const limit = msg.stepLimit ?? 0;
+    const el = ((msg.elapsedMs ?? 0) / 1000).toFixed(1);
+    const p = byId<HTMLProgressElement>('progress');
+    p.hidden = false;
+    p.max = Math.max(1, limit);
+    p.value = r?.step ?? 0;
+    const verts = r?.vertices ?? msg.positions.length / 3;
+    byId('progress-text').textContent = `step ${r?.step ?? 0}/${limit} · ${verts} vertices · ${el} s`;
+    byId('stats').dataset.step = String(r?.step ?? 0);
+    for (const q of msg.reports ?? []) {
+      this.distance.push(q.step, Math.max(1e-9, q.distance_mean), Math.max(1e-9, q.distance_max));
+      this.covolume.push(q.step, Math.max(1e-12, q.covolume_min), q.covolume_mean, q.covolume_max);
+      this.vertices.push(q.step, q.vertices);
+    }
+    if (r) {
+      byId('stats').textContent =
+        `step ${r.step}   τ = ${r.tau.toPrecision(3)}${r.retries ? ` (${r.retries} retries)` : ''}\n` +
+        `distance mean ${r.distance_mean.toExponential(2)}  max ${r.distance_max.toExponential(2)}\n` +
+        `settled ${(100 * r.settled_fraction).toFixed(1)} %   ${r.vertices} vertices, ${r.faces} faces\n` +
+        `ms: assembly ${r.times.assembly.toFixed(0)}  solve ${r.times.solve.toFixed(0)}  remesh ${r.times.remesh.toFixed(0)}  total ${r.times.total.toFixed(0)}`;
+    }
+  }
+
+  curves(c: ControlCurves): void {
+    this.controls.set([c.delta, c.epsilon, c.eta_facing, c.eta_side]);
+  }
+
+  distanceSeries(): ReturnType<LinePlot['series']> {
+    return this.distance.series();
+  }
+
+  controlSeries(): ReturnType<LinePlot['series']> {
+    return this.controls.series();
+  }
+}
