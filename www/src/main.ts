@@ -133,7 +133,7 @@ function onWorkerMessage(msg: FromWorker): void {
 /** The worker's presets are in: build the settings, then open what the link asks for (else the lesson). */
 function onReady(msg: Extract<FromWorker, { type: 'ready' }>): void {
   const presets = settings.build(msg.presets, msg.docs, msg.enums);
-  const { state, notices } = readLink(presets);
+  const { state, notices } = readLink(presets, msg.aliases);
   status.notice(notices);
   settings.apply(state.preset, state.changed);
   view.apply(state.view);

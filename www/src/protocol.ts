@@ -182,7 +182,7 @@ export interface Frame {
 
 /** Worker → UI. */
 export type FromWorker =
-  | { type: 'ready'; presets: Record<string, Record<string, unknown>>; docs: Record<string, string>; enums: Record<string, string[]> }
+  | { type: 'ready'; presets: Record<string, Record<string, unknown>>; docs: Record<string, string>; enums: Record<string, string[]>; aliases: Record<string, string> }
   | Frame
   | { type: 'loading'; what: string }
   | { type: 'target'; run: number; positions: Float32Array; indices: Uint32Array; info: TargetInfo; name: string }

@@ -38,8 +38,8 @@ export class ShareLink {
 }
 
 /** The state the page was opened with: the hash, and ?src= (a file's address) over its dataset. */
-export function readLink(presets: Record<string, Flat>): Decoded {
-  const { state, notices } = decode(location.hash, presets);
+export function readLink(presets: Record<string, Flat>, aliases: Record<string, string>): Decoded {
+  const { state, notices } = decode(location.hash, presets, 'full-wrap', aliases);
   const src = new URLSearchParams(location.search).get('src');
   if (src !== null) {
     if (validDataset(src) && !src.startsWith('demo:')) state.dataset = src;

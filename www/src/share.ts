@@ -113,9 +113,11 @@ export function encode(state: ShareState): string {
 
 /**
  * Decodes a hash against `presets` (name → flattened default settings). Never throws: whatever
- * cannot be used is dropped and explained in `notices`.
+ * cannot be used is dropped and explained in `notices`. `aliases` maps the flat setting keys of
+ * links made before the settings were nested (`tau`) to their current keys (`flow.tau`); the
+ * core supplies it (`settingAliases`).
  */
-export function decode(hash: string, presets: Record<string, Flat>, defaultPreset = 'full-wrap'): Decoded {
+export function decode(hash: string, presets: Record<string, Flat>, defaultPreset = 'full-wrap', aliases: Record<string, string> = {}): Decoded {
   const notices: string[] = [];
   const state: ShareState = { dataset: null, preset: defaultPreset, changed: {}, view: { ...DEFAULT_VIEW } };
   const raw = hash.replace(/^#/, '');
@@ -157,7 +159,7 @@ export function decode(hash: string, presets: Record<string, Flat>, defaultPrese
       continue;
     }
     if (key.startsWith('s.') && !old) {
-      const path = key.slice(2);
+      const path = Object.prototype.hasOwnProperty.call(aliases, key.slice(2)) ? aliases[key.slice(2)] : key.slice(2);
       if (!Object.prototype.hasOwnProperty.call(defaults, path)) {
         unknown.push(key);
         continue;

@@ -2,7 +2,7 @@
 // never computes. It honours pause / cancel between steps; the page terminates and restarts it
 // when a single step (or the field construction) runs too long to answer a cancel in time.
 import init, {
-  McfSession, WrapSession, presetSettings, settingsDocs, settingsEnums, demoShape, demoMesh, controlCurves, exportMesh,
+  McfSession, WrapSession, presetSettings, settingsDocs, settingsEnums, settingAliases, demoShape, demoMesh, controlCurves, exportMesh,
   VolumeView, phantomVolume,
 } from '../pkg/lsw.js';
 import type { Certificate, ColourMap, FieldView, FromWorker, Histogram, McfStats, Source, StepReport, TargetInfo, ToWorker, VolumeInfo } from './protocol';
@@ -447,7 +447,7 @@ ready.then(
   () => {
     const presets: Record<string, Record<string, unknown>> = {};
     for (const p of PRESETS) presets[p] = JSON.parse(presetSettings(p));
-    post({ type: 'ready', presets, docs: JSON.parse(settingsDocs()), enums: JSON.parse(settingsEnums()) });
+    post({ type: 'ready', presets, docs: JSON.parse(settingsDocs()), enums: JSON.parse(settingsEnums()), aliases: JSON.parse(settingAliases()) });
   },
   (e) => fail(e),
 );

@@ -303,7 +303,8 @@ test('a share link opened in a fresh page reproduces the same result hash; bad k
   await page.waitForSelector('[data-testid=status][data-state=running], [data-testid=status][data-state=done]', { timeout: 60000 });
   // Change a setting in the advanced panel (the link must carry it).
   await page.click('#gui .lil-root > .lil-title');
-  const input = page.locator('[data-setting="steps"] input');
+  await page.locator('#gui .lil-title', { hasText: /^stop$/ }).click();
+  const input = page.locator('[data-setting="stop.steps"] input');
   await input.fill('40');
   await input.press('Enter');
   await page.click('[data-demo=noisy-sphere]');
@@ -311,7 +312,7 @@ test('a share link opened in a fresh page reproduces the same result hash; bad k
   const hash1 = await resultHash(page);
   await page.click('[data-testid=copy-link]');
   const link = await page.inputValue('[data-testid=share-url]');
-  assert(/#v=1&/.test(link) && /s\.steps=40/.test(link) && /d=demo%3Anoisy-sphere/.test(link), `link lacks state: ${link}`);
+  assert(/#v=1&/.test(link) && /s\.stop\.steps=40/.test(link) && /d=demo%3Anoisy-sphere/.test(link), `link lacks state: ${link}`);
   const fresh = await browser.newPage({ viewport: { width: 1280, height: 800 } });
   await fresh.goto(link + '&s.nonsense=3');
   await fresh.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
@@ -320,7 +321,15 @@ test('a share link opened in a fresh page reproduces the same result hash; bad k
   const notice = await fresh.textContent('[data-testid=notice]');
   assert(/nonsense/.test(notice), `no notice for the unknown key: "${notice}"`);
   await fresh.screenshot({ path: join(out, 'share.png') });
-  console.log(`   result hash ${hash1} reproduced from ${link.replace(url, '/')}`);
+  // A link made before the settings were nested (flat key `steps`) reproduces the same result.
+  const oldLink = link.replace('s.stop.steps=40', 's.steps=40');
+  const old = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  await old.goto(oldLink);
+  await old.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
+  const hash3 = await resultHash(old);
+  assert(hash3 === hash1, `the old-style link gives ${hash3}, not ${hash1}`);
+  console.log(`   result hash ${hash1} reproduced from ${link.replace(url, '/')} and from its old form (s.steps)`);
+  await old.close();
   await fresh.close();
   await page.close();
 });
