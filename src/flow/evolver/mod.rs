@@ -4,28 +4,35 @@
 //! redistribution, one matrix for x, y, z; then adaptive remeshing and the size/τ schedule.
 //! Work happens in the stabilised frame (see [`super::scaling`]); results come out in the
 //! target's units.
+//!
+//! A step is a sequence of named phases, one file each with its own [`PhaseTimes`] entry:
+//! [`forces`] (sample the field: ε, η, tangential) → [`solve`] (assemble and solve) →
+//! [`advance`] (move, divergence guard) → [`remeshing`] → [`contact`] (contact guard) →
+//! [`schedule`] (sizes, τ, stop rule) → [`fit`] (final fit, last step). A new phase is one file
+//! and one line in `Evolver::step_once`.
 
-use super::controls::Controls;
-use super::guard::{
-    check_divergence, held_mask, release_held, resolve_contacts, ContactReport, Divergence,
-    DivergenceLimits,
-};
+mod advance;
+mod contact;
+mod fit;
+mod forces;
+mod remeshing;
+mod schedule;
+mod solve;
+
+use super::guard::{ContactReport, Divergence, DivergenceLimits};
 use super::mcf::stats;
-use super::settings::{RemeshTrigger, StartSurface, WrapSettings};
-use super::snap::{snap_to_target, PointGrid, SnapParams, SnapTarget};
+use super::settings::{StartSurface, WrapSettings};
+use super::snap::{PointGrid, SnapTarget};
 use super::start::build_start;
-use super::surface_terms::SurfaceTerms;
 use crate::clock::now_ms;
 use crate::field::{DistanceField, FieldError};
 use crate::geometry::icosphere::IcosphereError;
-use crate::geometry::operators::normals::angle_weighted_normals;
 use crate::geometry::spatial::bvh::TriangleBvh;
 use crate::mesh::{HalfedgeMesh, MeshBuildError};
-use crate::metrics::intersections::count_self_intersections;
-use crate::remesh::adaptive::{remesh, RemeshError, RemeshReport, RemeshSettings};
-use crate::remesh::sizing::{decayed, EdgeSizes};
-use crate::solve::solve_xyz_scaled;
+use crate::remesh::adaptive::{RemeshError, RemeshReport};
+use crate::remesh::sizing::EdgeSizes;
 use crate::target::Target;
+use contact::Contact;
 use glam::DVec3;
 use serde::Serialize;
 
@@ -182,6 +189,19 @@ struct Checkpoint {
     sizes: EdgeSizes,
     step: u32,
     sizes_changed: bool,
+}
+
+/// What the phases of one step report, gathered for [`StepReport`].
+struct StepParts<'a> {
+    tau: f64,
+    solved: &'a solve::Solved,
+    covolumes: (f64, f64, f64),
+    settled_fraction: f64,
+    held: usize,
+    remesh: Option<RemeshReport>,
+    fitted: Option<usize>,
+    contacts: ContactReport,
+    remesh_reverted: bool,
 }
 
 impl Evolver {
@@ -360,201 +380,88 @@ impl Evolver {
         self.refresh_distances();
     }
 
+    /// One pass through the phases, each in its own file with its own timing entry.
     fn step_once(&mut self) -> Result<StepReport, EvolveError> {
         let t_start = now_ms();
         let mut times = PhaseTimes::default();
-        let n = self.mesh.n_vertices();
-        let s = &self.settings;
-        let controls = Controls {
-            c1: s.flow.c1,
-            c2: s.flow.c2,
-            d1: self.d1,
-            d2: s.flow.d2,
-            mcf_positive_support: s.flow.mcf_positive_support,
-            advection_positive_support: s.flow.advection_positive_support,
-        };
-        // One pass over the faces gives normals, the Laplacian and the tangential sums.
-        let terms = SurfaceTerms::new(&self.mesh);
-        let normals = &terms.normals;
-        let held = held_mask(&self.mesh);
-        let held_count = held.iter().filter(|&&h| h).count();
-        let (mut eps, mut eta) = (vec![1.0; n], vec![0.0; n]);
-        if s.flow.use_target {
-            for i in 0..n {
-                let delta = self.distances[i] - self.d0;
-                eps[i] = controls.epsilon(delta);
-                let advects = eps[i] != 0.0 || !s.flow.advection_positive_support || delta >= 0.0;
-                if advects && !held[i] {
-                    eta[i] = controls.eta(delta, self.gradients[i].dot(normals[i]));
-                }
-            }
-        }
-        let tangential: Vec<DVec3> = (0..n)
-            .map(|v| terms.tangential(v, s.flow.tangential_weight * eps[v]))
-            .collect();
-        let t_normals = now_ms();
-        times.normals = t_normals - t_start;
-
-        let lap = &terms.laplacian;
-        let (covolume_min, covolume_mean, covolume_max) = stats(&lap.covolumes);
+        let forces = self.forces(&mut times);
         let old = self.mesh.positions().to_vec();
-        let (solver, max_retries) = (s.solver.clone(), s.flow.max_retries);
-        let mut retries = 0;
-        let (x, solve) = loop {
-            let t0 = now_ms();
-            let tau = self.tau;
-            // After a failed solve, retry with a smaller τ and non-negative weights.
-            let system = lap.implicit_system(&self.mesh, tau, Some(&eps), retries > 0);
-            let rhs: Vec<DVec3> = (0..n)
-                .map(|i| old[i] + tau * (eta[i] * normals[i] + tangential[i]))
-                .collect();
-            let mut x = rhs.clone();
-            let t1 = now_ms();
-            times.assembly += t1 - t0;
-            let result = system.and_then(|a| solve_xyz_scaled(&a, &rhs, &mut x, &solver));
-            times.solve += now_ms() - t1;
-            match result {
-                Ok(r) => break (x, r),
-                Err(e) if retries >= max_retries => {
-                    let err = EvolveError::Diverged {
-                        step: self.step + 1,
-                        retries,
-                        tau,
-                        cause: e.to_string(),
-                    };
-                    self.restore_checkpoint();
-                    self.stop(&err);
-                    return Err(err);
-                }
-                Err(_) => {
-                    retries += 1;
-                    self.tau *= 0.5;
-                }
-            }
-        };
-        let t_guard = now_ms();
-        let guarded = self.guarded_left > 0 || self.settings.guard.check_every <= 1;
-        let pre = (guarded && self.settings.guard.contact).then(|| self.mesh.clone());
-        release_held(&mut self.mesh);
-        let mut settled = 0usize;
-        for (i, q) in self.mesh.positions_mut().iter_mut().enumerate() {
-            if (x[i] - old[i]).length() < self.settle_threshold {
-                settled += 1;
-            }
-            *q = x[i];
-        }
-        if let Err(reason) = check_divergence(&self.mesh, &self.limits) {
-            return Err(self.roll_back(reason));
-        }
-        times.guard += now_ms() - t_guard;
+        let solved = self.solve(&forces, &old, &mut times)?;
         let tau_used = self.tau;
-        self.step += 1;
-
-        let s = &self.settings;
-        let remesh_due = s.remesh.enabled && self.step >= s.remesh.from_step && self.needs_remesh();
-        let mut remesh_report = None;
-        if remesh_due {
-            remesh_report = Some(self.remesh_phase(&mut times)?);
-            if let Err(reason) = check_divergence(&self.mesh, &self.limits) {
-                self.step -= 1;
-                return Err(self.roll_back(reason));
+        let moved = self.advance(&solved.x, &old, &mut times)?;
+        let remesh = self.remesh_if_due(&mut times)?;
+        let ends = self.ends(moved.settled_fraction);
+        let contact = self.contact_guard(
+            moved.pre,
+            &solved.x,
+            &old,
+            remesh.is_some(),
+            ends,
+            &mut times,
+        )?;
+        let mut parts = StepParts {
+            tau: tau_used,
+            solved: &solved,
+            covolumes: stats(&forces.terms.laplacian.covolumes),
+            settled_fraction: moved.settled_fraction,
+            held: forces.held,
+            remesh: None,
+            fitted: None,
+            contacts: ContactReport::default(),
+            remesh_reverted: false,
+        };
+        match contact {
+            Contact::Checked(contacts, remesh_reverted) => {
+                (parts.contacts, parts.remesh_reverted) = (contacts, remesh_reverted);
+            }
+            Contact::RolledBack { from } => {
+                // Intersections since the last certified state: the steps are redone from there.
+                parts.tau = self.tau;
+                parts.contacts.rolled_back_from = from;
+                times.total = now_ms() - t_start;
+                return Ok(self.report(parts, times));
             }
         }
-        // Whether this step ends the evolution (the schedule is step-indexed, so this is known
-        // before the guard; a roll-back below simply redoes it).
-        let settled_fraction = settled as f64 / n.max(1) as f64;
-        let schedule_over = self.settings.flow.schedule.iter().all(|&t| t < self.step);
-        let ends = self.step >= self.settings.stop.steps
-            || (schedule_over && settled_fraction >= self.settings.stop.fraction);
-        let g = &self.settings.guard;
-        let check = g.contact
-            && (pre.is_some() || ends || self.step >= self.checkpoint.step + g.check_every);
-        let (mut contacts, mut remesh_reverted) = (ContactReport::default(), false);
-        if check {
-            match self.contact_phase(pre, &x, &old, remesh_due, &mut times)? {
-                Some((c, r)) => (contacts, remesh_reverted) = (c, r),
-                None => {
-                    // Intersections since the last certified state: redo from there, checking.
-                    let failed_step = self.step;
-                    self.restore_checkpoint();
-                    self.guarded_left = 2 * self.settings.guard.check_every.max(1);
-                    times.total = now_ms() - t_start;
-                    return Ok(StepReport {
-                        step: self.step,
-                        vertices: self.mesh.n_vertices(),
-                        faces: self.mesh.n_faces(),
-                        tau: self.tau,
-                        retries,
-                        solver_iterations: solve.iterations,
-                        solver_residual: solve.relative_residual,
-                        covolume_min,
-                        covolume_mean,
-                        covolume_max,
-                        distance_mean: 0.0,
-                        distance_max: 0.0,
-                        settled_fraction,
-                        remesh: None,
-                        fitted: None,
-                        contacts: ContactReport {
-                            rolled_back_from: failed_step,
-                            ..Default::default()
-                        },
-                        held: held_count,
-                        remesh_reverted: false,
-                        times,
-                        done: false,
-                    });
-                }
-            }
-            self.guarded_left = self.guarded_left.saturating_sub(1);
-            self.save_checkpoint();
-        }
-        if self.settings.flow.schedule.contains(&self.step) {
-            let decay = self.settings.flow.decay;
-            self.sizes = decayed(self.sizes, decay);
-            self.sizes_changed = true;
-            self.tau *= decay * decay;
-            self.d1 /= decay;
-        }
-        // Sizes decayed at step t take effect in step t + 1, so the rule above stops only after
-        // that step.
+        self.schedule();
         self.done = ends;
-        let mut fitted = None;
-        if self.done {
-            let t0 = now_ms();
-            fitted = self.final_fit();
-            times.fit = now_ms() - t0;
-        }
+        parts.fitted = self.fit_if_done(&mut times);
+        parts.remesh = remesh;
         self.refresh_distances();
+        times.total = now_ms() - t_start;
+        Ok(self.report(parts, times))
+    }
+
+    /// The report of the step just taken (distances at the current surface).
+    fn report(&self, p: StepParts, times: PhaseTimes) -> StepReport {
         let (mut dmean, mut dmax) = (0.0, 0.0f64);
         for d in &self.distances {
             dmean += d.abs();
             dmax = dmax.max(d.abs());
         }
         dmean /= self.distances.len().max(1) as f64;
-        times.total = now_ms() - t_start;
-        Ok(StepReport {
+        let (covolume_min, covolume_mean, covolume_max) = p.covolumes;
+        StepReport {
             step: self.step,
             vertices: self.mesh.n_vertices(),
             faces: self.mesh.n_faces(),
-            tau: tau_used,
-            retries,
-            solver_iterations: solve.iterations,
-            solver_residual: solve.relative_residual,
+            tau: p.tau,
+            retries: p.solved.retries,
+            solver_iterations: p.solved.report.iterations,
+            solver_residual: p.solved.report.relative_residual,
             covolume_min,
             covolume_mean,
             covolume_max,
             distance_mean: dmean / self.phi,
             distance_max: dmax / self.phi,
-            settled_fraction,
-            remesh: remesh_report,
-            fitted,
-            contacts,
-            held: held_count,
-            remesh_reverted,
+            settled_fraction: p.settled_fraction,
+            remesh: p.remesh,
+            fitted: p.fitted,
+            contacts: p.contacts,
+            held: p.held,
+            remesh_reverted: p.remesh_reverted,
             times,
             done: self.done,
-        })
+        }
     }
 
     /// Ends the evolution with `err` as the reason.
@@ -574,139 +481,6 @@ impl Evolver {
         };
         self.stop(&err);
         err
-    }
-
-    /// Adaptive remeshing with the current sizes.
-    fn remesh_phase(&mut self, times: &mut PhaseTimes) -> Result<RemeshReport, EvolveError> {
-        let t0 = now_ms();
-        let s = &self.settings;
-        let rs = RemeshSettings {
-            iterations: s.remesh.iterations,
-            smoothing_iterations: s.remesh.smoothing_iterations,
-            features: s.remesh.features.clone(),
-            ..RemeshSettings::with_sizes(self.sizes)
-        };
-        self.sizes_changed = false;
-        let report = remesh(&mut self.mesh, &rs)?;
-        times.remesh += now_ms() - t0;
-        Ok(report)
-    }
-
-    /// The contact guard: if the moved (and remeshed) surface has intersecting faces and the
-    /// surface before the step (`pre`) is at hand, go back to it, apply the move `x` there, put
-    /// back the vertices of the intersecting faces ([`resolve_contacts`]) and remesh again —
-    /// undoing that remesh if it intersects. Returns the guard's report and whether a remesh was
-    /// undone, or `None` when there are intersections and no `pre` (the caller rolls back).
-    fn contact_phase(
-        &mut self,
-        pre: Option<HalfedgeMesh>,
-        x: &[DVec3],
-        old: &[DVec3],
-        remesh_due: bool,
-        times: &mut PhaseTimes,
-    ) -> Result<Option<(ContactReport, bool)>, EvolveError> {
-        let t0 = now_ms();
-        let pairs = count_self_intersections(self.mesh.positions(), &self.mesh.triangles());
-        times.guard += now_ms() - t0;
-        if pairs == 0 {
-            return Ok(Some((
-                ContactReport {
-                    rounds: 1,
-                    ..Default::default()
-                },
-                false,
-            )));
-        }
-        let Some(pre) = pre else {
-            return Ok(None);
-        };
-        let t0 = now_ms();
-        self.mesh = pre;
-        release_held(&mut self.mesh);
-        self.mesh.positions_mut().copy_from_slice(x);
-        let report = resolve_contacts(&mut self.mesh, old, &self.settings.guard);
-        times.guard += now_ms() - t0;
-        let mut reverted = false;
-        if remesh_due {
-            let before = self.mesh.clone();
-            self.remesh_phase(times)?;
-            let t0 = now_ms();
-            if count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) > 0 {
-                self.mesh = before;
-                reverted = true;
-            }
-            times.guard += now_ms() - t0;
-        }
-        Ok(Some((report, reverted)))
-    }
-
-    /// Moves the settled surface onto the target (see [`super::snap`]); returns vertices moved.
-    /// Each pass's moves go through the contact guard, and a remesh that would leave
-    /// intersecting faces is undone.
-    fn final_fit(&mut self) -> Option<usize> {
-        let target = self.fit_target.as_ref()?;
-        let c = self.field.cell_size();
-        let params = SnapParams {
-            radius: self.settings.fit.radius_cells * c,
-            max_move: self.settings.fit.max_move_cells * c,
-            min_points: 6,
-        };
-        // The fit must never make things worse: keep the settled surface if it breaks validity.
-        let backup = self.mesh.clone();
-        let mut moved = 0;
-        let rs = RemeshSettings {
-            iterations: 1,
-            use_projection: true,
-            smoothing_iterations: self.settings.remesh.smoothing_iterations,
-            features: self.settings.remesh.features.clone(),
-            ..RemeshSettings::with_sizes(self.sizes)
-        };
-        let (contact, remeshing) = (self.settings.guard.contact, self.settings.remesh.enabled);
-        for _ in 0..self.settings.fit.passes {
-            // The surface here is certified; keep it to redo the pass with the guard if needed.
-            let clean = contact.then(|| self.mesh.clone());
-            let normals = angle_weighted_normals(&self.mesh);
-            moved = snap_to_target(&mut self.mesh, &normals, target, &params);
-            // Even out the triangles the moves distorted, staying on the fitted surface.
-            if remeshing {
-                let _ = remesh(&mut self.mesh, &rs);
-            }
-            let Some(clean) = clean else { continue };
-            if count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) == 0 {
-                continue;
-            }
-            // Redo the pass: the same moves, then put back those that make faces intersect,
-            // then a remesh that is undone if it intersects.
-            let before = clean.positions().to_vec();
-            self.mesh = clean;
-            moved = snap_to_target(&mut self.mesh, &normals, target, &params);
-            resolve_contacts(&mut self.mesh, &before, &self.settings.guard);
-            if remeshing {
-                let unremeshed = self.mesh.clone();
-                let _ = remesh(&mut self.mesh, &rs);
-                if count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) > 0 {
-                    self.mesh = unremeshed;
-                }
-            }
-        }
-        if self.mesh.validate().is_err() {
-            self.mesh = backup;
-            return Some(0);
-        }
-        Some(moved)
-    }
-
-    fn needs_remesh(&self) -> bool {
-        match self.settings.remesh.trigger {
-            RemeshTrigger::Always => true,
-            RemeshTrigger::QualityBand => {
-                self.sizes_changed
-                    || crate::remesh::trigger::needs_remesh(
-                        &self.mesh,
-                        self.settings.remesh.max_kappa,
-                    )
-            }
-        }
     }
 
     /// Runs until done, calling `on_step` after each step.

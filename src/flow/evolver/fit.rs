@@ -1,0 +1,80 @@
+//! Phase 7 of a step, *final fit* (last step only): the settled surface, at the offset level set
+//! d = d₀, moves onto the target along its normals (plane fits to the cloud or closest points on
+//! the mesh, [`crate::flow::snap`]), each pass through the contact guard.
+
+use super::{Evolver, PhaseTimes};
+use crate::clock::now_ms;
+use crate::flow::guard::resolve_contacts;
+use crate::flow::snap::{snap_to_target, SnapParams};
+use crate::geometry::operators::normals::angle_weighted_normals;
+use crate::metrics::intersections::count_self_intersections;
+use crate::remesh::adaptive::{remesh, RemeshSettings};
+
+impl Evolver {
+    /// The final fit when the evolution has just ended; vertices moved.
+    pub(super) fn fit_if_done(&mut self, times: &mut PhaseTimes) -> Option<usize> {
+        if !self.done {
+            return None;
+        }
+        let t0 = now_ms();
+        let fitted = self.final_fit();
+        times.fit = now_ms() - t0;
+        fitted
+    }
+
+    /// Moves the settled surface onto the target (see [`crate::flow::snap`]); returns vertices moved.
+    /// Each pass's moves go through the contact guard, and a remesh that would leave
+    /// intersecting faces is undone.
+    fn final_fit(&mut self) -> Option<usize> {
+        let target = self.fit_target.as_ref()?;
+        let c = self.field.cell_size();
+        let params = SnapParams {
+            radius: self.settings.fit.radius_cells * c,
+            max_move: self.settings.fit.max_move_cells * c,
+            min_points: 6,
+        };
+        // The fit must never make things worse: keep the settled surface if it breaks validity.
+        let backup = self.mesh.clone();
+        let mut moved = 0;
+        let rs = RemeshSettings {
+            iterations: 1,
+            use_projection: true,
+            smoothing_iterations: self.settings.remesh.smoothing_iterations,
+            features: self.settings.remesh.features.clone(),
+            ..RemeshSettings::with_sizes(self.sizes)
+        };
+        let (contact, remeshing) = (self.settings.guard.contact, self.settings.remesh.enabled);
+        for _ in 0..self.settings.fit.passes {
+            // The surface here is certified; keep it to redo the pass with the guard if needed.
+            let clean = contact.then(|| self.mesh.clone());
+            let normals = angle_weighted_normals(&self.mesh);
+            moved = snap_to_target(&mut self.mesh, &normals, target, &params);
+            // Even out the triangles the moves distorted, staying on the fitted surface.
+            if remeshing {
+                let _ = remesh(&mut self.mesh, &rs);
+            }
+            let Some(clean) = clean else { continue };
+            if count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) == 0 {
+                continue;
+            }
+            // Redo the pass: the same moves, then put back those that make faces intersect,
+            // then a remesh that is undone if it intersects.
+            let before = clean.positions().to_vec();
+            self.mesh = clean;
+            moved = snap_to_target(&mut self.mesh, &normals, target, &params);
+            resolve_contacts(&mut self.mesh, &before, &self.settings.guard);
+            if remeshing {
+                let unremeshed = self.mesh.clone();
+                let _ = remesh(&mut self.mesh, &rs);
+                if count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) > 0 {
+                    self.mesh = unremeshed;
+                }
+            }
+        }
+        if self.mesh.validate().is_err() {
+            self.mesh = backup;
+            return Some(0);
+        }
+        Some(moved)
+    }
+}

@@ -1,0 +1,66 @@
+//! Phase 1 of a step, *sample the field*: the surface terms (normals, cotangent Laplacian,
+//! co-volumes, tangential sums in one pass over the faces) and, at every vertex, the controls
+//! ε(δ) and η(δ, cos θ) of the sampled distance d and gradient (method spec §4–§5).
+
+use super::{Evolver, PhaseTimes};
+use crate::clock::now_ms;
+use crate::flow::controls::Controls;
+use crate::flow::guard::held_mask;
+use crate::flow::surface_terms::SurfaceTerms;
+use glam::DVec3;
+
+/// What the solve needs from the current surface.
+pub(super) struct Forces {
+    /// Normals, Laplacian and co-volumes of the surface before the step.
+    pub terms: SurfaceTerms,
+    /// Curvature weight ε per vertex (1 everywhere without a target).
+    pub eps: Vec<f64>,
+    /// Normal speed η per vertex (0 where held by the contact guard).
+    pub eta: Vec<f64>,
+    /// Tangential redistribution per vertex (weight ω·ε).
+    pub tangential: Vec<DVec3>,
+    /// Vertices the contact guard holds this step.
+    pub held: usize,
+}
+
+impl Evolver {
+    /// ε, η and the tangential term at every vertex.
+    pub(super) fn forces(&self, times: &mut PhaseTimes) -> Forces {
+        let t0 = now_ms();
+        let n = self.mesh.n_vertices();
+        let s = &self.settings;
+        let controls = Controls {
+            c1: s.flow.c1,
+            c2: s.flow.c2,
+            d1: self.d1,
+            d2: s.flow.d2,
+            mcf_positive_support: s.flow.mcf_positive_support,
+            advection_positive_support: s.flow.advection_positive_support,
+        };
+        let terms = SurfaceTerms::new(&self.mesh);
+        let normals = &terms.normals;
+        let held = held_mask(&self.mesh);
+        let (mut eps, mut eta) = (vec![1.0; n], vec![0.0; n]);
+        if s.flow.use_target {
+            for i in 0..n {
+                let delta = self.distances[i] - self.d0;
+                eps[i] = controls.epsilon(delta);
+                let advects = eps[i] != 0.0 || !s.flow.advection_positive_support || delta >= 0.0;
+                if advects && !held[i] {
+                    eta[i] = controls.eta(delta, self.gradients[i].dot(normals[i]));
+                }
+            }
+        }
+        let tangential: Vec<DVec3> = (0..n)
+            .map(|v| terms.tangential(v, s.flow.tangential_weight * eps[v]))
+            .collect();
+        times.normals = now_ms() - t0;
+        Forces {
+            terms,
+            eps,
+            eta,
+            tangential,
+            held: held.iter().filter(|&&h| h).count(),
+        }
+    }
+}
