@@ -10,6 +10,7 @@
 
 use crate::geometry::spatial::bvh::TriangleBvh;
 use crate::mesh::HalfedgeMesh;
+use crate::target::Target;
 use glam::DVec3;
 use nalgebra::{Matrix3, SymmetricEigen};
 
@@ -100,6 +101,19 @@ pub enum SnapTarget {
     Points(PointGrid),
     /// A triangle mesh.
     Triangles(TriangleBvh),
+}
+
+impl SnapTarget {
+    /// The target in the stabilised frame (`phi·(p − center)`): a point grid of cell `radius`
+    /// for clouds, a BVH for meshes.
+    pub fn new(target: &Target, center: DVec3, phi: f64, radius: f64) -> Self {
+        let pts: Vec<DVec3> = target.points.iter().map(|&p| phi * (p - center)).collect();
+        if target.triangles.is_empty() {
+            SnapTarget::Points(PointGrid::new(&pts, radius))
+        } else {
+            SnapTarget::Triangles(TriangleBvh::new(&pts, &target.triangles))
+        }
+    }
 }
 
 /// Moves vertices along `normals` onto the target; returns how many moved.

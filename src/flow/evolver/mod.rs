@@ -22,12 +22,11 @@ mod solve;
 use super::guard::{ContactReport, Divergence, DivergenceLimits};
 use super::mcf::stats;
 use super::settings::{StartSurface, WrapSettings};
-use super::snap::{PointGrid, SnapTarget};
+use super::snap::SnapTarget;
 use super::start::build_start;
 use crate::clock::now_ms;
 use crate::field::{DistanceField, FieldError};
 use crate::geometry::icosphere::IcosphereError;
-use crate::geometry::spatial::bvh::TriangleBvh;
 use crate::mesh::{HalfedgeMesh, MeshBuildError};
 use crate::remesh::adaptive::{RemeshError, RemeshReport};
 use crate::remesh::sizing::EdgeSizes;
@@ -217,14 +216,8 @@ impl Evolver {
         let (mesh, phi, sizes) = (start.mesh, start.phi, start.sizes);
         let limits = divergence_limits(target, &mesh, phi, center, &settings);
         let field = field.scaled(center, phi);
-        let fit_target = (settings.fit.enabled && settings.flow.use_target).then(|| {
-            let pts: Vec<DVec3> = target.points.iter().map(|&p| phi * (p - center)).collect();
-            if target.triangles.is_empty() {
-                SnapTarget::Points(PointGrid::new(&pts, settings.fit.radius_cells * c * phi))
-            } else {
-                SnapTarget::Triangles(TriangleBvh::new(&pts, &target.triangles))
-            }
-        });
+        let fit_target = (settings.fit.enabled && settings.flow.use_target)
+            .then(|| SnapTarget::new(target, center, phi, settings.fit.radius_cells * c * phi));
         let d0 = settings.flow.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
         let mut ev = Evolver {
             tau: settings.flow.tau,
