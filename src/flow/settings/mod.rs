@@ -121,6 +121,69 @@ pub struct SettingError {
     pub range: &'static str,
 }
 
+/// The allowed range of a numeric setting: one table read by [`WrapSettings::check`], the app's
+/// Expert panel (limits and tooltips) and the CLI's error messages.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct SettingRange {
+    /// The setting's key (nested form).
+    pub key: &'static str,
+    /// Lower and upper limit (infinite when unbounded).
+    pub min: f64,
+    pub max: f64,
+    /// Whether the lower limit itself is excluded.
+    pub min_open: bool,
+    /// The range as shown to users.
+    pub text: &'static str,
+}
+
+impl SettingRange {
+    const fn new(
+        key: &'static str,
+        min: f64,
+        max: f64,
+        min_open: bool,
+        text: &'static str,
+    ) -> Self {
+        Self {
+            key,
+            min,
+            max,
+            min_open,
+            text,
+        }
+    }
+
+    /// Whether `v` is finite and in the range.
+    pub fn contains(&self, v: f64) -> bool {
+        v.is_finite()
+            && (if self.min_open {
+                v > self.min
+            } else {
+                v >= self.min
+            })
+            && v <= self.max
+    }
+}
+
+/// The ranges [`WrapSettings::check`] enforces, in the order it checks them.
+pub const RANGES: &[SettingRange] = &[
+    SettingRange::new("start.icosphere_level", 0.0, 7.0, false, "0–7"),
+    SettingRange::new("start.icosphere_radius_factor", 0.1, 10.0, false, "0.1–10"),
+    SettingRange::new("flow.tau", 0.0, 10.0, true, "(0, 10]"),
+    SettingRange::new("stop.steps", 0.0, 100_000.0, false, "0–100000"),
+    SettingRange::new("flow.c2", 0.0, f64::INFINITY, true, "> 0"),
+    SettingRange::new("flow.tangential_weight", 0.0, 1.0, false, "0–1"),
+    SettingRange::new("flow.iso_level_factor", 0.0, 10.0, false, "0–10"),
+    SettingRange::new("flow.shrink_factor", 0.0, 10.0, true, "(0, 10]"),
+    SettingRange::new("flow.decay", 0.0, 1.0, true, "(0, 1]"),
+    SettingRange::new("remesh.min_edge_multiplier", 0.0, 10.0, true, "(0, 10]"),
+    SettingRange::new("stop.fraction", 0.0, 1.0, true, "(0, 1]"),
+    SettingRange::new("start.isosurface_resampling", 0.5, 8.0, false, "0.5–8"),
+    SettingRange::new("flow.c1", 0.0, f64::INFINITY, false, "≥ 0"),
+    SettingRange::new("flow.d1", 0.0, f64::INFINITY, false, "≥ 0"),
+    SettingRange::new("flow.d2", 0.0, f64::INFINITY, false, "≥ 0"),
+];
+
 impl WrapSettings {
     /// These settings with the isosurface start and its parameters (spec §10.2): 20 steps of
     /// τ = 0.05, C1 = D1 = 1/(1 − e⁻⁴) (the reference's `PreComputeAdvectionDiffusionParams(2.0)`),
@@ -197,84 +260,22 @@ impl WrapSettings {
         self
     }
 
-    /// Checks ranges (the field and solver settings are checked where they are used).
+    /// Checks every setting of [`RANGES`] (the field and solver settings are checked where they
+    /// are used), in the table's order.
     pub fn check(&self) -> Result<(), SettingError> {
-        let (st, f, r) = (&self.start, &self.flow, &self.remesh);
-        let checks: [(&'static str, f64, bool, &'static str); 12] = [
-            (
-                "start.icosphere_level",
-                st.icosphere_level as f64,
-                st.icosphere_level <= 7,
-                "0–7",
-            ),
-            (
-                "start.icosphere_radius_factor",
-                st.icosphere_radius_factor,
-                (0.1..=10.0).contains(&st.icosphere_radius_factor),
-                "0.1–10",
-            ),
-            ("flow.tau", f.tau, f.tau > 0.0 && f.tau <= 10.0, "(0, 10]"),
-            (
-                "stop.steps",
-                self.stop.steps as f64,
-                self.stop.steps <= 100_000,
-                "0–100000",
-            ),
-            ("flow.c2", f.c2, f.c2 > 0.0 && f.c2.is_finite(), "> 0"),
-            (
-                "flow.tangential_weight",
-                f.tangential_weight,
-                (0.0..=1.0).contains(&f.tangential_weight),
-                "0–1",
-            ),
-            (
-                "flow.iso_level_factor",
-                f.iso_level_factor,
-                (0.0..=10.0).contains(&f.iso_level_factor),
-                "0–10",
-            ),
-            (
-                "flow.shrink_factor",
-                f.shrink_factor,
-                f.shrink_factor > 0.0 && f.shrink_factor <= 10.0,
-                "(0, 10]",
-            ),
-            (
-                "flow.decay",
-                f.decay,
-                f.decay > 0.0 && f.decay <= 1.0,
-                "(0, 1]",
-            ),
-            (
-                "remesh.min_edge_multiplier",
-                r.min_edge_multiplier,
-                r.min_edge_multiplier > 0.0 && r.min_edge_multiplier <= 10.0,
-                "(0, 10]",
-            ),
-            (
-                "stop.fraction",
-                self.stop.fraction,
-                self.stop.fraction > 0.0 && self.stop.fraction <= 1.0,
-                "(0, 1]",
-            ),
-            (
-                "start.isosurface_resampling",
-                st.isosurface_resampling,
-                (0.5..=8.0).contains(&st.isosurface_resampling),
-                "0.5–8",
-            ),
-        ];
-        for (name, value, ok, range) in checks {
-            if !ok || !value.is_finite() {
-                return Err(SettingError { name, value, range });
-            }
-        }
-        for (name, value) in [("flow.c1", f.c1), ("flow.d1", f.d1), ("flow.d2", f.d2)] {
-            if !(value >= 0.0 && value.is_finite()) {
+        let json = serde_json::to_value(self).unwrap_or_default();
+        for r in RANGES {
+            let value = r
+                .key
+                .split('.')
+                .try_fold(&json, |v, k| v.get(k))
+                .and_then(serde_json::Value::as_f64)
+                .unwrap_or(f64::NAN);
+            if !r.contains(value) {
                 return Err(SettingError {
-                    name,
+                    name: r.key,
                     value,
-                    range: "≥ 0",
+                    range: r.text,
                 });
             }
         }
@@ -354,6 +355,21 @@ mod tests {
             w
         };
         assert_eq!(bad.check().unwrap_err().name, "flow.tau");
+        // Every range names a numeric setting; its limits are in or out as documented.
+        let json = serde_json::to_value(WrapSettings::default()).unwrap();
+        for r in RANGES {
+            let v = r.key.split('.').try_fold(&json, |v, k| v.get(k));
+            assert!(v.and_then(|v| v.as_f64()).is_some(), "{}", r.key);
+            assert_eq!(r.contains(r.min), !r.min_open, "{}", r.key);
+            assert!(
+                !r.contains(f64::NAN) && !r.contains(r.min - 1.0),
+                "{}",
+                r.key
+            );
+        }
+        let mut c2 = WrapSettings::default();
+        c2.flow.c2 = f64::INFINITY;
+        assert_eq!(c2.check().unwrap_err().name, "flow.c2");
     }
 
     /// Settings JSON saved by the flat-settings releases (every old key, non-default values)
