@@ -6,10 +6,12 @@
 //! manifold triangle mesh.
 //!
 //! Data flows one way: `io` → [`target::Target`] → `field` → `flow` (with `remesh`) → `io`.
-//! The core knows nothing of the browser; [`wasm`] is a thin facade over it.
+//! The core knows nothing of the browser; [`wasm`] is a thin facade over it. Every core error
+//! explains itself to users through [`error::Explain`] (a code and a hint).
 
 pub mod clock;
 pub mod demo;
+pub mod error;
 pub mod field;
 pub mod flow;
 pub mod geometry;

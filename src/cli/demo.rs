@@ -13,9 +13,14 @@ pub struct DemoArgs {
     /// The shape to write (one of `lsw demo --list`).
     #[arg(required_unless_present = "list")]
     pub name: Option<String>,
-    /// Output file; the format follows the extension (.ply, .obj, .stl, .glb, .vtk; use .ply
-    /// for point clouds).
-    #[arg(short, long, required_unless_present = "list")]
+    /// Output file; the format follows the extension (a writable format of
+    /// [`crate::io::FORMATS`]; use .ply for point clouds).
+    #[arg(
+        short,
+        long,
+        required_unless_present = "list",
+        help = super::output_help("Output file (use .ply for point clouds)")
+    )]
     pub output: Option<PathBuf>,
     /// Print every shape as JSON: [{name, description}], in suite order.
     #[arg(long, conflicts_with_all = ["name", "output"])]
@@ -39,7 +44,7 @@ pub fn run(a: &DemoArgs) -> Result<String, String> {
         return Err("give a shape NAME and -o FILE, or --list".into());
     };
     let (points, triangles) = generate(name).map_err(|e| format!("{e} (see lsw demo --list)"))?;
-    write_path(output, &WriteInput::new(&points, &triangles)).map_err(|e| e.to_string())?;
+    write_path(output, &WriteInput::new(&points, &triangles)).map_err(super::explained)?;
     let kind = if triangles.is_empty() {
         "points"
     } else {

@@ -10,8 +10,8 @@ use std::path::PathBuf;
 /// Arguments of `lsw info`.
 #[derive(clap::Args, Debug)]
 pub struct InfoArgs {
-    /// The file to inspect (PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF, GLB, VTK; volumes NIfTI,
-    /// NRRD, VTI, MetaImage).
+    /// The file to inspect (any format of [`crate::io::FORMATS`]).
+    #[arg(help = super::input_help("The file to inspect"))]
     pub file: PathBuf,
     /// Volume inputs: iso-value, frame, inside, array, iso-surface output.
     #[command(flatten)]
@@ -85,7 +85,7 @@ pub fn info_json(file: &str, r: &ReadResult) -> serde_json::Value {
 
 /// Reads the file and returns the pretty JSON; the error message names format and position.
 pub fn run(a: &InfoArgs) -> Result<String, String> {
-    let r = read_path_with(&a.file, &a.volume.options()).map_err(|e| e.to_string())?;
+    let r = read_path_with(&a.file, &a.volume.options()).map_err(super::explained)?;
     a.volume.write_isosurface(&r)?;
     let v = info_json(&a.file.display().to_string(), &r);
     Ok(serde_json::to_string_pretty(&v).expect("JSON of plain values"))

@@ -26,7 +26,7 @@ pub struct McfArgs {
 /// Runs the flow; JSON keys: level, vertices, steps, tau, time, mean_radius, exact_radius,
 /// max_relative_radius_error, ms_per_step, solver_iterations_max.
 pub fn run(a: &McfArgs) -> Result<String, String> {
-    let mut mesh = icosphere(a.level, a.radius, DVec3::ZERO).map_err(|e| e.to_string())?;
+    let mut mesh = icosphere(a.level, a.radius, DVec3::ZERO).map_err(super::explained)?;
     let settings = McfSettings {
         tau: a.tau,
         ..Default::default()
@@ -34,7 +34,8 @@ pub fn run(a: &McfArgs) -> Result<String, String> {
     let (mut worst, mut iters) = (0.0f64, 0usize);
     let t0 = crate::clock::now_ms();
     for k in 1..=a.steps {
-        let rep = mcf_step(&mut mesh, &settings).map_err(|e| format!("step {k}: {e}"))?;
+        let rep = mcf_step(&mut mesh, &settings)
+            .map_err(|e| format!("step {k}: {}", super::explained(e)))?;
         iters = iters.max(rep.solve.iterations);
         let exact = exact_sphere_radius(a.radius, k as f64 * a.tau);
         worst = worst.max((mean_radius(mesh.positions()) - exact).abs() / exact);

@@ -39,7 +39,8 @@ use std::path::PathBuf;
 /// Arguments of `lsw metrics`.
 #[derive(clap::Args, Debug)]
 pub struct MetricsArgs {
-    /// The mesh to measure (any format `lsw info` reads).
+    /// The mesh to measure (any format of [`crate::io::FORMATS`]).
+    #[arg(help = super::input_help("The mesh to measure"))]
     pub mesh: PathBuf,
     /// A target (point cloud or mesh) to measure distances to, both ways.
     #[arg(long)]
@@ -51,12 +52,13 @@ pub struct MetricsArgs {
 
 /// Runs `lsw metrics`.
 pub fn run(a: &MetricsArgs) -> Result<String, String> {
-    let mesh = read_path(&a.mesh).map_err(|e| format!("{}: {e}", a.mesh.display()))?;
+    let mesh =
+        read_path(&a.mesh).map_err(|e| format!("{}: {}", a.mesh.display(), super::explained(e)))?;
     let target = match &a.target {
         Some(p) => Some((
             p.display().to_string(),
             read_path(p)
-                .map_err(|e| format!("{}: {e}", p.display()))?
+                .map_err(|e| format!("{}: {}", p.display(), super::explained(e)))?
                 .target,
         )),
         None => None,

@@ -11,7 +11,9 @@ pub mod sdf;
 pub mod volume;
 pub mod wrap;
 
+use crate::error::Explain;
 use clap::{Parser, Subcommand};
+use std::fmt::Display;
 
 /// LSW — Lagrangian Shrink-Wrapping: watertight meshes from point clouds, meshes and volumes.
 #[derive(Parser, Debug)]
@@ -39,6 +41,40 @@ pub enum Command {
     /// The deterministic test shapes: `--list` prints their names and descriptions as JSON;
     /// `NAME -o FILE` writes one (format from the extension; PLY for point clouds).
     Demo(demo::DemoArgs),
+}
+
+/// A core error as the CLI reports it: the message, then `hint: …` (what to try) on the next
+/// line; `lsw` prints it after `error: ` on stderr.
+pub fn explained<E: Explain + Display>(e: E) -> String {
+    format!("{e}\nhint: {}", e.hint())
+}
+
+/// The help of an input-file argument: `what`, then the formats LSW reads (from the catalog,
+/// [`crate::io::FORMATS`]).
+pub fn input_help(what: &str) -> String {
+    let (geometry, volumes) = crate::io::formats::readable_labels();
+    format!(
+        "{what}: {}; or a volume: {}",
+        geometry.join(", "),
+        volumes.join(", ")
+    )
+}
+
+/// The help of an output-mesh argument: `what`, then the extensions LSW writes.
+pub fn output_help(what: &str) -> String {
+    format!(
+        "{what}; the format follows the extension ({})",
+        crate::io::formats::writable_extensions()
+    )
+}
+
+/// The help of `--preset`: the preset names, from [`crate::flow::Preset::ALL`].
+pub fn preset_help() -> String {
+    let names = crate::flow::Preset::ALL.map(crate::flow::Preset::name);
+    format!(
+        "Settings preset: {}",
+        crate::io::formats::join_list(&names, "or")
+    )
 }
 
 /// Runs a parsed command line; `Ok` holds the JSON text to print.

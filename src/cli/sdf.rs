@@ -8,7 +8,8 @@ use std::path::PathBuf;
 /// Arguments of `lsw sdf`.
 #[derive(clap::Args, Debug)]
 pub struct SdfArgs {
-    /// The target file (PLY, OBJ, STL, OFF, XYZ, glTF/GLB, VTK): a point cloud or a mesh.
+    /// The target file: a point cloud, a mesh or a volume (any format of [`crate::io::FORMATS`]).
+    #[arg(help = super::input_help("The target file (a point cloud or a mesh)"))]
     pub input: PathBuf,
     /// Cells per minimum bounding-box dimension (cell size = smallest side / N).
     #[arg(long, default_value_t = 40)]
@@ -39,7 +40,7 @@ pub struct SdfArgs {
 pub fn run(a: &SdfArgs) -> Result<String, String> {
     let t0 = crate::clock::now_ms();
     let read =
-        crate::io::read_path_with(&a.input, &a.volume.options()).map_err(|e| e.to_string())?;
+        crate::io::read_path_with(&a.input, &a.volume.options()).map_err(super::explained)?;
     a.volume.write_isosurface(&read)?;
     let volume = read.volume.as_deref().map(super::volume::volume_json);
     let target = read.target;
@@ -56,7 +57,7 @@ pub fn run(a: &SdfArgs) -> Result<String, String> {
         },
         ..Default::default()
     };
-    let f = DistanceField::new(&target, &settings).map_err(|e| e.to_string())?;
+    let f = DistanceField::new(&target, &settings).map_err(super::explained)?;
     let t2 = crate::clock::now_ms();
     if let Some(out) = &a.out {
         std::fs::write(out, crate::field::vtk::structured_points(&f))

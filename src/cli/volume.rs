@@ -46,7 +46,7 @@ impl VolumeArgs {
         if let (Some(path), Some(_)) = (&self.isosurface_out, &read.volume) {
             let t = &read.target;
             crate::io::write_path(path, &WriteInput::new(&t.points, &t.triangles))
-                .map_err(|e| e.to_string())?;
+                .map_err(super::explained)?;
         }
         Ok(())
     }

@@ -9,13 +9,15 @@ use std::path::PathBuf;
 /// Arguments of `lsw wrap`.
 #[derive(clap::Args, Debug)]
 pub struct WrapArgs {
-    /// Input point cloud or mesh (PLY, OBJ, STL, OFF, XYZ/CSV, glTF/GLB).
+    /// Input point cloud, mesh or volume (any format of [`crate::io::FORMATS`]).
+    #[arg(help = super::input_help("Input point cloud or mesh"))]
     pub input: PathBuf,
-    /// Output mesh; the format follows the extension (.obj, .ply, .stl, .glb, .vtk).
-    #[arg(short, long)]
+    /// Output mesh; the format follows the extension (a writable format of
+    /// [`crate::io::FORMATS`]).
+    #[arg(short, long, help = super::output_help("Output mesh"))]
     pub output: PathBuf,
-    /// Settings preset: full-wrap, obstacle, isosurface or mcf.
-    #[arg(long, default_value = "full-wrap")]
+    /// Settings preset: one of [`Preset::ALL`].
+    #[arg(long, default_value = "full-wrap", help = super::preset_help())]
     pub preset: String,
     /// Step limit (overrides the preset's).
     #[arg(long)]
@@ -91,10 +93,10 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
                 format!("unknown start surface \"{start}\" (use auto, icosphere or isosurface)")
             })?;
     }
-    let read = read_path_with(&a.input, &a.volume.options()).map_err(|e| e.to_string())?;
+    let read = read_path_with(&a.input, &a.volume.options()).map_err(super::explained)?;
     a.volume.write_isosurface(&read)?;
     let t_read = crate::clock::now_ms();
-    let mut ev = Evolver::new(&read.target, settings.clone()).map_err(|e| e.to_string())?;
+    let mut ev = Evolver::new(&read.target, settings.clone()).map_err(super::explained)?;
     let t_setup = crate::clock::now_ms();
     let mut reports: Vec<StepReport> = Vec::new();
     // A divergence rolls the surface back and ends the run; it is reported below, not written.
@@ -122,7 +124,7 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
         settings_json: Some(&settings_json),
     };
     if failure.is_none() || a.keep_invalid {
-        write_path(&a.output, &input).map_err(|e| e.to_string())?;
+        write_path(&a.output, &input).map_err(super::explained)?;
     }
     let t_write = crate::clock::now_ms();
     if let Some(path) = &a.stats {

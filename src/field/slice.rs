@@ -3,6 +3,9 @@
 //! A plane normal to axis `a` (0 = x, 1 = y, 2 = z) is spanned by the other two axes in
 //! increasing order, `(u, v)`: x → (y, z), y → (x, z), z → (x, y). Its values are stored with
 //! `u` fastest (`width` = nodes along u, `height` = nodes along v), so row 0 is the lowest v.
+//!
+//! [`FieldView`] shows a field that [`DistanceField::scaled`] moved into the flow's stabilised
+//! frame back in the target's units: its planes and its isosurfaces.
 
 use super::DistanceField;
 use glam::DVec3;
@@ -78,6 +81,78 @@ pub fn node_plane(field: &DistanceField, axis: usize, t: f64) -> Option<NodePlan
         height,
         corners,
         values: out,
+    })
+}
+
+/// A field built in the frame `x' = φ·(x − center)` (see [`DistanceField::scaled`]), seen in
+/// the original frame (the target's units): what the app's "Field" view draws.
+#[derive(Clone, Copy, Debug)]
+pub struct FieldView<'a> {
+    field: &'a DistanceField,
+    center: DVec3,
+    phi: f64,
+}
+
+/// An isosurface of a [`FieldView`], in the original frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ViewIsosurface {
+    /// The level drawn (target units; see [`FieldView::isosurface`]).
+    pub level: f64,
+    /// Vertex positions (target units).
+    pub positions: Vec<DVec3>,
+    /// Counter-clockwise triangles.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl<'a> FieldView<'a> {
+    /// The view of `field`, scaled by `phi` (> 0) about `center`.
+    pub fn new(field: &'a DistanceField, center: DVec3, phi: f64) -> Self {
+        FieldView { field, center, phi }
+    }
+
+    /// [`node_plane`] with corners and values in the original frame.
+    pub fn plane(&self, axis: usize, t: f64) -> Option<NodePlane> {
+        let mut p = node_plane(self.field, axis, t)?;
+        for c in &mut p.corners {
+            *c = *c / self.phi + self.center;
+        }
+        for v in &mut p.values {
+            *v /= self.phi;
+        }
+        Some(p)
+    }
+
+    /// The isosurface d = `level` (target units), or `None` for a non-finite level. For an
+    /// unsigned field the level is raised to at least half a cell: its zero set is the target
+    /// itself, not a surface.
+    pub fn isosurface(&self, level: f64) -> Option<ViewIsosurface> {
+        let iso = iso_level(
+            level * self.phi,
+            self.field.cell_size(),
+            self.field.is_signed(),
+        )?;
+        let (positions, triangles) = self.field.isosurface(iso);
+        Some(ViewIsosurface {
+            level: iso / self.phi,
+            positions: positions
+                .into_iter()
+                .map(|p| p / self.phi + self.center)
+                .collect(),
+            triangles,
+        })
+    }
+}
+
+/// The level to draw for `scaled` (field frame): as given for a signed field, at least half a
+/// cell for an unsigned one; `None` when not finite.
+fn iso_level(scaled: f64, cell: f64, signed: bool) -> Option<f64> {
+    if !scaled.is_finite() {
+        return None;
+    }
+    Some(if signed {
+        scaled
+    } else {
+        scaled.max(0.5 * cell)
     })
 }
 
@@ -161,5 +236,47 @@ mod tests {
         assert_eq!(node_plane(&f, 2, -1.0).unwrap().index, 0);
         assert!(node_plane(&f, 3, 0.5).is_none());
         assert!(node_plane(&f, 0, f64::NAN).is_none());
+    }
+    #[test]
+    fn iso_level_is_clamped_for_unsigned_fields() {
+        // Scaled cell 0.1: half a cell is 0.05.
+        assert_eq!(iso_level(0.0, 0.1, false), Some(0.05));
+        assert_eq!(iso_level(0.6, 0.1, false), Some(0.6));
+        assert_eq!(iso_level(-2.0, 0.1, false), Some(0.05));
+        // Signed fields keep zero and negative levels.
+        assert_eq!(iso_level(0.0, 0.1, true), Some(0.0));
+        assert_eq!(iso_level(-0.5, 0.1, true), Some(-0.5));
+        assert_eq!(iso_level(f64::NAN, 0.1, false), None);
+    }
+
+    /// A view of the scaled field shows what the unscaled field holds.
+    #[test]
+    fn view_of_a_scaled_field_is_in_the_original_frame() {
+        let f = sphere_field();
+        let (center, phi) = (DVec3::new(0.25, -0.5, 1.0), 2.5);
+        let scaled = f.scaled(center, phi);
+        let view = FieldView::new(&scaled, center, phi);
+        let (a, b) = (view.plane(1, 0.4).unwrap(), node_plane(&f, 1, 0.4).unwrap());
+        assert_eq!(
+            (a.axis, a.index, a.width, a.height),
+            (b.axis, b.index, b.width, b.height)
+        );
+        for (p, q) in a.corners.iter().zip(&b.corners) {
+            assert!((*p - *q).length() < 1e-12, "{p} {q}");
+        }
+        for (p, q) in a.values.iter().zip(&b.values) {
+            assert!((p - q).abs() < 1e-12);
+        }
+        assert!(view.plane(5, 0.4).is_none());
+        // Unsigned: level 0 is drawn at half a cell, in target units.
+        let iso = view.isosurface(0.0).unwrap();
+        assert!((iso.level - 0.5 * f.cell_size()).abs() < 1e-12);
+        let (pos, tris) = f.isosurface(iso.level);
+        assert_eq!(iso.triangles, tris);
+        for (p, q) in iso.positions.iter().zip(&pos) {
+            assert!((*p - *q).length() < 1e-9);
+        }
+        assert!((view.isosurface(0.3).unwrap().level - 0.3).abs() < 1e-12);
+        assert!(view.isosurface(f64::INFINITY).is_none());
     }
 }

@@ -1,5 +1,6 @@
 //! Surface evolution: the discrete operators and the semi-implicit time steps.
 
+pub mod colour;
 pub mod controls;
 pub mod evolver;
 pub mod guard;
@@ -11,6 +12,7 @@ pub mod start;
 pub mod surface_terms;
 pub mod tangential;
 
+pub use colour::{ColourMap, ColourMapInfo, COLOUR_MAPS};
 pub use evolver::{EvolveError, Evolver, PhaseTimes, StepReport};
 pub use mcf::{exact_sphere_radius, mcf_step, McfSettings, McfStepReport};
 pub use settings::{

@@ -33,9 +33,7 @@ pub(crate) fn is_exact_binary_stl(bytes: &[u8]) -> bool {
 
 /// Determines the format of `bytes`; `file_name` (any path form) is a hint.
 pub fn detect(bytes: &[u8], file_name: Option<&str>) -> Result<Format, IoError> {
-    let by_ext = file_name
-        .and_then(extension)
-        .and_then(|e| Format::from_extension(&e));
+    let by_ext = file_name.and_then(Format::from_file_name);
     if bytes.is_empty() {
         return Err(IoError::Empty { format: by_ext });
     }

@@ -35,58 +35,27 @@ pub enum Format {
 }
 
 impl Format {
-    /// The formats `io::write_bytes` can write.
-    pub const WRITABLE: [Format; 5] = [
-        Format::Obj,
-        Format::Ply,
-        Format::Stl,
-        Format::Glb,
-        Format::Vtk,
-    ];
+    /// The formats `io::write_bytes` can write (those marked `write` in
+    /// [`super::formats::FORMATS`]).
+    pub const WRITABLE: [Format; 5] = super::formats::WRITABLE;
 
     /// True for the voxel-volume formats (NIfTI, NRRD, VTI, MetaImage).
     pub fn is_volume(self) -> bool {
-        matches!(
-            self,
-            Format::Nifti | Format::Nrrd | Format::Vti | Format::MetaImage
-        )
+        self.info().kind == super::formats::FormatKind::Volume
     }
 
     /// Short lower-case name, as printed by `lsw info` and used in error messages.
     pub fn name(self) -> &'static str {
-        match self {
-            Format::Ply => "ply",
-            Format::Obj => "obj",
-            Format::Stl => "stl",
-            Format::Off => "off",
-            Format::Xyz => "xyz",
-            Format::Gltf => "gltf",
-            Format::Glb => "glb",
-            Format::Vtk => "vtk",
-            Format::Nifti => "nifti",
-            Format::Nrrd => "nrrd",
-            Format::Vti => "vti",
-            Format::MetaImage => "metaimage",
-        }
+        self.info().name
     }
 
     /// The format a file extension (without dot, any case) usually means, if any.
     pub fn from_extension(ext: &str) -> Option<Format> {
-        Some(match ext.to_ascii_lowercase().as_str() {
-            "ply" => Format::Ply,
-            "obj" => Format::Obj,
-            "stl" => Format::Stl,
-            "off" => Format::Off,
-            "xyz" | "pts" | "txt" | "csv" | "asc" | "pcd_ascii" => Format::Xyz,
-            "gltf" => Format::Gltf,
-            "glb" => Format::Glb,
-            "vtk" => Format::Vtk,
-            "nii" | "hdr" => Format::Nifti,
-            "nrrd" | "nhdr" => Format::Nrrd,
-            "vti" => Format::Vti,
-            "mha" | "mhd" => Format::MetaImage,
-            _ => return None,
-        })
+        let ext = ext.to_ascii_lowercase();
+        super::formats::FORMATS
+            .iter()
+            .find(|i| i.extensions.contains(&ext.as_str()))
+            .map(|i| i.format)
     }
 }
 
@@ -128,7 +97,10 @@ pub enum IoError {
         format: Option<Format>,
     },
     /// Neither the content nor the file name identify a supported format.
-    #[error("unrecognised file format: {reason}; supported: PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF, GLB, VTK; volumes NIfTI, NRRD, VTI, MetaImage")]
+    #[error(
+        "unrecognised file format: {reason}; supported: {}",
+        super::formats::supported_formats()
+    )]
     UnknownFormat {
         /// What was seen instead.
         reason: String,
@@ -246,7 +218,7 @@ impl IoError {
     pub fn hint(&self) -> &'static str {
         match self {
             IoError::Empty { .. } => "The file has no content; check that it was saved or copied completely.",
-            IoError::UnknownFormat { .. } => "Export the geometry as PLY, OBJ, STL, OFF, XYZ, glTF/GLB or VTK, or a volume as NIfTI, NRRD, VTI or MetaImage.",
+            IoError::UnknownFormat { .. } => super::formats::export_as_hint(),
             IoError::Syntax { .. } => "The file is damaged or not in the format it claims; re-export it from the original tool.",
             IoError::Truncated { .. } => "The file ends early; it was probably cut during download or copy.",
             IoError::CountTooLarge { .. } => "The header promises more data than the file holds; the file is truncated or its header is corrupt.",

@@ -17,6 +17,7 @@
 
 pub mod detect;
 pub mod error;
+pub mod formats;
 pub mod gltf;
 pub mod metaimage;
 pub mod nifti;
@@ -33,6 +34,7 @@ pub mod xyz;
 
 pub use detect::detect;
 pub use error::{Format, IoError, Location};
+pub use formats::{FormatInfo, FormatKind, FORMATS};
 pub use volume::{Inside, VolumeOptions, VoxelVolume};
 
 use crate::target::{Target, TargetError};
@@ -449,8 +451,9 @@ pub fn write_path(path: impl AsRef<std::path::Path>, input: &WriteInput) -> Resu
         .and_then(Format::from_extension)
         .ok_or_else(|| IoError::UnknownFormat {
             reason: format!(
-                "cannot tell the output format from {}; use .obj, .ply, .stl, .glb or .vtk",
-                path.display()
+                "cannot tell the output format from {}; use {}",
+                path.display(),
+                formats::writable_extensions()
             ),
         })?;
     let bytes = write_bytes(format, input)?;

@@ -3,6 +3,7 @@
 // `!(x > y)` is used deliberately: it is also true when x is NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 /// Counts of values in `bins` equal bins over `[lo, hi)`, with under- and overflow.
@@ -63,6 +64,26 @@ impl Histogram {
     }
 }
 
+/// The app's quality histogram: the per-triangle κ(J_Δ) (equilateral = 1, see
+/// [`super::quality::kappa`]) of a mesh over [1, `hi`) in `bins` bins. A `hi` not above 1 or not
+/// finite means 3; `bins` is kept within 1..=1000.
+pub fn kappa_histogram(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    bins: usize,
+    hi: f64,
+) -> Histogram {
+    let kappa: Vec<f64> = triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| positions[v as usize]);
+            super::quality::kappa(a, b, c)
+        })
+        .collect();
+    let hi = if hi > 1.0 && hi.is_finite() { hi } else { 3.0 };
+    Histogram::new(&kappa, 1.0, hi, bins.clamp(1, 1000))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -75,5 +96,26 @@ mod tests {
         let a = Histogram::auto(&[1.0, 2.5, 3.0], 2);
         assert_eq!(a.counts, vec![1, 2]);
         assert_eq!(a.bin_lo(0), 1.0);
+    }
+
+    #[test]
+    fn kappa_histogram_of_three_triangles() {
+        let h = 3f64.sqrt() / 2.0;
+        let p = [
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::new(0.5, h, 0.0),
+            DVec3::Y,
+            DVec3::new(0.5, 1e-3, 0.0),
+        ];
+        // Equilateral (κ = 1), right isosceles (κ = 2/√3), a needle (κ ≫ 3).
+        let t = [[0, 1, 2], [0, 1, 3], [0, 1, 4]];
+        let k = kappa_histogram(&p, &t, 4, 3.0);
+        assert_eq!((k.lo, k.hi, k.counts.clone()), (1.0, 3.0, vec![2, 0, 0, 0]));
+        assert_eq!((k.below, k.above), (0, 1));
+        // Bad bounds fall back to [1, 3); the bin count is clamped.
+        assert_eq!(kappa_histogram(&p, &t, 0, f64::NAN).hi, 3.0);
+        assert_eq!(kappa_histogram(&p, &t, 0, 0.5).counts.len(), 1);
+        assert_eq!(kappa_histogram(&p, &t, 5000, 2.0).counts.len(), 1000);
     }
 }

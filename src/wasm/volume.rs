@@ -3,9 +3,10 @@
 //! iso-value and frame; the procedural phantom as NIfTI bytes. Conversions only; the work is in
 //! [`crate::io::volume`].
 
-use super::{set_key, vec3_array, UiError, WrapSession};
+use super::errors::{ui_error, UiError};
+use super::{index_array, set_key, to_js, vec3_array, WrapSession};
 use crate::io::{Format, Inside, VolumeOptions, VoxelVolume};
-use js_sys::{Float32Array, Float64Array, Uint32Array};
+use js_sys::{Float32Array, Float64Array};
 use wasm_bindgen::prelude::*;
 
 fn options(iso: Option<f64>, frame: u32, dark: bool) -> VolumeOptions {
@@ -31,7 +32,7 @@ impl VolumeView {
     pub fn new(bytes: &[u8], file_name: Option<String>, frame: u32) -> Result<VolumeView, JsValue> {
         let (volume, format, _) =
             crate::io::read_volume_bytes(bytes, file_name.as_deref(), &options(None, frame, false))
-                .map_err(UiError::from)?;
+                .map_err(ui_error)?;
         Ok(VolumeView { volume, format })
     }
 
@@ -53,7 +54,7 @@ impl VolumeView {
             "otsu": v.otsu(),
             "affine": v.affine_rows().concat(),
         });
-        serde_wasm_bindgen::to_value(&info).map_err(|e| JsValue::from_str(&e.to_string()))
+        to_js(&info)
     }
 
     /// `{min, max, counts}` with `counts` a Float64Array of `bins` equal bins.
@@ -63,7 +64,7 @@ impl VolumeView {
                 UiError {
                     code: "bad-file",
                     message: "the volume has no finite value".into(),
-                    hint: "The volume holds only NaN or infinite values.",
+                    hint: "The volume holds only NaN or infinite values.".into(),
                 }
             })?;
         let counts: Vec<f64> = h.counts.iter().map(|&c| c as f64).collect();
@@ -84,10 +85,9 @@ impl VolumeView {
     pub fn isosurface(&self, iso: f64, dark: bool) -> Result<js_sys::Object, JsValue> {
         let inside = if dark { Inside::Dark } else { Inside::Bright };
         let (pos, tris) = self.volume.isosurface(iso, inside);
-        let flat: Vec<u32> = tris.into_iter().flatten().collect();
         let obj = js_sys::Object::new();
         set_key(&obj, "positions", &vec3_array(&pos))?;
-        set_key(&obj, "indices", &Uint32Array::from(flat.as_slice()))?;
+        set_key(&obj, "indices", &index_array(&tris))?;
         Ok(obj)
     }
 }
@@ -107,7 +107,7 @@ impl WrapSession {
     ) -> Result<WrapSession, JsValue> {
         let read =
             crate::io::read_bytes_with(bytes, file_name.as_deref(), &options(iso, frame, dark))
-                .map_err(UiError::from)?;
+                .map_err(ui_error)?;
         WrapSession::prepare(read, settings_json)
     }
 }

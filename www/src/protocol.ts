@@ -25,7 +25,7 @@ export interface UiError {
   hint: string;
 }
 
-/** Statistics of the MCF demo (mirrors `McfStats` in src/wasm.rs, camelCase via serde). */
+/** Statistics of the MCF demo (mirrors `McfStats` in src/wasm/mcf.rs, camelCase via serde). */
 export interface McfStats {
   step: number;
   time: number;
@@ -45,6 +45,43 @@ export interface McfParams {
   level: number;
   radius: number;
   tau: number;
+}
+
+/** A file format of the core's catalog (mirrors `io::formats::FormatInfo`). */
+export interface CatalogFormat {
+  /** Short lower-case name (`TargetInfo.format`, `export(name)` for writable ones). */
+  name: string;
+  /** Name for people ("PLY", "glTF", "NIfTI"). */
+  label: string;
+  /** Extensions without the dot, the usual one first; `nii.gz` is one extension. */
+  extensions: string[];
+  kind: 'mesh' | 'cloud' | 'mesh-or-cloud' | 'volume';
+  read: boolean;
+  write: boolean;
+}
+
+/** A colour map of the core's catalog (mirrors `flow::colour::ColourMapInfo`). */
+export interface CatalogColourMap {
+  /** The name `WrapSession.scalar` takes. */
+  name: Exclude<ColourMap, 'none'>;
+  /** Menu label. */
+  label: string;
+  /** Legend title next to the colour bar. */
+  legend: string;
+  /** Unit of the values ('' when dimensionless). */
+  unit: string;
+  /** Per-vertex property name in exported files, or null when not exported. */
+  exportName: string | null;
+}
+
+/** The app's lists from their Rust sources: `JSON.parse(catalog())` (see src/wasm/catalog.rs). */
+export interface Catalog {
+  formats: CatalogFormat[];
+  colourMaps: CatalogColourMap[];
+  /** Preset names in menu order (`presetSettings(name)`). */
+  presets: string[];
+  /** Names of the formats `export` and `exportMesh` write. */
+  exportFormats: string[];
 }
 
 /** Per-vertex scalars the core can colour by (`WrapSession.scalar`), or none. */

@@ -1,0 +1,183 @@
+//! The per-vertex scalars of the evolving surface that the app colours by and the writers
+//! record: one list, [`ColourMap::ALL`], with each map's name, label, legend text and unit, and
+//! [`ColourMap::values`] computing it from an [`Evolver`].
+
+use super::{mcf::mean_curvature, Evolver};
+use crate::geometry::operators::CotanLaplacian;
+use serde::Serialize;
+
+/// A per-vertex scalar of the surface being wrapped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ColourMap {
+    /// Field distance d to the target at each vertex, in target units.
+    Distance,
+    /// Mean curvature H (1/r on a sphere of radius r), in 1/target units.
+    Curvature,
+    /// Mean κ(J_Δ) of the incident faces (1 = equilateral).
+    Kappa,
+    /// Co-volume (mixed Voronoi area) in the stabilised frame.
+    Covolume,
+    /// 1 for feature vertices (creases, corners), 0 elsewhere.
+    Features,
+}
+
+/// A colour map as the app lists it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ColourMapInfo {
+    /// The map (not serialised: `name` identifies it).
+    #[serde(skip)]
+    pub map: ColourMap,
+    /// Stable name (the wasm facade's `scalar(name)`, the share link's `cmap`).
+    pub name: &'static str,
+    /// Menu label.
+    pub label: &'static str,
+    /// Legend title shown next to the colour bar.
+    pub legend: &'static str,
+    /// Unit of the values ("" when dimensionless).
+    pub unit: &'static str,
+    /// Name of the per-vertex property when a result is exported (PLY, GLB, VTK), or `None`
+    /// when the map is not exported.
+    pub export_name: Option<&'static str>,
+}
+
+/// Every colour map, in menu order and in the order of [`ColourMap`]'s variants (so
+/// `COLOUR_MAPS[map as usize]` is its entry; a unit test checks it).
+pub const COLOUR_MAPS: &[ColourMapInfo] = &[
+    ColourMapInfo {
+        map: ColourMap::Distance,
+        name: "distance",
+        label: "distance to target",
+        legend: "distance to target |d|",
+        unit: "target units",
+        export_name: Some("distance"),
+    },
+    ColourMapInfo {
+        map: ColourMap::Curvature,
+        name: "curvature",
+        label: "mean curvature",
+        legend: "mean curvature H",
+        unit: "1 / target units",
+        export_name: Some("mean_curvature"),
+    },
+    ColourMapInfo {
+        map: ColourMap::Kappa,
+        name: "kappa",
+        label: "κ(J_Δ) quality",
+        legend: "κ(J_Δ) (1 = equilateral)",
+        unit: "",
+        export_name: Some("kappa"),
+    },
+    ColourMapInfo {
+        map: ColourMap::Covolume,
+        name: "covolume",
+        label: "co-volume",
+        legend: "co-volume (stabilised)",
+        unit: "stabilised frame",
+        export_name: None,
+    },
+    ColourMapInfo {
+        map: ColourMap::Features,
+        name: "features",
+        label: "feature vertices",
+        legend: "feature vertices (1)",
+        unit: "",
+        export_name: None,
+    },
+];
+
+impl ColourMap {
+    /// Every colour map, in menu order.
+    pub fn all() -> impl Iterator<Item = ColourMap> {
+        COLOUR_MAPS.iter().map(|i| i.map)
+    }
+
+    /// This map's catalog entry.
+    pub fn info(self) -> &'static ColourMapInfo {
+        &COLOUR_MAPS[self as usize]
+    }
+
+    /// The stable name.
+    pub fn name(self) -> &'static str {
+        self.info().name
+    }
+
+    /// The map called `name`, if any.
+    pub fn from_name(name: &str) -> Option<ColourMap> {
+        COLOUR_MAPS.iter().find(|i| i.name == name).map(|i| i.map)
+    }
+
+    /// The map's value at every vertex of the evolver's surface (see the variants for units).
+    pub fn values(self, ev: &Evolver) -> Vec<f64> {
+        let mesh = ev.mesh();
+        match self {
+            ColourMap::Distance => ev.vertex_distances(),
+            ColourMap::Curvature => mean_curvature(mesh)
+                .into_iter()
+                .map(|h| h * ev.scale())
+                .collect(),
+            ColourMap::Kappa => crate::metrics::quality::vertex_kappa(mesh),
+            ColourMap::Covolume => CotanLaplacian::new(mesh).covolumes,
+            ColourMap::Features => {
+                let f = crate::remesh::features::detect(mesh, &ev.settings().remesh.features);
+                f.vertices.into_iter().map(|b| b as u8 as f64).collect()
+            }
+        }
+    }
+}
+
+/// The per-vertex scalars a written result records: `(export name, values)` of every map with
+/// an export name, in menu order.
+pub fn export_scalars(ev: &Evolver) -> Vec<(&'static str, Vec<f64>)> {
+    COLOUR_MAPS
+        .iter()
+        .filter_map(|i| i.export_name.map(|n| (n, i.map.values(ev))))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::flow::WrapSettings;
+    use crate::geometry::icosphere::icosphere;
+    use crate::target::Target;
+    use glam::DVec3;
+
+    #[test]
+    fn list_matches_variants_and_names_round_trip() {
+        for (i, m) in ColourMap::all().enumerate() {
+            assert_eq!(m as usize, i);
+            assert_eq!(m.info().map, m);
+            assert_eq!(ColourMap::from_name(m.name()), Some(m));
+            assert_eq!(serde_json::to_value(m).unwrap(), m.name());
+            assert!(!m.info().label.is_empty() && !m.info().legend.is_empty());
+        }
+        assert_eq!(ColourMap::from_name("none"), None);
+    }
+
+    /// On the start surface of a wrap of a sphere's vertices, every map has one finite value per
+    /// vertex, and κ is near 1 (the start icosphere is nearly equilateral).
+    #[test]
+    fn values_have_one_entry_per_vertex() {
+        let r = 2.0;
+        let cloud = icosphere(3, r, DVec3::ZERO).unwrap().positions().to_vec();
+        let target = Target::new(cloud, vec![]).unwrap();
+        let settings = {
+            let mut w = WrapSettings::default();
+            w.stop.steps = 1;
+            w
+        };
+        let ev = Evolver::new(&target, settings).unwrap();
+        let n = ev.mesh().n_vertices();
+        for m in ColourMap::all() {
+            let v = m.values(&ev);
+            assert_eq!(v.len(), n, "{}", m.name());
+            assert!(v.iter().all(|x| x.is_finite()), "{}", m.name());
+        }
+        let kappa = ColourMap::Kappa.values(&ev);
+        assert!(kappa.iter().all(|&k| (1.0..1.5).contains(&k)));
+        let names: Vec<_> = export_scalars(&ev).into_iter().map(|(n, _)| n).collect();
+        assert_eq!(names, ["distance", "mean_curvature", "kappa"]);
+    }
+}

@@ -1,0 +1,183 @@
+//! [`WrapSession`]: a wrap of a dropped file, advanced step by step from the worker, and what the
+//! app reads from it between steps (surface, colour-map scalars, report, certificate, κ
+//! histogram). Its field view is in [`super::field`], its export in [`super::io`], its volume
+//! constructor in [`super::volume`].
+
+use super::errors::{ui_error, UiError};
+use super::{index_array, scalar_array, to_js, vec3_array};
+use crate::flow::{ColourMap, Evolver, StepReport, WrapSettings};
+use crate::io::Format;
+use js_sys::{Float32Array, Uint32Array};
+use wasm_bindgen::prelude::*;
+
+/// A wrap of a dropped file, advanced step by step from the worker.
+#[wasm_bindgen]
+pub struct WrapSession {
+    pub(super) evolver: Evolver,
+    pub(super) target: crate::target::Target,
+    format: Format,
+    /// The settings in force, as JSON (recorded in exported files).
+    pub(super) settings_json: String,
+    last: Option<StepReport>,
+}
+
+impl WrapSession {
+    /// The session for what was read (a file or a volume) under `settings_json`.
+    pub(crate) fn prepare(
+        read: crate::io::ReadResult,
+        settings_json: &str,
+    ) -> Result<WrapSession, JsValue> {
+        let settings = WrapSettings::from_json(settings_json).map_err(UiError::settings)?;
+        let evolver = Evolver::new(&read.target, settings.clone()).map_err(ui_error)?;
+        Ok(WrapSession {
+            evolver,
+            target: read.target,
+            format: read.format,
+            settings_json: serde_json::to_string(&settings).unwrap_or_default(),
+            last: None,
+        })
+    }
+}
+
+#[wasm_bindgen]
+impl WrapSession {
+    /// Reads `bytes` (format sniffed from content, `file_name` breaks ties) and prepares the
+    /// wrap with `settings_json` (a `WrapSettings` JSON object; missing keys default).
+    #[wasm_bindgen(constructor)]
+    pub fn new(
+        bytes: &[u8],
+        file_name: Option<String>,
+        settings_json: &str,
+    ) -> Result<WrapSession, JsValue> {
+        let read = crate::io::read_bytes(bytes, file_name.as_deref()).map_err(ui_error)?;
+        WrapSession::prepare(read, settings_json)
+    }
+
+    /// Runs up to `n` steps; returns true when the wrap is done.
+    pub fn step(&mut self, n: u32) -> Result<bool, JsValue> {
+        for _ in 0..n {
+            if self.evolver.is_done() {
+                break;
+            }
+            self.last = Some(self.evolver.step().map_err(ui_error)?);
+        }
+        Ok(self.evolver.is_done())
+    }
+
+    /// True when the stopping rule or the step limit has been reached.
+    #[wasm_bindgen(js_name = isDone)]
+    pub fn is_done(&self) -> bool {
+        self.evolver.is_done()
+    }
+
+    /// The last step's report (see `StepReport`), or null before the first step.
+    pub fn report(&self) -> Result<JsValue, JsValue> {
+        to_js(&self.last)
+    }
+
+    /// What was read: format, kind, counts and bounding box.
+    #[wasm_bindgen(js_name = targetInfo)]
+    pub fn target_info(&self) -> Result<JsValue, JsValue> {
+        let t = &self.target;
+        to_js(&serde_json::json!({
+            "format": self.format.name(),
+            "kind": t.kind(),
+            "points": t.points.len(),
+            "triangles": t.triangles.len(),
+            "bboxMin": t.bbox.min.to_array(),
+            "bboxMax": t.bbox.max.to_array(),
+            "diagonal": t.bbox.diagonal(),
+        }))
+    }
+
+    /// Target points (or mesh vertices) as a flat `Float32Array`.
+    #[wasm_bindgen(js_name = targetPositions)]
+    pub fn target_positions(&self) -> Float32Array {
+        vec3_array(&self.target.points)
+    }
+
+    /// Target triangles as a flat `Uint32Array` (empty for a point cloud).
+    #[wasm_bindgen(js_name = targetIndices)]
+    pub fn target_indices(&self) -> Uint32Array {
+        index_array(&self.target.triangles)
+    }
+
+    /// Surface positions (target units).
+    pub fn positions(&self) -> Float32Array {
+        vec3_array(&self.evolver.positions())
+    }
+
+    /// Angle-weighted unit vertex normals.
+    pub fn normals(&self) -> Float32Array {
+        vec3_array(
+            &crate::geometry::operators::normals::angle_weighted_normals(self.evolver.mesh()),
+        )
+    }
+
+    /// Surface triangles as a flat `Uint32Array`.
+    pub fn indices(&self) -> Uint32Array {
+        index_array(&self.evolver.triangles())
+    }
+
+    /// A per-vertex scalar for colouring, by the name of a colour map of the catalog (see
+    /// [`crate::flow::colour`]): "distance" (target units), "curvature" (mean curvature,
+    /// 1/target units), "kappa" (vertex-averaged κ(J_Δ)), "covolume" (stabilised frame) or
+    /// "features" (1 for feature vertices).
+    pub fn scalar(&self, name: &str) -> Result<Float32Array, JsValue> {
+        let map = ColourMap::from_name(name).ok_or_else(|| {
+            let names: Vec<&str> = ColourMap::all().map(ColourMap::name).collect();
+            UiError::unknown("unknown scalar", name, &names)
+        })?;
+        Ok(scalar_array(&map.values(&self.evolver)))
+    }
+
+    /// The certificate of the current surface against the target (see
+    /// [`crate::metrics::certificate::Certificate`]; keys in snake_case).
+    pub fn certificate(&self) -> Result<JsValue, JsValue> {
+        to_js(&crate::metrics::certificate::certify(
+            &self.evolver.positions(),
+            &self.evolver.triangles(),
+            Some(&self.target),
+        ))
+    }
+
+    /// Histogram of the per-triangle κ(J_Δ) (equilateral = 1) of the current surface over
+    /// [1, `hi`) in `bins` bins: `{lo, hi, counts, below, above}` (see
+    /// [`crate::metrics::histogram::kappa_histogram`]).
+    #[wasm_bindgen(js_name = kappaHistogram)]
+    pub fn kappa_histogram(&self, bins: u32, hi: f64) -> Result<JsValue, JsValue> {
+        to_js(&crate::metrics::histogram::kappa_histogram(
+            &self.evolver.positions(),
+            &self.evolver.triangles(),
+            bins as usize,
+            hi,
+        ))
+    }
+
+    /// The step limit in force (the start's own when `auto` resolved to the isosurface start).
+    #[wasm_bindgen(js_name = stepLimit)]
+    pub fn step_limit(&self) -> u32 {
+        self.evolver.settings().stop.steps
+    }
+
+    /// Why the wrap stopped before its rule said so (divergence, solver failure), or null.
+    #[wasm_bindgen(js_name = stopReason)]
+    pub fn stop_reason(&self) -> Option<String> {
+        self.evolver.stop_reason().map(str::to_owned)
+    }
+
+    /// The start surface actually used ("icosphere" or "isosurface").
+    #[wasm_bindgen(js_name = startSurface)]
+    pub fn start_surface(&self) -> String {
+        serde_json::to_value(self.evolver.start_surface())
+            .ok()
+            .and_then(|v| v.as_str().map(str::to_owned))
+            .unwrap_or_default()
+    }
+
+    /// Fingerprint of the current surface (see [`crate::mesh::fingerprint::mesh_hash`]).
+    #[wasm_bindgen(js_name = resultHash)]
+    pub fn result_hash(&self) -> String {
+        crate::mesh::fingerprint::mesh_hash(&self.evolver.positions(), &self.evolver.triangles())
+    }
+}

@@ -1,0 +1,80 @@
+//! The wasm facade as the worker uses it, in headless Chromium (wasm only; natively this file
+//! has no tests): the catalog's lists are the ones the session accepts, and core errors arrive
+//! as `{code, message, hint}` objects with a code from `lsw::error::CODES`.
+
+#![cfg(target_arch = "wasm32")]
+
+use lsw::wasm::{catalog, export_mesh, preset_settings, McfSession, WrapSession};
+use wasm_bindgen::JsValue;
+use wasm_bindgen_test::*;
+
+wasm_bindgen_test_configure!(run_in_browser);
+
+fn get(o: &JsValue, key: &str) -> JsValue {
+    js_sys::Reflect::get(o, &JsValue::from_str(key)).unwrap()
+}
+
+/// The error object's code (checked to be one of the fixed set) and hint.
+fn code_and_hint(e: JsValue) -> (String, String) {
+    let code = get(&e, "code").as_string().unwrap();
+    assert!(lsw::error::CODES.contains(&code.as_str()), "{code}");
+    assert!(!get(&e, "message").as_string().unwrap().is_empty());
+    (code, get(&e, "hint").as_string().unwrap())
+}
+
+#[wasm_bindgen_test]
+fn catalog_lists_what_the_session_accepts() {
+    let c: serde_json::Value = serde_json::from_str(&catalog()).unwrap();
+    let bytes = lsw::wasm::demo_shape("genus2").unwrap().to_vec();
+    let mut s = WrapSession::new(&bytes, Some("genus2.ply".into()), r#"{"steps": 2}"#).unwrap();
+    s.step(1).unwrap();
+    let n = s.positions().length() / 3;
+    for m in c["colourMaps"].as_array().unwrap() {
+        let name = m["name"].as_str().unwrap();
+        assert_eq!(s.scalar(name).unwrap().length(), n, "{name}");
+    }
+    for f in c["exportFormats"].as_array().unwrap() {
+        let name = f.as_str().unwrap();
+        assert!(s.export(name).unwrap().length() > 0, "{name}");
+        let (p, i) = (s.positions().to_vec(), s.indices().to_vec());
+        assert!(export_mesh(&p, &i, name).unwrap().length() > 0, "{name}");
+    }
+    for p in c["presets"].as_array().unwrap() {
+        assert!(preset_settings(p.as_str().unwrap()).is_ok());
+    }
+    let (code, hint) = code_and_hint(s.scalar("nope").unwrap_err());
+    assert_eq!(code, "bad-parameter");
+    assert!(
+        hint.contains("distance") && hint.contains("features"),
+        "{hint}"
+    );
+    let (code, hint) = code_and_hint(s.export("off").unwrap_err());
+    assert_eq!(code, "bad-parameter");
+    assert!(hint.contains("GLB"), "{hint}");
+    let h = s.kappa_histogram(10, 3.0).unwrap();
+    assert_eq!(js_sys::Array::from(&get(&h, "counts")).length(), 10);
+    assert!(s.field_slice(3, 0.5).is_err());
+    let iso = s.field_isosurface(0.0).unwrap();
+    assert!(js_sys::Float32Array::from(get(&iso, "positions")).length() > 0);
+}
+
+#[wasm_bindgen_test]
+fn core_errors_arrive_with_code_and_hint() {
+    let e = WrapSession::new(b"hello\n", None, "{}").err().unwrap();
+    let (code, hint) = code_and_hint(e);
+    assert_eq!(code, "bad-file");
+    assert!(hint.contains("MetaImage"), "{hint}");
+    let e = McfSession::new(3, 1.0, -1.0).err().unwrap();
+    assert_eq!(code_and_hint(e).0, "bad-parameter");
+    let e = McfSession::new(9, 1.0, 1e-4).err().unwrap();
+    assert_eq!(code_and_hint(e).0, "bad-parameter");
+    let e = lsw::wasm::demo_shape("nope").unwrap_err();
+    assert_eq!(code_and_hint(e).1, "Use noisy-sphere, genus2 or box-soup.");
+    let e = preset_settings("nope").unwrap_err();
+    assert!(code_and_hint(e).1.contains("full-wrap"));
+    let bytes = lsw::wasm::demo_shape("noisy-sphere").unwrap().to_vec();
+    let e = WrapSession::new(&bytes, None, r#"{"tau": "fast"}"#)
+        .err()
+        .unwrap();
+    assert_eq!(code_and_hint(e).0, "bad-parameter");
+}
