@@ -16,7 +16,8 @@ use wasm_bindgen::prelude::*;
 ///   usual one first (`nii.gz` is one extension).
 /// * `colourMaps`: `[{name, label, legend, unit, exportName}]` — the names `scalar()` takes;
 ///   `exportName` is the per-vertex property name in exported files, or null.
-/// * `presets`: preset names in menu order (see `presetSettings`).
+/// * `presets`: preset names in menu order (see `presetSettings`); `presetLabels` their menu
+///   labels.
 /// * `exportFormats`: names of the formats `export` and `exportMesh` write.
 /// * `settingRanges`: `[{key, min, max, min_open, text}]` — the ranges the core enforces
 ///   (unbounded limits are null).
@@ -25,6 +26,7 @@ pub fn catalog_json() -> serde_json::Value {
         "formats": FORMATS,
         "colourMaps": COLOUR_MAPS,
         "presets": Preset::ALL.map(Preset::name),
+        "presetLabels": Preset::ALL.map(Preset::label),
         "exportFormats": Format::WRITABLE.map(Format::name),
         "settingRanges": RANGES,
     })
@@ -101,6 +103,7 @@ mod tests {
         );
         assert_eq!(c["colourMaps"][1]["exportName"], "mean_curvature");
         assert_eq!(c["presets"][0], "full-wrap");
+        assert_eq!(c["presetLabels"][3], "MCF (ignore target)");
         assert_eq!(c["presets"].as_array().unwrap().len(), Preset::ALL.len());
         assert_eq!(c["settingRanges"][0]["key"], "start.icosphere_level");
         let docs: serde_json::Value = serde_json::from_str(&settings_docs()).unwrap();

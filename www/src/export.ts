@@ -6,12 +6,13 @@ import type { FromWorker, Send } from './protocol';
 export class Exporter {
   /** `inputName`: the current input's name, for the file name when nothing is kept yet. */
   constructor(send: Send, private readonly kept: KeptResult, private readonly inputName: () => string) {
-    for (const b of document.querySelectorAll<HTMLButtonElement>('[data-format]')) {
-      b.onclick = () => {
-        const k = kept.result;
-        send({ type: 'export', format: b.dataset.format!, kept: k ? { positions: k.positions.slice(), indices: k.indices.slice() } : undefined });
-      };
-    }
+    // One listener for the buttons the catalog puts there (catalog-ui.ts).
+    document.getElementById('exports')!.addEventListener('click', (e) => {
+      const format = (e.target as HTMLElement).closest<HTMLButtonElement>('[data-format]')?.dataset.format;
+      if (!format) return;
+      const k = kept.result;
+      send({ type: 'export', format, kept: k ? { positions: k.positions.slice(), indices: k.indices.slice() } : undefined });
+    });
   }
 
   /** Saves the worker's file as a download. */

@@ -1,11 +1,8 @@
 // A worker frame onto the page: the surface goes to the render worker (its buffers transferred,
 // so the frame's arrays are empty afterwards) and the colour legend follows the colour map.
 import { byId } from './dom';
-import type { ColourMap, Draw, Frame } from './protocol';
-
-const LEGEND: Record<ColourMap, string> = {
-  none: '', distance: 'distance to target |d|', curvature: 'mean curvature H', kappa: 'κ(J_Δ) (1 = equilateral)', covolume: 'co-volume (stabilised)', features: 'feature vertices (1)',
-};
+import { legends } from './catalog-ui';
+import type { Draw, Frame } from './protocol';
 
 /** Draws a frame (wrap frames are recorded for the scrubber) and shows its legend. */
 export function drawFrame(draw: Draw, msg: Frame): void {
@@ -15,7 +12,7 @@ export function drawFrame(draw: Draw, msg: Frame): void {
   const step = msg.mode === 'mcf' ? msg.stats?.step ?? 0 : msg.report?.step ?? 0;
   draw({ type: 'geometry', positions: msg.positions, normals: msg.normals, indices: msg.indices, colors: msg.colors, step, record: msg.mode === 'wrap', final: !!msg.report?.done }, transfer);
   byId('legend').hidden = !msg.colors;
-  byId('legend-title').textContent = LEGEND[msg.colour];
+  byId('legend-title').textContent = legends[msg.colour] ?? msg.colour;
   byId('legend-min').textContent = msg.range[0].toPrecision(4);
   byId('legend-max').textContent = msg.range[1].toPrecision(4);
 }

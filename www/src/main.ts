@@ -2,6 +2,7 @@
 // The UI thread neither computes nor draws: the flow runs in one worker, three.js in another.
 // Each concern lives in its own module; this file builds them, hands each its dependencies and
 // routes the workers' messages. tests/unit/layout.test.ts keeps it at most 200 lines.
+import { applyCatalog } from './catalog-ui';
 import { Compute } from './compute';
 import { byId } from './dom';
 import { Exporter } from './export';
@@ -133,7 +134,8 @@ function onWorkerMessage(msg: FromWorker): void {
 /** The worker's presets are in: build the settings, then open what the link asks for (else the lesson). */
 function onReady(msg: Extract<FromWorker, { type: 'ready' }>): void {
   const presets = settings.build(msg.presets, msg.docs, msg.enums);
-  const { state, notices } = readLink(presets, msg.aliases);
+  applyCatalog(msg.catalog);
+  const { state, notices } = readLink(presets, { aliases: msg.aliases, colourMaps: [...msg.catalog.colourMaps.map((m) => m.name), 'none'] });
   status.notice(notices);
   settings.apply(state.preset, state.changed);
   view.apply(state.view);

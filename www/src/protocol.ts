@@ -63,7 +63,7 @@ export interface CatalogFormat {
 /** A colour map of the core's catalog (mirrors `flow::colour::ColourMapInfo`). */
 export interface CatalogColourMap {
   /** The name `WrapSession.scalar` takes. */
-  name: Exclude<ColourMap, 'none'>;
+  name: ColourMap;
   /** Menu label. */
   label: string;
   /** Legend title next to the colour bar. */
@@ -80,12 +80,16 @@ export interface Catalog {
   colourMaps: CatalogColourMap[];
   /** Preset names in menu order (`presetSettings(name)`). */
   presets: string[];
+  /** Their menu labels. */
+  presetLabels: string[];
   /** Names of the formats `export` and `exportMesh` write. */
   exportFormats: string[];
+  /** Ranges of numeric settings the core enforces (unbounded limits are null). */
+  settingRanges: { key: string; min: number | null; max: number | null; min_open: boolean; text: string }[];
 }
 
-/** Per-vertex scalars the core can colour by (`WrapSession.scalar`), or none. */
-export type ColourMap = 'none' | 'distance' | 'curvature' | 'kappa' | 'covolume' | 'features';
+/** A per-vertex scalar the core can colour by (a `Catalog.colourMaps` name, `WrapSession.scalar`), or 'none'. */
+export type ColourMap = string;
 
 /** Phase times of a wrap step in ms (mirrors `PhaseTimes`). */
 export interface PhaseTimes {
@@ -219,7 +223,7 @@ export interface Frame {
 
 /** Worker → UI. */
 export type FromWorker =
-  | { type: 'ready'; presets: Record<string, Record<string, unknown>>; docs: Record<string, string>; enums: Record<string, string[]>; aliases: Record<string, string> }
+  | { type: 'ready'; presets: Record<string, Record<string, unknown>>; docs: Record<string, string>; enums: Record<string, string[]>; aliases: Record<string, string>; catalog: Catalog }
   | Frame
   | { type: 'loading'; what: string }
   | { type: 'target'; run: number; positions: Float32Array; indices: Uint32Array; info: TargetInfo; name: string }

@@ -1,7 +1,7 @@
 // The share link: the page's state (dataset, preset, changed settings, view, volume iso-value)
 // written into the URL hash with share.ts's versioned codec, and read back when the page opens.
 import { byId } from './dom';
-import { decode, encode, validDataset, type Decoded, type Flat, type ShareState } from './share';
+import { decode, encode, validDataset, type Decoded, type DecodeOptions, type Flat, type ShareState } from './share';
 import type { StatusLine } from './status';
 
 export class ShareLink {
@@ -38,8 +38,8 @@ export class ShareLink {
 }
 
 /** The state the page was opened with: the hash, and ?src= (a file's address) over its dataset. */
-export function readLink(presets: Record<string, Flat>, aliases: Record<string, string>): Decoded {
-  const { state, notices } = decode(location.hash, presets, 'full-wrap', aliases);
+export function readLink(presets: Record<string, Flat>, opts: DecodeOptions): Decoded {
+  const { state, notices } = decode(location.hash, presets, opts);
   const src = new URLSearchParams(location.search).get('src');
   if (src !== null) {
     if (validDataset(src) && !src.startsWith('demo:')) state.dataset = src;

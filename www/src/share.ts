@@ -24,7 +24,17 @@ export interface ViewState {
 }
 
 export const DEFAULT_VIEW: ViewState = { wire: true, smooth: true, cmap: 'distance', yaw: 0.35, pitch: 0.4, zoom: 1 };
-export const COLOUR_MAPS = ['none', 'distance', 'curvature', 'kappa', 'covolume', 'features'] as const;
+
+/** What `decode` checks a link against besides the presets. */
+export interface DecodeOptions {
+  /** The preset when the link names none or an unknown one. */
+  defaultPreset?: string;
+  /** Flat setting keys of links made before the settings were nested (`tau`) → current keys
+   * (`flow.tau`); the core supplies it (`settingAliases`). */
+  aliases?: Record<string, string>;
+  /** Colour-map names a link may ask for (the core's catalog, plus 'none'); without it only the default. */
+  colourMaps?: readonly string[];
+}
 
 export interface ShareState {
   /** Dataset: a gallery id (`demo:bunny`) or an http(s) URL; null when none is shareable. */
@@ -112,12 +122,11 @@ export function encode(state: ShareState): string {
 }
 
 /**
- * Decodes a hash against `presets` (name → flattened default settings). Never throws: whatever
- * cannot be used is dropped and explained in `notices`. `aliases` maps the flat setting keys of
- * links made before the settings were nested (`tau`) to their current keys (`flow.tau`); the
- * core supplies it (`settingAliases`).
+ * Decodes a hash against `presets` (name → flattened default settings) and `opts`. Never
+ * throws: whatever cannot be used is dropped and explained in `notices`.
  */
-export function decode(hash: string, presets: Record<string, Flat>, defaultPreset = 'full-wrap', aliases: Record<string, string> = {}): Decoded {
+export function decode(hash: string, presets: Record<string, Flat>, opts: DecodeOptions = {}): Decoded {
+  const { defaultPreset = 'full-wrap', aliases = {}, colourMaps = [DEFAULT_VIEW.cmap, 'none'] } = opts;
   const notices: string[] = [];
   const state: ShareState = { dataset: null, preset: defaultPreset, changed: {}, view: { ...DEFAULT_VIEW } };
   const raw = hash.replace(/^#/, '');
@@ -187,7 +196,7 @@ export function decode(hash: string, presets: Record<string, Flat>, defaultPrese
         if (Number.isFinite(n) && Math.abs(n) < 1e6) (state.view[k] as number) = n;
         else unknown.push(key);
       } else if (k === 'cmap') {
-        if ((COLOUR_MAPS as readonly string[]).includes(value)) state.view.cmap = value;
+        if (colourMaps.includes(value)) state.view.cmap = value;
         else unknown.push(key);
       }
     } else if (!(key.startsWith('s.') && old)) {

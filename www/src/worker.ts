@@ -2,15 +2,14 @@
 // never computes. It honours pause / cancel between steps; the page terminates and restarts it
 // when a single step (or the field construction) runs too long to answer a cancel in time.
 import init, {
-  McfSession, WrapSession, presetSettings, settingsDocs, settingsEnums, settingAliases, demoShape, demoMesh, controlCurves, exportMesh,
+  McfSession, WrapSession, presetSettings, settingsDocs, settingsEnums, settingAliases, catalog, demoShape, demoMesh, controlCurves, exportMesh,
   VolumeView, phantomVolume,
 } from '../pkg/lsw.js';
-import type { Certificate, ColourMap, FieldView, FromWorker, Histogram, McfStats, Source, StepReport, TargetInfo, ToWorker, VolumeInfo } from './protocol';
+import type { Catalog, Certificate, ColourMap, FieldView, FromWorker, Histogram, McfStats, Source, StepReport, TargetInfo, ToWorker, VolumeInfo } from './protocol';
 import { toUiError } from './protocol';
 import { batchSize } from './schedule';
 import { colorize, robustRange } from './colormap';
 
-const PRESETS = ['full-wrap', 'obstacle', 'isosurface', 'mcf'];
 const ready = init();
 /** Bytes of the wasm instance's linear memory (it only grows): the tab's memory for the core. */
 let wasmMemory: WebAssembly.Memory | null = null;
@@ -445,9 +444,10 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
 
 ready.then(
   () => {
+    const lists = JSON.parse(catalog()) as Catalog;
     const presets: Record<string, Record<string, unknown>> = {};
-    for (const p of PRESETS) presets[p] = JSON.parse(presetSettings(p));
-    post({ type: 'ready', presets, docs: JSON.parse(settingsDocs()), enums: JSON.parse(settingsEnums()), aliases: JSON.parse(settingAliases()) });
+    for (const p of lists.presets) presets[p] = JSON.parse(presetSettings(p));
+    post({ type: 'ready', presets, docs: JSON.parse(settingsDocs()), enums: JSON.parse(settingsEnums()), aliases: JSON.parse(settingAliases()), catalog: lists });
   },
   (e) => fail(e),
 );

@@ -58,6 +58,16 @@ impl Preset {
         }
     }
 
+    /// The preset's name in menus.
+    pub fn label(self) -> &'static str {
+        match self {
+            Preset::FullWrap => "full-wrap",
+            Preset::Obstacle => "obstacle",
+            Preset::Isosurface => "isosurface start",
+            Preset::Mcf => "MCF (ignore target)",
+        }
+    }
+
     /// Parses a kebab-case name.
     pub fn from_name(name: &str) -> Option<Preset> {
         Preset::ALL.into_iter().find(|p| p.name() == name)

@@ -14,7 +14,7 @@ describe('URL state codec', () => {
     };
     const hash = encode(state);
     expect(hash.startsWith('v=1')).toBe(true);
-    const { state: back, notices } = decode('#' + hash, presets);
+    const { state: back, notices } = decode('#' + hash, presets, { colourMaps: ['distance', 'kappa', 'none'] });
     expect(notices).toEqual([]);
     expect(back).toEqual(state);
   });
@@ -44,11 +44,11 @@ describe('URL state codec', () => {
   it('links made before the settings were nested decode through the core\'s aliases', () => {
     const nested: Record<string, Flat> = { 'full-wrap': flatten({ start: { surface: 'auto' }, flow: { tau: 0.07 }, stop: { steps: 146 }, remesh: { features: { detector: 'off' } } }) };
     const aliases = { start: 'start.surface', tau: 'flow.tau', steps: 'stop.steps', 'features.detector': 'remesh.features.detector' };
-    const { state, notices } = decode('v=1&p=full-wrap&s.tau=0.05&s.start=isosurface&s.steps=20&s.features.detector="both"', nested, 'full-wrap', aliases);
+    const { state, notices } = decode('v=1&p=full-wrap&s.tau=0.05&s.start=isosurface&s.steps=20&s.features.detector="both"', nested, { aliases });
     expect(notices).toEqual([]);
     expect(state.changed).toEqual({ 'flow.tau': 0.05, 'start.surface': 'isosurface', 'stop.steps': 20, 'remesh.features.detector': 'both' });
     // The current keys decode as they are.
-    expect(decode('v=1&s.flow.tau=0.04', nested, 'full-wrap', aliases).state.changed).toEqual({ 'flow.tau': 0.04 });
+    expect(decode('v=1&s.flow.tau=0.04', nested, { aliases }).state.changed).toEqual({ 'flow.tau': 0.04 });
   });
 
   it('unknown keys, wrong types and bad values fall back to defaults with notices', () => {
