@@ -2,7 +2,8 @@
 //! the LSW evolution at 2 K, 10 K and 40 K vertices and of the MCF step at level 6, and the
 //! bunny-sized distance field. Numbers are printed, never asserted (speed is measured in
 //! benchmarks, not tests). Run optimised for meaningful figures:
-//! `cargo test --release --target wasm32-unknown-unknown --test wasm_timing -- --nocapture`.
+//! `cargo test --release --target wasm32-unknown-unknown --bench wasm_timing -- --nocapture` (a bench
+//! target run through wasm-bindgen-test's browser runner, outside the test suite).
 
 #![cfg(target_arch = "wasm32")]
 
