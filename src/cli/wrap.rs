@@ -78,10 +78,8 @@ pub fn apply_overrides(
 pub fn run(a: &WrapArgs) -> Result<String, String> {
     let t0 = crate::clock::now_ms();
     let preset = Preset::from_name(&a.preset).ok_or_else(|| {
-        format!(
-            "unknown preset \"{}\" (use full-wrap, obstacle, isosurface or mcf)",
-            a.preset
-        )
+        let names = Preset::ALL.map(Preset::name);
+        format!("unknown preset \"{}\" (use {})", a.preset, names.join(", "))
     })?;
     let mut settings = apply_overrides(preset.settings(), &a.set)?;
     if let Some(n) = a.steps {
@@ -90,7 +88,12 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
     if let Some(start) = &a.start {
         settings.start.surface =
             serde_json::from_value(Value::String(start.clone())).map_err(|_| {
-                format!("unknown start surface \"{start}\" (use auto, icosphere or isosurface)")
+                let options = crate::flow::settings::docs::settings_enums()
+                    .into_iter()
+                    .find(|(k, _)| k == "start.surface")
+                    .map(|(_, v)| v.join(", "))
+                    .unwrap_or_default();
+                format!("unknown start surface \"{start}\" (use {options})")
             })?;
     }
     let read = read_path_with(&a.input, &a.volume.options()).map_err(super::explained)?;
