@@ -9,6 +9,7 @@
 //! where the surface bridges a hole in a scan) stay where they are.
 
 use crate::geometry::spatial::bvh::TriangleBvh;
+use crate::geometry::spatial::point_grid::{Near, PointGrid};
 use crate::mesh::HalfedgeMesh;
 use crate::target::Target;
 use glam::DVec3;
@@ -23,76 +24,9 @@ pub struct SnapParams {
     pub max_move: f64,
     /// Fewest points a plane may be fitted to.
     pub min_points: usize,
-}
-
-/// A uniform bucket grid over points for radius queries (counting sort, no hashing).
-pub struct PointGrid {
-    points: Vec<DVec3>,
-    origin: DVec3,
-    cell: f64,
-    dims: [usize; 3],
-    start: Vec<u32>,
-    order: Vec<u32>,
-}
-
-impl PointGrid {
-    /// Buckets `points` into cells of size `cell` (> 0).
-    pub fn new(points: &[DVec3], cell: f64) -> Self {
-        let bbox = crate::geometry::aabb::Aabb::from_points(points);
-        let dims = ((bbox.size() / cell).floor() + DVec3::ONE)
-            .to_array()
-            .map(|d| (d as usize).clamp(1, 1 << 10));
-        let mut g = PointGrid {
-            points: points.to_vec(),
-            origin: bbox.min,
-            cell,
-            dims,
-            start: vec![0; dims[0] * dims[1] * dims[2] + 1],
-            order: vec![0; points.len()],
-        };
-        let keys: Vec<usize> = points.iter().map(|&p| g.key(g.cell_of(p))).collect();
-        for &k in &keys {
-            g.start[k + 1] += 1;
-        }
-        for i in 1..g.start.len() {
-            g.start[i] += g.start[i - 1];
-        }
-        let mut fill = g.start.clone();
-        for (i, &k) in keys.iter().enumerate() {
-            g.order[fill[k] as usize] = i as u32;
-            fill[k] += 1;
-        }
-        g
-    }
-
-    fn cell_of(&self, p: DVec3) -> [usize; 3] {
-        let q = ((p - self.origin) / self.cell).floor();
-        [0, 1, 2].map(|k| (q[k].max(0.0) as usize).min(self.dims[k] - 1))
-    }
-
-    fn key(&self, c: [usize; 3]) -> usize {
-        (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0]
-    }
-
-    /// Calls `f(point)` for every point within `radius` of `p` (radius ≤ a few cells).
-    pub fn for_each_within(&self, p: DVec3, radius: f64, mut f: impl FnMut(DVec3)) {
-        let lo = self.cell_of(p - DVec3::splat(radius));
-        let hi = self.cell_of(p + DVec3::splat(radius));
-        let r2 = radius * radius;
-        for z in lo[2]..=hi[2] {
-            for y in lo[1]..=hi[1] {
-                for x in lo[0]..=hi[0] {
-                    let k = self.key([x, y, z]);
-                    for &i in &self.order[self.start[k] as usize..self.start[k + 1] as usize] {
-                        let q = self.points[i as usize];
-                        if (q - p).length_squared() <= r2 {
-                            f(q);
-                        }
-                    }
-                }
-            }
-        }
-    }
+    /// Most points a plane is fitted to: the nearest within `radius`. Bounds the fit's cost on
+    /// dense scans (thousands of points within the radius) without changing it on sparse ones.
+    pub max_points: usize,
 }
 
 /// What the target looks like to the fit.
@@ -197,14 +131,31 @@ pub fn snap_to_target(
 /// radius deeper than the shallowest one belong to the far side of a thin part (an ear, a
 /// fin) and would pull the fit into the middle of it.
 fn plane_offset(grid: &PointGrid, p: DVec3, n: DVec3, params: &SnapParams) -> Option<f64> {
+    let mut nearest = Vec::with_capacity(params.max_points);
+    grid.nearest_within(p, params.radius, params.max_points, &mut nearest);
+    plane_offset_of(
+        nearest.iter().map(|&Near { point, .. }| point),
+        p,
+        n,
+        params,
+    )
+}
+
+/// [`plane_offset`] from the points `near` p (those within the radius).
+fn plane_offset_of(
+    points: impl Iterator<Item = DVec3>,
+    p: DVec3,
+    n: DVec3,
+    params: &SnapParams,
+) -> Option<f64> {
     let h2 = (0.5 * params.radius).powi(2);
-    let mut near: Vec<(DVec3, f64)> = Vec::with_capacity(32);
+    let mut near: Vec<(DVec3, f64)> = Vec::with_capacity(params.max_points);
     let mut shallowest = f64::INFINITY;
-    grid.for_each_within(p, params.radius, |q| {
+    for q in points {
         let depth = (p - q).dot(n);
         shallowest = shallowest.min(depth);
         near.push((q, depth));
-    });
+    }
     let keep = shallowest + 0.5 * params.radius;
     let (mut wsum, mut c, mut count) = (0.0, DVec3::ZERO, 0usize);
     for (q, depth) in &mut near {
@@ -253,17 +204,70 @@ mod tests {
     use super::*;
     use crate::geometry::icosphere::icosphere;
 
+    /// With room for every point within the radius, the fit on the k nearest is the fit on all
+    /// points within the radius found by scanning the whole cloud (up to summation order); with
+    /// a small k on a dense cloud it stays within a small fraction of the radius.
+    #[test]
+    fn nearest_k_fit_matches_the_radius_fit_of_a_full_scan() {
+        let mut rng = crate::demo::Rng::new(5);
+        let pts: Vec<DVec3> = crate::geometry::sphere::fibonacci_sphere(3000)
+            .into_iter()
+            .map(|p| p * (1.0 + 0.01 * (rng.uniform() - 0.5)))
+            .collect();
+        let mut params = SnapParams {
+            radius: 0.15,
+            max_move: 0.5,
+            min_points: 6,
+            max_points: 100_000,
+        };
+        let grid = PointGrid::new(&pts, params.radius);
+        let (mut compared, mut worst_small_k) = (0, 0.0f64);
+        for i in 0..200 {
+            let n = DVec3::new(rng.uniform(), rng.uniform(), rng.uniform()) - DVec3::splat(0.5);
+            let n = n.normalize();
+            let p = n * (1.05 + 0.02 * i as f64 / 200.0);
+            let within = pts
+                .iter()
+                .copied()
+                .filter(|q| (*q - p).length_squared() <= params.radius * params.radius);
+            let full = plane_offset_of(within, p, n, &params);
+            let knn = plane_offset(&grid, p, n, &params);
+            match (full, knn) {
+                (Some(a), Some(b)) => {
+                    assert!((a - b).abs() < 1e-12, "{a} vs {b}");
+                    compared += 1;
+                }
+                (a, b) => assert_eq!(a.is_some(), b.is_some()),
+            }
+            let small = SnapParams {
+                max_points: 32,
+                ..params
+            };
+            if let (Some(a), Some(b)) = (full, plane_offset(&grid, p, n, &small)) {
+                worst_small_k = worst_small_k.max((a - b).abs());
+            }
+        }
+        assert!(compared > 150, "only {compared} fits");
+        assert!(
+            worst_small_k < 0.01,
+            "k = 32 moves the fit by {worst_small_k}"
+        );
+        params.max_points = 6;
+        assert!(plane_offset(&grid, DVec3::X * 1.05, DVec3::X, &params).is_some());
+    }
+
     #[test]
     fn offset_sphere_snaps_onto_sampled_sphere() {
         // Points on the unit sphere; the mesh is the sphere of radius 1.05.
         let pts = crate::geometry::sphere::fibonacci_sphere(20_000);
-        let grid = PointGrid::new(&pts, 0.05);
+        let grid = PointGrid::new(&pts, 0.1);
         let mut mesh = icosphere(4, 1.05, DVec3::ZERO).unwrap();
         let normals: Vec<DVec3> = mesh.positions().iter().map(|p| p.normalize()).collect();
         let params = SnapParams {
             radius: 0.1,
             max_move: 0.2,
             min_points: 6,
+            max_points: 64,
         };
         let moved = snap_to_target(&mut mesh, &normals, &SnapTarget::Points(grid), &params);
         assert_eq!(moved, mesh.n_vertices());
@@ -280,12 +284,13 @@ mod tests {
             radius: 0.1,
             max_move: 0.2,
             min_points: 6,
+            max_points: 64,
         };
         assert_eq!(
             snap_to_target(
                 &mut far,
                 &normals,
-                &SnapTarget::Points(PointGrid::new(&pts, 0.05)),
+                &SnapTarget::Points(PointGrid::new(&pts, 0.1)),
                 &params
             ),
             0

@@ -32,6 +32,7 @@ impl Evolver {
             radius: self.settings.fit.radius_cells * c,
             max_move: self.settings.fit.max_move_cells * c,
             min_points: 6,
+            max_points: self.settings.fit.max_points,
         };
         // The fit must never make things worse: keep the settled surface if it breaks validity.
         let backup = self.mesh.clone();

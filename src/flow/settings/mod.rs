@@ -192,6 +192,7 @@ pub const RANGES: &[SettingRange] = &[
     SettingRange::new("flow.c1", 0.0, f64::INFINITY, false, "≥ 0"),
     SettingRange::new("flow.d1", 0.0, f64::INFINITY, false, "≥ 0"),
     SettingRange::new("flow.d2", 0.0, f64::INFINITY, false, "≥ 0"),
+    SettingRange::new("fit.max_points", 6.0, 1e6, false, "6–1000000"),
 ];
 
 impl WrapSettings {
@@ -441,6 +442,7 @@ mod tests {
                 radius_cells: 3.0,
                 max_move_cells: 4.0,
                 passes: 1,
+                max_points: 64,
             },
             stop: StopSettings {
                 steps: 30,

@@ -179,6 +179,10 @@ pub struct FitSettings {
     pub max_move_cells: f64,
     /// Passes (normals are recomputed between passes). Default 2.
     pub passes: u32,
+    /// Most cloud points a vertex's plane is fitted to: the nearest within `radius_cells`. Keeps
+    /// the fit's cost per vertex bounded on dense scans, where the radius holds thousands of
+    /// points. Range ≥ 6; default 64.
+    pub max_points: usize,
 }
 
 impl Default for FitSettings {
@@ -188,6 +192,7 @@ impl Default for FitSettings {
             radius_cells: 2.0,
             max_move_cells: 2.5,
             passes: 2,
+            max_points: 64,
         }
     }
 }

@@ -2,4 +2,5 @@
 //! metrics alike.
 
 pub mod bvh;
+pub mod point_grid;
 pub mod spacing;
