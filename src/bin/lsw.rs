@@ -5,7 +5,18 @@ fn main() {
     use clap::Parser;
     let cli = lsw::cli::Cli::parse();
     match lsw::cli::run(cli) {
-        Ok(json) => println!("{json}"),
+        Ok(json) => {
+            // A closed pipe (`lsw info X | head`) ends the output quietly instead of panicking.
+            use std::io::Write;
+            let mut out = std::io::stdout().lock();
+            match writeln!(out, "{json}").and_then(|_| out.flush()) {
+                Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+                    eprintln!("lsw: error: writing the output: {e}");
+                    std::process::exit(1);
+                }
+                _ => {}
+            }
+        }
         Err(msg) => {
             eprintln!("lsw: error: {msg}");
             std::process::exit(1);
