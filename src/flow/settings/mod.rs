@@ -442,7 +442,7 @@ mod tests {
                 radius_cells: 3.0,
                 max_move_cells: 4.0,
                 passes: 1,
-                max_points: 64,
+                max_points: 256,
             },
             stop: StopSettings {
                 steps: 30,

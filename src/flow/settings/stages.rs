@@ -181,7 +181,8 @@ pub struct FitSettings {
     pub passes: u32,
     /// Most cloud points a vertex's plane is fitted to: the nearest within `radius_cells`. Keeps
     /// the fit's cost per vertex bounded on dense scans, where the radius holds thousands of
-    /// points. Range ≥ 6; default 64.
+    /// points. Range ≥ 6; default 256 (on 1 M points sampled from spot, 64 left the target → mesh
+    /// p95 at 0.93 % of the diagonal against 0.56 % with every point in the radius; 256: 0.56 %).
     pub max_points: usize,
 }
 
@@ -192,7 +193,7 @@ impl Default for FitSettings {
             radius_cells: 2.0,
             max_move_cells: 2.5,
             passes: 2,
-            max_points: 64,
+            max_points: 256,
         }
     }
 }
