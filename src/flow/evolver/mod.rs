@@ -51,7 +51,7 @@ pub enum EvolveError {
     #[error(transparent)]
     Icosphere(#[from] IcosphereError),
     /// The marching-cubes start surface is empty: no grid node lies below d_iso.
-    #[error("the isosurface d = {iso:.4} is empty; raise isosurface_level_cells")]
+    #[error("the isosurface d = {iso:.4} is empty; raise start.isosurface_level_cells")]
     EmptyIsosurface { iso: f64 },
     /// The isosurface start intersects itself after its remesh: its exterior leaked into narrow
     /// channels (typically through gaps in a point cloud). Fix: use the icosphere start (or auto).
