@@ -11,6 +11,7 @@ import { drawFrame } from './frame-view';
 import { bindDrop } from './drop';
 import { bindInputs } from './inputs';
 import { KeptResult } from './kept';
+import { bindLayout } from './layout';
 import { Lesson } from './lesson';
 import { ModeSwitch } from './mode';
 import { RunSettings } from './panel';
@@ -35,6 +36,7 @@ if (!renderer.attach(canvas)) {
   status.set('error', 'Unsupported browser');
 }
 bindOrbit(canvas, draw);
+bindLayout();
 
 // The computation worker; its hooks reach modules built below, and run only once they exist.
 const compute = new Compute({

@@ -285,6 +285,8 @@ export type ToRender =
   | { type: 'show-frame'; index: number }
   | { type: 'refit' }
   | { type: 'fit' }
+  /** Looks from these orbit angles and frames the surface (front, side, top buttons). */
+  | { type: 'look'; yaw: number; pitch: number }
   | { type: 'rotate'; dx: number; dy: number }
   | { type: 'zoom'; factor: number }
   | { type: 'set-view'; yaw: number; pitch: number; zoom: number }

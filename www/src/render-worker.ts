@@ -94,6 +94,11 @@ self.onmessage = (ev: MessageEvent<ToRender>) => {
       viewer.fitKeepingAngles();
       reportView();
       break;
+    case 'look':
+      viewer.setView(m.yaw, m.pitch, 1);
+      viewer.fitKeepingAngles();
+      reportView();
+      break;
     case 'rotate':
       viewer.rotate(m.dx, m.dy);
       reportView();

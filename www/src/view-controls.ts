@@ -25,6 +25,9 @@ export function bindOrbit(canvas: HTMLCanvasElement, draw: Draw): void {
   canvas.addEventListener('dblclick', () => draw({ type: 'refit' }));
 }
 
+/** Orbit angles (yaw, pitch) of the view buttons; the camera's pitch stops short of ±π/2. */
+const VIEWS: Record<string, [number, number]> = { front: [0, 0], side: [Math.PI / 2, 0], top: [0, 1.5] };
+
 export class ViewControls {
   /** The view as a share link has it. */
   view: ViewState = { ...DEFAULT_VIEW };
@@ -32,6 +35,10 @@ export class ViewControls {
   /** `send` gets the colour map (the computation worker colours the vertices); `changed` runs after every change of the view. */
   constructor(private readonly draw: Draw, private readonly send: Send, private readonly changed: () => void) {
     byId('fit').onclick = () => draw({ type: 'fit' });
+    for (const b of document.querySelectorAll<HTMLButtonElement>('[data-view]')) {
+      const [yaw, pitch] = VIEWS[b.dataset.view!];
+      b.onclick = () => draw({ type: 'look', yaw, pitch });
+    }
     byId<HTMLInputElement>('wireframe').onchange = (e) => {
       this.view.wire = (e.target as HTMLInputElement).checked;
       draw({ type: 'wireframe', on: this.view.wire });
