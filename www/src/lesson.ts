@@ -5,7 +5,7 @@ import { byId } from './dom';
 import type { FieldControls } from './field-view';
 import type { ModeSwitch } from './mode';
 import { RadiusPlot } from './plots';
-import type { Draw, McfParams, McfStats, Send } from './protocol';
+import type { Draw, McfParams, McfStats, Send, StopReason } from './protocol';
 import type { StatusLine } from './status';
 
 export interface LessonDeps {
@@ -38,6 +38,7 @@ export class Lesson {
     mode.set('mcf');
     field.hide();
     status.error(null);
+    status.clearReadout();
     this.plot.clear();
     draw({ type: 'clear-frames' });
     draw({ type: 'target', positions: new Float32Array(0), indices: null });
@@ -45,6 +46,19 @@ export class Lesson {
     send({ type: 'mcf-init', params: this.params() });
     status.set('idle', 'Ready');
     share();
+  }
+
+  play(): void {
+    this.d.status.error(null);
+    this.d.send({ type: 'play' });
+    this.d.status.set('running', 'Running');
+  }
+
+  /** The worker stopped the flow: at its end, on a pause, or cancelled (back to the start). */
+  stopped(reason: StopReason): void {
+    if (reason === 'finished') this.d.status.set('done', Lesson.DONE);
+    else if (reason === 'cancelled') this.reset();
+    else this.d.status.set('idle', 'Paused');
   }
 
   /** A frame's statistics: the radius plot and the numbers beside it. */

@@ -27,7 +27,7 @@ import { WrapRun } from './wrap-run';
 const canvas = byId<HTMLCanvasElement>('canvas');
 const health = byId('health');
 const mode = new ModeSwitch();
-const status = new StatusLine(() => mode.current === 'wrap');
+const status = new StatusLine();
 const renderer = new Renderer();
 const draw = renderer.draw;
 
@@ -42,15 +42,15 @@ bindLayout();
 const compute = new Compute({
   message: onWorkerMessage,
   failed: (e) => status.fail({ code: 'worker', message: `The computation worker failed: ${e.message}`, hint: 'The page restarts it; try a smaller grid or another preset.' }),
-  // A fresh worker knows nothing of the page: tell it the colour map and field view again.
+  // A fresh worker knows nothing of the page: tell it the colour map and field view again, and
+  // start the lesson afresh, or note that the wrap's session is gone (Play loads it again).
   restarted: () => {
     view.sendColour();
     field.request();
+    if (mode.current === 'mcf') lesson.reset();
+    else run.lost();
   },
-  unanswered: () => {
-    status.set('idle', 'Cancelled (worker restarted)');
-    kept.restore();
-  },
+  unanswered: () => mode.current === 'wrap' && run.cancelledByRestart(),
 });
 const send = compute.send;
 renderer.onError((e) => status.fail({ code: 'worker', message: `The render worker failed: ${e.message}`, hint: 'Reload the page.' }));
@@ -63,7 +63,7 @@ const settings = new RunSettings(byId('preset'), byId('gui'), send, updateShare)
 const readout = new WrapReadout();
 const kept = new KeptResult(draw, health);
 const lesson = new Lesson({ mode, status, field, draw, send, share: updateShare });
-const run = new WrapRun({ mode, status, settings, kept, readout, field, health, draw, send, share: updateShare });
+const run = new WrapRun({ mode, status, settings, kept, readout, field, health, draw, send, cancel: () => compute.cancel(), share: updateShare });
 const exporter = new Exporter(send, kept, () => run.name);
 const share = new ShareLink(
   () =>
@@ -111,9 +111,7 @@ function onWorkerMessage(msg: FromWorker): void {
     case 'result':
       return run.result(msg);
     case 'stopped':
-      if (msg.reason === 'finished' && mode.current === 'mcf') status.set('done', Lesson.DONE);
-      else run.stopped(msg.reason);
-      return;
+      return mode.current === 'mcf' ? lesson.stopped(msg.reason) : run.stopped(msg.reason);
     case 'exported':
       return exporter.save(msg);
     case 'field':
@@ -128,7 +126,10 @@ function onWorkerMessage(msg: FromWorker): void {
     case 'error':
       // (Compute replaces the worker afterwards if the error may have left it unusable.)
       status.fail(msg.error);
-      if (mode.current === 'wrap') kept.restore();
+      if (mode.current === 'wrap') {
+        run.lost();
+        kept.restore();
+      }
       return;
   }
 }
@@ -152,24 +153,20 @@ function onReady(msg: Extract<FromWorker, { type: 'ready' }>): void {
 
 // ---- Controls ---------------------------------------------------------------------------------
 
-byId('play').onclick = () => {
-  status.error(null);
-  send({ type: 'play' });
-  status.set('running', 'Running');
-};
+byId('play').onclick = () => (mode.current === 'mcf' ? lesson.play() : run.play());
 byId('pause').onclick = () => send({ type: 'pause' });
-byId('step').onclick = () => send({ type: 'step', n: 1 });
-byId('cancel').onclick = () => compute.cancel();
+byId('step').onclick = () => (mode.current === 'mcf' ? send({ type: 'step', n: 1 }) : run.step());
+byId('cancel').onclick = () => void compute.cancel();
 byId('reset').onclick = () => (mode.current === 'mcf' ? lesson.reset() : run.reset());
 bindInputs({
-  file: (f) => void run.openFile(f),
+  file: (f) => run.openFile(f),
   url: (u) => run.openUrl(u),
   demo: (id, preset) => {
     settings.forDemo(id, preset);
     startDemo(id);
   },
 });
-bindDrop(byId('drop'), (f) => void run.openFile(f));
+bindDrop(byId('drop'), (f) => run.openFile(f));
 
 /** Test and automation hooks: read-only views of what is shown. */
 (window as unknown as { __lsw: object }).__lsw = {

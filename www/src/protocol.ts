@@ -177,7 +177,6 @@ export type ToWorker =
   | { type: 'play' }
   | { type: 'pause' }
   | { type: 'step'; n: number }
-  | { type: 'reset'; settings: Record<string, unknown>; run: number }
   | { type: 'cancel' }
   | { type: 'colour'; map: ColourMap }
   | { type: 'export'; format: string; kept?: { positions: Float32Array; indices: Uint32Array } }
@@ -216,10 +215,12 @@ export interface Frame {
   histogram?: Histogram;
   /** Step limit of the wrap's settings (for the progress bar). */
   stepLimit?: number;
-  /** Milliseconds since the wrap was started (load included). */
+  /** Working milliseconds since the wrap was started (load included, pauses not). */
   elapsedMs?: number;
   playing: boolean;
 }
+
+export type StopReason = 'paused' | 'finished' | 'cancelled' | 'ready';
 
 /** Worker → UI. */
 export type FromWorker =
@@ -227,7 +228,8 @@ export type FromWorker =
   | Frame
   | { type: 'loading'; what: string }
   | { type: 'target'; run: number; positions: Float32Array; indices: Uint32Array; info: TargetInfo; name: string }
-  | { type: 'stopped'; reason: 'paused' | 'finished' | 'cancelled' }
+  /** The worker stopped stepping: paused, finished, cancelled, or loaded and `ready` to play (no autoplay). */
+  | { type: 'stopped'; reason: StopReason }
   | { type: 'result'; run: number; hash: string; name: string; positions: Float32Array; normals: Float32Array; indices: Uint32Array; elapsedMs: number; steps: number; certificate: Certificate; stopReason: string | null; start: string; wasmBytes: number }
   | { type: 'exported'; bytes: Uint8Array; format: string }
   | { type: 'curves'; curves: ControlCurves }

