@@ -2,7 +2,7 @@
 // The UI thread neither computes nor draws: the flow runs in one worker, three.js in another.
 // Each concern lives in its own module; this file builds them, hands each its dependencies and
 // routes the workers' messages. tests/unit/layout.test.ts keeps it at most 200 lines.
-import { applyCatalog } from './catalog-ui';
+import { applyCatalog, colourMenu } from './catalog-ui';
 import { Compute } from './compute';
 import { byId } from './dom';
 import { Exporter } from './export';
@@ -57,6 +57,7 @@ renderer.onError((e) => status.fail({ code: 'worker', message: `The render worke
 
 const updateShare = () => share.update();
 const view = new ViewControls(draw, send, updateShare);
+mode.onSwitch = (m) => view.offer(colourMenu(m));
 const scrubber = new Scrubber(draw);
 const field = new FieldControls(draw, send);
 const settings = new RunSettings(byId('preset'), byId('gui'), send, updateShare);
@@ -106,6 +107,8 @@ function onWorkerMessage(msg: FromWorker): void {
       return onFrame(msg);
     case 'loading':
       return status.set('loading', msg.what);
+    case 'mcf-advice':
+      return lesson.advice(msg.advice);
     case 'target':
       return run.loaded(msg);
     case 'result':
@@ -142,6 +145,7 @@ function onReady(msg: Extract<FromWorker, { type: 'ready' }>): void {
   status.notice(notices);
   settings.apply(state.preset, state.changed);
   view.apply(state.view);
+  view.offer(colourMenu(mode.current)); // (after the link is read: offering rewrites the link)
   settings.sendCurves();
   const d = state.dataset;
   run.linkIso = state.iso ?? null;

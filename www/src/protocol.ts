@@ -41,6 +41,21 @@ export interface McfStats {
   faces: number;
 }
 
+/** What a time step τ means for the lesson (mirrors `flow::mcf::TauAdvice`, camelCase). */
+export interface TauAdvice {
+  tau: number;
+  /** t* = r0²/4, when the sphere vanishes. */
+  extinctionTime: number;
+  /** Steps the lesson will take. */
+  steps: number;
+  /** The sensible range of τ. */
+  tauMin: number;
+  tauMax: number;
+  sensible: boolean;
+  /** What is wrong with τ ('' when sensible). */
+  warning: string;
+}
+
 export interface McfParams {
   level: number;
   radius: number;
@@ -84,6 +99,8 @@ export interface Catalog {
   presetLabels: string[];
   /** Names of the formats `export` and `exportMesh` write. */
   exportFormats: string[];
+  /** The colour maps the MCF lesson offers (a subset of `colourMaps`). */
+  lessonColourMaps: string[];
   /** Ranges of numeric settings the core enforces (unbounded limits are null). */
   settingRanges: { key: string; min: number | null; max: number | null; min_open: boolean; text: string }[];
 }
@@ -207,6 +224,8 @@ export interface Frame {
   colour: ColourMap;
   /** MCF demo statistics (mode mcf). */
   stats?: McfStats;
+  /** MCF: the lesson's last frame (kept by the scrubber whatever its stride). */
+  final?: boolean;
   /** Wrap step report (mode wrap; null before the first step). */
   report?: StepReport | null;
   /** Reports of every step since the previous frame (for the per-step plots). */
@@ -227,6 +246,8 @@ export type FromWorker =
   | { type: 'ready'; presets: Record<string, Record<string, unknown>>; docs: Record<string, string>; enums: Record<string, string[]>; aliases: Record<string, string>; catalog: Catalog }
   | Frame
   | { type: 'loading'; what: string }
+  /** The lesson's τ, judged before it runs (sent with every new lesson). */
+  | { type: 'mcf-advice'; advice: TauAdvice }
   | { type: 'target'; run: number; positions: Float32Array; indices: Uint32Array; info: TargetInfo; name: string }
   /** The worker stopped stepping: paused, finished, cancelled, or loaded and `ready` to play (no autoplay). */
   | { type: 'stopped'; reason: StopReason }

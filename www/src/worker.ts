@@ -5,7 +5,7 @@ import init, {
   McfSession, WrapSession, presetSettings, settingsDocs, settingsEnums, settingAliases, catalog, demoShape, demoMesh, controlCurves, exportMesh,
   VolumeView, phantomVolume,
 } from '../pkg/lsw.js';
-import type { Catalog, Certificate, ColourMap, FieldView, FromWorker, Histogram, McfStats, Source, StepReport, TargetInfo, ToWorker, VolumeInfo } from './protocol';
+import type { Catalog, Certificate, ColourMap, FieldView, FromWorker, Histogram, McfStats, Source, StepReport, TargetInfo, TauAdvice, ToWorker, VolumeInfo } from './protocol';
 import { toUiError } from './protocol';
 import { batchSize } from './schedule';
 import { colorize, robustRange } from './colormap';
@@ -66,14 +66,17 @@ function colours(values: Float32Array | null, fixed?: [number, number]): { color
 
 // ---- MCF teaching demo -------------------------------------------------------------------------
 
-let currentR0 = 1;
+/** The colour maps the lesson offers (the catalog's `lessonColourMaps`), the first its default. */
+let lessonMaps: string[] = ['curvature'];
 
 function sendMcfFrame(): void {
   if (!mcf) return;
   const positions = mcf.positions();
   const normals = mcf.normals();
   const stats = mcf.stats() as McfStats;
-  const { colors, range } = colours(colour === 'none' ? null : mcf.meanCurvature());
+  // A wrap's map the lesson does not have (distance, …) shows its first one.
+  const map = colour === 'none' || lessonMaps.includes(colour) ? colour : lessonMaps[0];
+  const { colors, range } = colours(map === 'none' ? null : mcf.scalar(map));
   const transfer: Transferable[] = [positions.buffer, normals.buffer];
   if (colors) transfer.push(colors.buffer);
   let indices: Uint32Array | undefined;
@@ -82,25 +85,37 @@ function sendMcfFrame(): void {
     transfer.push(indices.buffer);
     sentIndices = true;
   }
-  post({ type: 'frame', mode: 'mcf', run: pageRun, positions, normals, indices, colors, range, colour: colour === 'none' ? 'none' : 'curvature', stats, playing }, transfer);
+  const final = mcf.stepsLeft() === 0;
+  post({ type: 'frame', mode: 'mcf', run: pageRun, positions, normals, indices, colors, range, colour: map, stats, playing, final }, transfer);
+}
+
+/**
+ * Up to `n` lesson steps, never past its end (the core stops it at 15 % of the radius, before
+ * the sphere vanishes); true when the lesson is over. A non-finite radius is a failure to
+ * explain, never an end.
+ */
+function mcfSteps(session: McfSession, n: number): boolean {
+  session.step(Math.min(n, session.stepsLeft()));
+  const stats = session.stats() as McfStats;
+  msPerStep = stats.msPerStep;
+  if (!Number.isFinite(stats.meanRadius)) {
+    throw {
+      code: 'diverged',
+      message: `The sphere's mesh radius is no longer a number after step ${stats.step} (t = ${stats.time.toPrecision(3)}).`,
+      hint: 'Choose a smaller time step τ (see the warning next to it).',
+    };
+  }
+  return session.stepsLeft() === 0;
 }
 
 function mcfLoop(): void {
   if (!playing || !mcf || mode !== 'mcf') return;
   try {
-    mcf.step(batchSize(msPerStep));
-    const stats = mcf.stats() as McfStats;
-    msPerStep = stats.msPerStep;
-    // Stop before the sphere collapses to a point: below 15 % of the start radius the step τ
-    // is no longer small against the co-volumes and the linearised flow loses accuracy.
-    if (!(stats.exactRadius > 0.15 * currentR0)) {
-      playing = false;
-      sendMcfFrame();
-      post({ type: 'stopped', reason: 'finished' });
-      return;
-    }
+    const over = mcfSteps(mcf, batchSize(msPerStep));
+    if (over) playing = false;
     sendMcfFrame();
-    setTimeout(mcfLoop, 0);
+    if (over) post({ type: 'stopped', reason: 'finished' });
+    else setTimeout(mcfLoop, 0);
   } catch (e) {
     fail(e);
   }
@@ -340,8 +355,8 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
         const next = new McfSession(msg.params.level, msg.params.radius, msg.params.tau);
         mcf?.free();
         mcf = next;
-        currentR0 = msg.params.radius;
         sentIndices = false;
+        post({ type: 'mcf-advice', advice: next.tauAdvice() as TauAdvice });
         sendMcfFrame();
         break;
       }
@@ -387,7 +402,7 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
       case 'step':
         playing = false;
         if (mode === 'mcf') {
-          mcf?.step(msg.n);
+          if (mcf && mcfSteps(mcf, msg.n)) post({ type: 'stopped', reason: 'finished' });
           sendMcfFrame();
         } else if (wrap && wrap !== result) {
           clock.resume();
@@ -449,6 +464,7 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
 ready.then(
   () => {
     const lists = JSON.parse(catalog()) as Catalog;
+    lessonMaps = lists.lessonColourMaps;
     const presets: Record<string, Record<string, unknown>> = {};
     for (const p of lists.presets) presets[p] = JSON.parse(presetSettings(p));
     post({ type: 'ready', presets, docs: JSON.parse(settingsDocs()), enums: JSON.parse(settingsEnums()), aliases: JSON.parse(settingAliases()), catalog: lists });

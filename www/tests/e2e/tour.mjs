@@ -165,6 +165,52 @@ test('pauses do not count in the elapsed time; cancel in the MCF lesson returns 
   await page.close();
 });
 
+/** The colour legend as shown: hidden, or its title and range. */
+const legend = (page) =>
+  page.evaluate(() => {
+    const el = document.querySelector('#legend');
+    const text = (id) => document.querySelector(id).textContent;
+    return el.hidden ? null : { title: text('#legend-title'), min: text('#legend-min'), max: text('#legend-max') };
+  });
+
+test('MCF lesson: its own colour maps with matching legends; τ judged before running; the scrubber after a run', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  const options = await page.evaluate(() => [...document.querySelector('[data-testid=cmap]').options].map((o) => o.value));
+  assert(options.join() === 'curvature,kappa,none', `lesson colour menu: ${options}`);
+  await page.waitForFunction(() => !document.querySelector('#legend').hidden, null, { timeout: 10000 });
+  const first = await legend(page);
+  assert(/curvature/.test(first.title) && first.min !== first.max, `legend on first load: ${JSON.stringify(first)}`);
+  await page.selectOption('[data-testid=cmap]', 'kappa');
+  await page.waitForFunction(() => /κ/.test(document.querySelector('#legend-title').textContent), null, { timeout: 10000 });
+  await page.selectOption('[data-testid=cmap]', 'none');
+  await page.waitForFunction(() => document.querySelector('#legend').hidden, null, { timeout: 10000 });
+  await page.selectOption('[data-testid=cmap]', 'curvature');
+  // τ = 0.01: the sphere vanishes at t = 0.25, after 25 steps: a warning before running, and a
+  // run that ends before the collapse, saying where, not "shrunk to 15 %" past a NaN.
+  await page.fill('#tau', '0.01');
+  await page.dispatchEvent('#tau', 'change');
+  await page.waitForSelector('[data-testid=tau-warning]:not([hidden])', { timeout: 10000 });
+  const warning = await page.textContent('[data-testid=tau-warning]');
+  assert(/r0²\/4 = 0\.25/.test(warning) && /24 steps/.test(warning), `τ warning: ${warning}`);
+  await page.click('[data-testid=play]');
+  await waitState(page, ['done', 'error'], 30000);
+  const end = await statusText(page);
+  assert((await state(page)) === 'done' && /t = 0\.240/.test(end) && !/NaN|15 %/.test(end), `τ = 0.01 ends: ${end}`);
+  await page.fill('#tau', '0.0005');
+  await page.selectOption('#level', '3');
+  await page.dispatchEvent('#tau', 'change');
+  await page.waitForSelector('[data-testid=tau-warning][hidden]', { state: 'attached', timeout: 10000 });
+  await page.click('[data-testid=play]');
+  await waitState(page, ['done'], 60000);
+  const scrub = await page.evaluate(() => ({ disabled: document.querySelector('[data-testid=scrubber]').disabled, max: Number(document.querySelector('[data-testid=scrubber]').max) }));
+  assert(!scrub.disabled && scrub.max >= 2, `scrubber after the lesson: ${JSON.stringify(scrub)}`);
+  await page.fill('[data-testid=scrubber]', '0');
+  await page.waitForFunction(() => /step 0/.test(document.querySelector('#scrub-label').textContent), null, { timeout: 5000 });
+  noErrors(errors);
+  console.log(`   legend on load ${first.title} ${first.min}–${first.max}; τ = 0.01: "${end}"; ${scrub.max + 1} recorded lesson frames`);
+  await page.close();
+});
+
 const octahedron = 'v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\nf 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n';
 const server = await serve(dist);
 const browser = await chromium.launch({
