@@ -29,6 +29,7 @@ export function applyCatalog(c: Catalog): void {
   colourMenus.mcf = [...c.colourMaps.filter((m) => c.lessonColourMaps.includes(m.name)).map(item), ['none', 'none']];
   for (const m of c.colourMaps) legends[m.name] = m.legend;
   const labels = new Map(c.formats.map((f) => [f.name, f.label]));
+  byId('drop').textContent = `Drop to wrap: ${[...new Set(c.formats.filter((f) => f.read).map((f) => f.label))].join(', ')}`;
   byId('exports').replaceChildren(
     ...c.exportFormats.map((f) => {
       const b = document.createElement('button');

@@ -10,6 +10,7 @@ import { FieldControls } from './field-view';
 import { drawFrame } from './frame-view';
 import { bindDrop } from './drop';
 import { bindInputs } from './inputs';
+import { bindHelp } from './help';
 import { KeptResult } from './kept';
 import { bindLayout } from './layout';
 import { Lesson } from './lesson';
@@ -37,6 +38,7 @@ if (!renderer.attach(canvas)) {
 }
 bindOrbit(canvas, draw);
 bindLayout();
+bindHelp();
 
 // The computation worker; its hooks reach modules built below, and run only once they exist.
 const compute = new Compute({

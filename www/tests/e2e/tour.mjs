@@ -211,6 +211,51 @@ test('MCF lesson: its own colour maps with matching legends; τ judged before ru
   await page.close();
 });
 
+/** Plot titles, legends and axes that overflow their plot (or the page), by plot id. */
+const clippedPlotText = (page) =>
+  page.evaluate(() =>
+    [...document.querySelectorAll('#plots .u-title, #plots .u-legend, #plots .u-axis')]
+      .filter((e) => e.offsetParent)
+      .map((e) => {
+        const host = e.closest('.plot').getBoundingClientRect();
+        const r = e.getBoundingClientRect();
+        const over = Math.max(r.right - host.right, host.left - r.left, r.bottom - host.bottom, e.scrollWidth - e.clientWidth, r.right - window.innerWidth);
+        return `${e.closest('.plot').id} ${e.className.split(' ')[0]} "${e.textContent.slice(0, 24)}" by ${Math.round(over)} px`;
+      })
+      .filter((s) => !/by (0|-\d+) px$/.test(s)),
+  );
+
+test('readable at 400×800, 1280×800 and 1920×1080: canvas ≥ 350×300, no sideways scroll, no clipped plot text; help on the first visit only, never in the way', async (browser, url) => {
+  const sizes = [];
+  for (const [width, height] of [[400, 800], [1280, 800], [1920, 1080]]) {
+    const { page, errors } = await openApp(browser, url, { width, height, firstVisit: true, hash: '#v=1&d=demo%3Anoisy-sphere&p=full-wrap' });
+    await waitState(page, ['done'], 60000);
+    // The help shows on a first visit and does not block the controls.
+    assert(await page.isVisible('[data-testid=help]'), `${width}: no help on the first visit`);
+    const m = await page.evaluate(() => {
+      const r = document.querySelector('#canvas').getBoundingClientRect();
+      return { w: r.width, h: r.height, scroll: document.documentElement.scrollWidth, inner: window.innerWidth };
+    });
+    assert(m.w >= 350 && m.h >= 300, `${width}×${height}: canvas ${m.w}×${m.h}`);
+    assert(m.scroll <= m.inner, `${width}×${height}: the page scrolls sideways (${m.scroll} > ${m.inner})`);
+    const clipped = await clippedPlotText(page);
+    assert(clipped.length === 0, `${width}×${height}: clipped plot text: ${clipped.join('; ')}`);
+    await page.screenshot({ path: join(out, `tour-${width}x${height}.png`), fullPage: width < 800 });
+    await page.click('[data-view=top]');
+    await page.click('[data-testid=help-close]');
+    assert(await page.isHidden('[data-testid=help]'), 'the help does not close');
+    await page.reload();
+    await page.waitForSelector('[data-testid=status][data-state=running], [data-testid=status][data-state=done]', { timeout: 60000 });
+    assert(await page.isHidden('[data-testid=help]'), 'the help shows again after it was dismissed');
+    await page.click('[data-testid=help-open]');
+    assert(await page.isVisible('[data-testid=help]'), '"?" does not show the help');
+    noErrors(errors);
+    sizes.push(`${width}×${height}: canvas ${Math.round(m.w)}×${Math.round(m.h)}`);
+    await page.close();
+  }
+  console.log(`   ${sizes.join('; ')}`);
+});
+
 const octahedron = 'v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\nf 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n';
 const server = await serve(dist);
 const browser = await chromium.launch({
