@@ -19,6 +19,7 @@ import { RunSettings } from './panel';
 import type { Frame, FromWorker } from './protocol';
 import { Renderer } from './renderer';
 import { Scrubber } from './scrubber';
+import { describeFile } from './share';
 import { readLink, ShareLink } from './share-link';
 import { StatusLine } from './status';
 import { bindOrbit, ViewControls } from './view-controls';
@@ -76,8 +77,8 @@ const share = new ShareLink(
       changed: settings.panel.changed(),
       view: view.view,
       iso: mode.current === 'wrap' && run.volumeIso !== null ? run.volumeIso : undefined,
+      file: (mode.current === 'wrap' && run.stamp) || undefined,
     },
-  () => mode.current === 'wrap' && !run.dataset,
   status,
 );
 
@@ -151,6 +152,8 @@ function onReady(msg: Extract<FromWorker, { type: 'ready' }>): void {
   settings.sendCurves();
   const d = state.dataset;
   run.linkIso = state.iso ?? null;
+  run.linkFile = state.file ?? null;
+  if (state.file) status.notice([...notices, `This link was made with ${describeFile(state.file)}: drop it here to reproduce the result.`]);
   if (d && d !== 'demo:mcf') {
     if (d.startsWith('demo:')) startDemo(d.slice(5));
     else run.openUrl(d);

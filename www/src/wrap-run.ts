@@ -8,7 +8,8 @@ import type { KeptResult, TargetMesh } from './kept';
 import type { ModeSwitch } from './mode';
 import type { RunSettings } from './panel';
 import type { Draw, Frame, FromWorker, Send, Source, StopReason, TargetInfo } from './protocol';
-import { validDataset } from './share';
+import { describeFile, sameFile, validDataset, type FileStamp } from './share';
+import { stampFile } from './share-link';
 import type { StatusLine } from './status';
 import { VolumePanel } from './volume';
 import type { WrapReadout } from './wrap-readout';
@@ -38,8 +39,11 @@ export class WrapRun {
   dataset: string | null = null;
   /** The input's name, for the status line and export file names. */
   name = 'result';
-  /** The dropped or picked file of the current wrap (null for gallery shapes and addresses). */
-  file: File | null = null;
+  /** The stamp (name, size, fingerprint) of the current wrap's dropped or picked file, for share
+   * links; null for gallery shapes and addresses, and until the fingerprint is computed. */
+  stamp: FileStamp | null = null;
+  /** The file a link was made with, until the same file is dropped. */
+  linkFile: FileStamp | null = null;
   /** Milliseconds from the start of the last completed wrap to its result. */
   lastDoneMs = 0;
   /** Size of the core's wasm memory at the last result (bytes). */
@@ -84,7 +88,8 @@ export class WrapRun {
     const busy = status.busy;
     mode.set('wrap');
     this.input = input;
-    this.file = input.kind === 'file' ? input.file : null;
+    this.stamp = null;
+    if (input.kind === 'file') void this.stampInput(input.file);
     this.dataset = dataset;
     this.name = name;
     this.clear();
@@ -101,6 +106,23 @@ export class WrapRun {
       this.replacing = false;
     }
     await this.load(true);
+  }
+
+  /** Fingerprints a dropped file for share links and checks it against the file a link named. */
+  private async stampInput(file: File): Promise<void> {
+    const stamp = await stampFile(file);
+    if (this.input?.kind !== 'file' || this.input.file !== file) return;
+    this.stamp = stamp;
+    this.d.share();
+    const expected = this.linkFile;
+    if (!expected) return;
+    const same = sameFile(expected, stamp);
+    if (same) this.linkFile = null;
+    this.d.status.notice(
+      same
+        ? [`✓ This is the file the link was made with: ${describeFile(stamp)}.`]
+        : [`⚠ Not the file the link was made with: it names ${describeFile(expected)}, this is ${describeFile(stamp)}. The result may differ from the link's.`],
+    );
   }
 
   /** Sends the input to the worker (a file is read again: the bytes sent before were transferred). */

@@ -256,6 +256,36 @@ test('readable at 400×800, 1280×800 and 1920×1080: canvas ≥ 350×300, no si
   console.log(`   ${sizes.join('; ')}`);
 });
 
+test('a link for a dropped file names it (name, size, fingerprint); the receiver is told to drop it, a different file is flagged, the same one reproduces the result', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  await dropFile(page, 'octahedron.obj', Buffer.from(octahedron));
+  await waitState(page, ['done'], 60000);
+  await page.waitForFunction(() => /f\.sha=/.test(document.querySelector('[data-testid=share-url]').value), null, { timeout: 10000 });
+  const link = await page.inputValue('[data-testid=share-url]');
+  const hash1 = await page.evaluate(() => window.__lsw.resultHash());
+  assert(/#v=2&/.test(link) && /f\.name=octahedron\.obj/.test(link) && new RegExp(`f\\.size=${octahedron.length}`).test(link) && /f\.sha=[0-9a-f]{16}/.test(link), `link: ${link}`);
+  await page.click('[data-testid=copy-link]');
+  assert(/cannot carry the file/.test(await page.textContent('[data-testid=notice]')), 'no notice on copying a link of a dropped file');
+  const fresh = await openApp(browser, link);
+  await fresh.page.waitForSelector('[data-testid=notice]:not([hidden])', { timeout: 30000 });
+  const invite = await fresh.page.textContent('[data-testid=notice]');
+  assert(/This link was made with octahedron\.obj \(\d+ B, fingerprint [0-9a-f]{16}\): drop it here/.test(invite), `receiver's notice: ${invite}`);
+  await dropFile(fresh.page, 'octahedron.obj', Buffer.from(octahedron + '# another file\n'));
+  await fresh.page.waitForFunction(() => /Not the file the link was made with/.test(document.querySelector('[data-testid=notice]').textContent), null, { timeout: 30000 });
+  await waitState(fresh.page, ['done'], 60000);
+  await dropFile(fresh.page, 'octahedron.obj', Buffer.from(octahedron));
+  await fresh.page.waitForFunction(() => /This is the file the link was made with/.test(document.querySelector('[data-testid=notice]').textContent), null, { timeout: 30000 });
+  await waitState(fresh.page, ['done'], 60000);
+  await fresh.page.waitForFunction((h) => window.__lsw.resultHash() === h, hash1, { timeout: 30000 }).catch(() => {});
+  const hash2 = await fresh.page.evaluate(() => window.__lsw.resultHash());
+  assert(hash1 === hash2, `the same file under the link gives ${hash2}, not ${hash1}`);
+  noErrors(errors);
+  noErrors(fresh.errors);
+  console.log(`   ${link.replace(url, '/')} → "${invite.slice(0, 110)}…"; result hash ${hash1} reproduced`);
+  await fresh.page.close();
+  await page.close();
+});
+
 const octahedron = 'v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\nf 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n';
 const server = await serve(dist);
 const browser = await chromium.launch({
