@@ -21,9 +21,12 @@ use wasm_bindgen::prelude::*;
 /// * `exportFormats`: names of the formats `export` and `exportMesh` write.
 /// * `settingRanges`: `[{key, min, max, min_open, text}]` — the ranges the core enforces
 ///   (unbounded limits are null).
+/// * `detail`: `[{name, presets: {preset: {cells, min_edge: {auto, icosphere, isosurface}}}}]`
+///   — the Detail levels, coarse first ([`crate::flow::detail::table`]).
 /// * `lessonColourMaps`: the colour-map names the MCF lesson offers.
 pub fn catalog_json() -> serde_json::Value {
     serde_json::json!({
+        "detail": crate::flow::detail::table(),
         "lessonColourMaps": LESSON_COLOUR_MAPS.map(ColourMap::name),
         "formats": FORMATS,
         "colourMaps": COLOUR_MAPS,
@@ -108,6 +111,12 @@ mod tests {
         assert_eq!(c["presetLabels"][3], "MCF (ignore target)");
         assert_eq!(c["presets"].as_array().unwrap().len(), Preset::ALL.len());
         assert_eq!(c["settingRanges"][0]["key"], "start.icosphere_level");
+        assert_eq!(c["detail"][2]["name"], "normal");
+        assert_eq!(c["detail"][4]["presets"]["full-wrap"]["cells"], 64);
+        assert_eq!(
+            c["detail"][4]["presets"]["full-wrap"]["min_edge"]["icosphere"],
+            0.0875
+        );
         assert_eq!(
             c["lessonColourMaps"],
             serde_json::json!(["curvature", "kappa"])

@@ -142,7 +142,7 @@ function onWorkerMessage(msg: FromWorker): void {
 
 /** The worker's presets are in: build the settings, then open what the link asks for (else the lesson). */
 function onReady(msg: Extract<FromWorker, { type: 'ready' }>): void {
-  const presets = settings.build(msg.presets, msg.docs, msg.enums);
+  const presets = settings.build(msg.presets, msg.docs, msg.enums, msg.catalog);
   applyCatalog(msg.catalog);
   const { state, notices } = readLink(presets, { aliases: msg.aliases, colourMaps: [...msg.catalog.colourMaps.map((m) => m.name), 'none'] });
   status.notice(notices);

@@ -99,10 +99,29 @@ export interface Catalog {
   presetLabels: string[];
   /** Names of the formats `export` and `exportMesh` write. */
   exportFormats: string[];
+  /** The Detail levels, coarse first: per preset the grid cells and λ_min by start surface name
+   * they set (see src/flow/detail.rs). */
+  detail: DetailLevel[];
   /** The colour maps the MCF lesson offers (a subset of `colourMaps`). */
   lessonColourMaps: string[];
   /** Ranges of numeric settings the core enforces (unbounded limits are null). */
-  settingRanges: { key: string; min: number | null; max: number | null; min_open: boolean; text: string }[];
+  settingRanges: SettingRange[];
+}
+
+/** A Detail level (`Catalog.detail`): `field.cells_per_min_dimension` and, by start surface,
+ * `remesh.min_edge_multiplier` for every preset. */
+export interface DetailLevel {
+  name: string;
+  presets: Record<string, { cells: number; min_edge: Record<string, number> }>;
+}
+
+/** The allowed range of a numeric setting (`Catalog.settingRanges`; unbounded limits are null). */
+export interface SettingRange {
+  key: string;
+  min: number | null;
+  max: number | null;
+  min_open: boolean;
+  text: string;
 }
 
 /** A per-vertex scalar the core can colour by (a `Catalog.colourMaps` name, `WrapSession.scalar`), or 'none'. */

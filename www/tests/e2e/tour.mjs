@@ -226,12 +226,14 @@ const clippedPlotText = (page) =>
   );
 
 test('readable at 400×800, 1280×800 and 1920×1080: canvas ≥ 350×300, no sideways scroll, no clipped plot text; help on the first visit only, never in the way', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url, { firstVisit: true, hash: '#v=2&d=demo%3Anoisy-sphere&p=full-wrap' });
+  await waitState(page, ['done'], 60000);
+  // The help shows on a first visit; the wrap ran while it was open.
+  assert(await page.isVisible('[data-testid=help]'), 'no help on the first visit');
   const sizes = [];
   for (const [width, height] of [[400, 800], [1280, 800], [1920, 1080]]) {
-    const { page, errors } = await openApp(browser, url, { width, height, firstVisit: true, hash: '#v=1&d=demo%3Anoisy-sphere&p=full-wrap' });
-    await waitState(page, ['done'], 60000);
-    // The help shows on a first visit and does not block the controls.
-    assert(await page.isVisible('[data-testid=help]'), `${width}: no help on the first visit`);
+    await page.setViewportSize({ width, height });
+    await page.waitForTimeout(400); // the plots follow their hosts' new widths
     const m = await page.evaluate(() => {
       const r = document.querySelector('#canvas').getBoundingClientRect();
       return { w: r.width, h: r.height, scroll: document.documentElement.scrollWidth, inner: window.innerWidth };
@@ -241,19 +243,19 @@ test('readable at 400×800, 1280×800 and 1920×1080: canvas ≥ 350×300, no si
     const clipped = await clippedPlotText(page);
     assert(clipped.length === 0, `${width}×${height}: clipped plot text: ${clipped.join('; ')}`);
     await page.screenshot({ path: join(out, `tour-${width}x${height}.png`), fullPage: width < 800 });
-    await page.click('[data-view=top]');
-    await page.click('[data-testid=help-close]');
-    assert(await page.isHidden('[data-testid=help]'), 'the help does not close');
-    await page.reload();
-    await page.waitForSelector('[data-testid=status][data-state=running], [data-testid=status][data-state=done]', { timeout: 60000 });
-    assert(await page.isHidden('[data-testid=help]'), 'the help shows again after it was dismissed');
-    await page.click('[data-testid=help-open]');
-    assert(await page.isVisible('[data-testid=help]'), '"?" does not show the help');
-    noErrors(errors);
     sizes.push(`${width}×${height}: canvas ${Math.round(m.w)}×${Math.round(m.h)}`);
-    await page.close();
   }
+  await page.click('[data-view=top]'); // a control over the view, usable with the help open
+  await page.click('[data-testid=help-close]');
+  assert(await page.isHidden('[data-testid=help]'), 'the help does not close');
+  await page.reload();
+  await page.waitForSelector('[data-testid=status][data-state=running], [data-testid=status][data-state=done]', { timeout: 60000 });
+  assert(await page.isHidden('[data-testid=help]'), 'the help shows again after it was dismissed');
+  await page.click('[data-testid=help-open]');
+  assert(await page.isVisible('[data-testid=help]'), '"?" does not show the help');
+  noErrors(errors);
   console.log(`   ${sizes.join('; ')}`);
+  await page.close();
 });
 
 test('a link for a dropped file names it (name, size, fingerprint); the receiver is told to drop it, a different file is flagged, the same one reproduces the result', async (browser, url) => {
@@ -283,6 +285,54 @@ test('a link for a dropped file names it (name, size, fingerprint); the receiver
   noErrors(fresh.errors);
   console.log(`   ${link.replace(url, '/')} → "${invite.slice(0, 110)}…"; result hash ${hash1} reproduced`);
   await fresh.page.close();
+  await page.close();
+});
+
+test('simple controls in front: Detail drives the grid and the smallest edge together, Start surface keeps the level; the advanced panel shows ranges and refuses values outside them', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  const levels = await page.evaluate(() => [...document.querySelector('[data-testid=detail]').options].filter((o) => !o.disabled).map((o) => o.value));
+  const starts = await page.evaluate(() => [...document.querySelector('[data-testid=start-surface]').options].map((o) => o.value));
+  assert(levels.join() === 'coarse,low,normal,high,fine' && starts.join() === 'auto,icosphere,isosurface', `menus: ${levels} / ${starts}`);
+  assert((await page.inputValue('[data-testid=detail]')) === 'normal', 'the default is not "normal"');
+  const shown = (key) => page.inputValue(`[data-setting="${key}"] input`);
+  await page.click('#gui .lil-root > .lil-title');
+  await page.locator('#gui .lil-title', { hasText: /^field$/ }).click();
+  await page.locator('#gui .lil-title', { hasText: /^remesh$/ }).click();
+  // Normal detail: the noisy sphere's vertex count, then coarse.
+  const vertices = async () => {
+    await waitState(page, ['done'], 120000);
+    return Number(/(\d+) vertices/.exec(await page.textContent('#stats'))[1]);
+  };
+  await page.click('[data-demo=noisy-sphere]');
+  const normal = await vertices();
+  await page.selectOption('[data-testid=detail]', 'coarse');
+  const cells = await shown('field.cells_per_min_dimension'), edge = await shown('remesh.min_edge_multiplier');
+  assert(cells === '24' && edge === '0.233', `coarse sets cells ${cells}, λ_min ${edge}`);
+  const link = await page.inputValue('[data-testid=share-url]');
+  assert(/s\.field\.cells_per_min_dimension=24/.test(link) && /s\.remesh\.min_edge_multiplier=0\.233/.test(link), `link: ${link}`);
+  await page.click('[data-testid=reset]');
+  await waitState(page, ['idle'], 60000);
+  await page.click('[data-testid=play]');
+  const coarse = await vertices();
+  assert(coarse < normal, `coarse gives ${coarse} vertices, normal ${normal}`);
+  // The isosurface start's λ_min is relative to the grid cell: coarse keeps it, the level stays.
+  await page.selectOption('[data-testid=start-surface]', 'isosurface');
+  assert((await shown('remesh.min_edge_multiplier')) === '0.14' && (await page.inputValue('[data-testid=detail]')) === 'coarse', 'isosurface start: λ_min or level wrong');
+  await page.selectOption('[data-testid=start-surface]', 'auto');
+  // A value of one's own makes the level "custom"; one outside its range is refused and said so.
+  const cellsInput = page.locator('[data-setting="field.cells_per_min_dimension"] input');
+  await cellsInput.fill('33');
+  await cellsInput.press('Enter');
+  assert((await page.inputValue('[data-testid=detail]')) === 'custom', 'an own grid size does not show as custom');
+  await page.locator('#gui .lil-title', { hasText: /^flow$/ }).click();
+  const tau = page.locator('[data-setting="flow.tau"] input');
+  assert(/\(0, 10\]/.test(await page.getAttribute('[data-setting="flow.tau"]', 'title')), 'no range in the tooltip of flow.tau');
+  await tau.fill('20');
+  await tau.press('Enter');
+  await page.waitForSelector('[data-testid=settings-warning]:not([hidden])', { timeout: 5000 });
+  assert((await tau.inputValue()) === '0.07' && /outside its range \(0, 10\]/.test(await page.textContent('[data-testid=settings-warning]')), 'τ = 20 was not refused');
+  noErrors(errors);
+  console.log(`   noisy sphere: ${normal} vertices at normal detail, ${coarse} at coarse (24 cells, λ_min 0.233)`);
   await page.close();
 });
 
