@@ -4,6 +4,7 @@
 import { byId } from './dom';
 import type { FieldControls } from './field-view';
 import { showPending } from './health';
+import { revealView } from './layout';
 import type { KeptResult, TargetMesh } from './kept';
 import type { ModeSwitch } from './mode';
 import type { RunSettings } from './panel';
@@ -99,6 +100,7 @@ export class WrapRun {
     this.volumeIso = this.linkIso;
     this.linkIso = null;
     status.set('loading', `Loading ${name}…`);
+    revealView();
     this.d.share();
     if (busy) {
       this.replacing = true;

@@ -353,6 +353,13 @@ test('cancel mid-run answers within 200 ms', async (browser, url) => {
   const restarted = await page.textContent('[data-testid=status]');
   assert(ms2 <= 200, `cancel during the field construction took ${ms2.toFixed(0)} ms`);
   assert(/restarted/.test(restarted), `expected a worker restart, status says "${restarted}"`);
+  // A ready state, not "Running" forever: the state stays idle, and Play loads the input again.
+  await page.waitForTimeout(500);
+  const settled = await page.getAttribute('[data-testid=status]', 'data-state');
+  assert(settled === 'idle' && !(await page.isDisabled('[data-testid=play]')), `after the restart: ${settled}, Play disabled: ${await page.isDisabled('[data-testid=play]')}`);
+  await page.click('[data-testid=play]');
+  await page.waitForFunction(() => /distance field/.test(document.querySelector('[data-testid=status]').textContent), null, { timeout: 30000 });
+  await cancelLatency(page);
   // The app still works after a possible worker restart.
   await page.click('[data-demo=noisy-sphere]');
   await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });

@@ -245,7 +245,19 @@ test('readable at 400×800, 1280×800 and 1920×1080: canvas ≥ 350×300, no si
     await page.screenshot({ path: join(out, `tour-${width}x${height}.png`), fullPage: width < 800 });
     sizes.push(`${width}×${height}: canvas ${Math.round(m.w)}×${Math.round(m.h)}`);
   }
-  await page.click('[data-view=top]'); // a control over the view, usable with the help open
+  // View buttons (usable with the help open): the camera turns, the link follows.
+  await page.click('[data-view=top]');
+  await page.waitForFunction(() => /view\.pitch=1\.5/.test(document.querySelector('[data-testid=share-url]').value), null, { timeout: 5000 });
+  await page.click('[data-view=front]');
+  await page.waitForFunction(() => /view\.pitch=0(&|$)/.test(document.querySelector('[data-testid=share-url]').value), null, { timeout: 5000 });
+  // Panels fold; ☰ gives the view the whole width.
+  await page.click('#run-box > summary');
+  assert(await page.isHidden('[data-testid=play]'), 'the Run panel does not fold');
+  await page.click('#run-box > summary');
+  const narrow = (await page.locator('#canvas').boundingBox()).width;
+  await page.click('[data-testid=toggle-side]');
+  await page.waitForFunction((w) => document.querySelector('#canvas').getBoundingClientRect().width > w + 200, narrow, { timeout: 5000 });
+  await page.click('[data-testid=toggle-side]');
   await page.click('[data-testid=help-close]');
   assert(await page.isHidden('[data-testid=help]'), 'the help does not close');
   await page.reload();
