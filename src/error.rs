@@ -90,6 +90,7 @@ impl Explain for FlowError {
             FlowError::BadTimeStep(_) => "bad-parameter",
             FlowError::Solve(e) => e.code(),
             FlowError::NonFinite { .. } => "diverged",
+            FlowError::PastExtinction { .. } => "bad-parameter",
         }
     }
     fn hint(&self) -> &'static str {
@@ -97,6 +98,9 @@ impl Explain for FlowError {
             FlowError::BadTimeStep(_) => "Choose a positive time step τ.",
             FlowError::Solve(e) => e.hint(),
             FlowError::NonFinite { .. } => STEP_HINT,
+            FlowError::PastExtinction { .. } => {
+                "Choose a smaller time step τ: the lesson must stop before the sphere vanishes."
+            }
         }
     }
 }
@@ -323,11 +327,17 @@ mod tests {
                 FlowError::BadTimeStep(0.0),
                 FlowError::Solve(SolveError::BadDiagonal { row: 1 }),
                 FlowError::NonFinite { vertex: 1 },
+                FlowError::PastExtinction {
+                    time: 0.24,
+                    tau: 0.01,
+                    extinction: 0.25,
+                },
             ],
             |e| match e {
                 FlowError::BadTimeStep(_) => "BadTimeStep",
                 FlowError::Solve(_) => "Solve",
                 FlowError::NonFinite { .. } => "NonFinite",
+                FlowError::PastExtinction { .. } => "PastExtinction",
             },
         );
         let (f, at) = (Format::Ply, Location::Line(3));

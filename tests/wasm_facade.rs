@@ -78,3 +78,31 @@ fn core_errors_arrive_with_code_and_hint() {
         .unwrap();
     assert_eq!(code_and_hint(e).0, "bad-parameter");
 }
+
+#[wasm_bindgen_test]
+fn the_lesson_colours_by_its_maps_and_stops_before_the_sphere_vanishes() {
+    let c: serde_json::Value = serde_json::from_str(&catalog()).unwrap();
+    let mut m = McfSession::new(3, 1.0, 0.01).unwrap();
+    let n = m.positions().length() / 3;
+    for name in c["lessonColourMaps"].as_array().unwrap() {
+        let name = name.as_str().unwrap();
+        assert_eq!(m.scalar(name).unwrap().length(), n, "{name}");
+    }
+    assert_eq!(
+        code_and_hint(m.scalar("distance").unwrap_err()).0,
+        "bad-parameter"
+    );
+    let advice = m.tau_advice().unwrap();
+    assert_eq!(get(&advice, "sensible").as_bool(), Some(false));
+    assert!(get(&advice, "warning")
+        .as_string()
+        .unwrap()
+        .contains("r0²/4"));
+    // τ = 0.01: 25 steps would reach t* = 0.25; the lesson takes 24 and then refuses.
+    assert_eq!(m.steps_left(), 24);
+    m.step(24).unwrap();
+    assert_eq!(m.steps_left(), 0);
+    let (code, hint) = code_and_hint(m.step(1).unwrap_err());
+    assert_eq!(code, "bad-parameter");
+    assert!(hint.contains("smaller time step"), "{hint}");
+}

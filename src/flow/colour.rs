@@ -4,6 +4,7 @@
 
 use super::{mcf::mean_curvature, Evolver};
 use crate::geometry::operators::CotanLaplacian;
+use crate::mesh::HalfedgeMesh;
 use serde::Serialize;
 
 /// A per-vertex scalar of the surface being wrapped.
@@ -87,7 +88,21 @@ pub const COLOUR_MAPS: &[ColourMapInfo] = &[
     },
 ];
 
+/// The maps the MCF lesson offers: those that need the mesh alone (no target, no field, no
+/// remesher), in menu order.
+pub const LESSON_COLOUR_MAPS: [ColourMap; 2] = [ColourMap::Curvature, ColourMap::Kappa];
+
 impl ColourMap {
+    /// The map's value at every vertex of a bare `mesh` (mesh units): the
+    /// [`LESSON_COLOUR_MAPS`]; `None` for a map that needs a wrap's target or settings.
+    pub fn mesh_values(self, mesh: &HalfedgeMesh) -> Option<Vec<f64>> {
+        match self {
+            ColourMap::Curvature => Some(mean_curvature(mesh)),
+            ColourMap::Kappa => Some(crate::metrics::quality::vertex_kappa(mesh)),
+            ColourMap::Distance | ColourMap::Covolume | ColourMap::Features => None,
+        }
+    }
+
     /// Every colour map, in menu order.
     pub fn all() -> impl Iterator<Item = ColourMap> {
         COLOUR_MAPS.iter().map(|i| i.map)
@@ -143,6 +158,23 @@ mod tests {
     use crate::geometry::icosphere::icosphere;
     use crate::target::Target;
     use glam::DVec3;
+
+    #[test]
+    fn lesson_maps_are_the_mesh_only_ones() {
+        let mesh = icosphere(2, 2.0, DVec3::ZERO).unwrap();
+        for m in ColourMap::all() {
+            let v = m.mesh_values(&mesh);
+            assert_eq!(v.is_some(), LESSON_COLOUR_MAPS.contains(&m), "{}", m.name());
+            if let Some(v) = v {
+                assert_eq!(v.len(), mesh.n_vertices());
+            }
+        }
+        // H = 1/r on a sphere of radius 2; κ near 1 on the near-equilateral icosphere.
+        let h = ColourMap::Curvature.mesh_values(&mesh).unwrap();
+        assert!(h.iter().all(|&x| (x - 0.5).abs() < 0.05), "{h:?}");
+        let k = ColourMap::Kappa.mesh_values(&mesh).unwrap();
+        assert!(k.iter().all(|&x| (1.0..1.3).contains(&x)), "{k:?}");
+    }
 
     #[test]
     fn list_matches_variants_and_names_round_trip() {

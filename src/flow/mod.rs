@@ -2,6 +2,7 @@
 
 pub mod colour;
 pub mod controls;
+pub mod detail;
 pub mod evolver;
 pub mod guard;
 pub mod mcf;
@@ -12,9 +13,9 @@ pub mod start;
 pub mod surface_terms;
 pub mod tangential;
 
-pub use colour::{ColourMap, ColourMapInfo, COLOUR_MAPS};
+pub use colour::{ColourMap, ColourMapInfo, COLOUR_MAPS, LESSON_COLOUR_MAPS};
 pub use evolver::{EvolveError, Evolver, PhaseTimes, StepReport};
-pub use mcf::{exact_sphere_radius, mcf_step, McfSettings, McfStepReport};
+pub use mcf::{exact_sphere_radius, mcf_step, McfSettings, McfStepReport, TauAdvice};
 pub use settings::{
     FitSettings, FlowSettings, Preset, RemeshTrigger, RemeshingSettings, StartSettings,
     StartSurface, StopSettings, WrapSettings,
@@ -34,4 +35,15 @@ pub enum FlowError {
     /// The new positions contain NaN or infinity (the step was not applied).
     #[error("the step produced a non-finite position at vertex {vertex}")]
     NonFinite { vertex: usize },
+    /// A step of the sphere lesson would reach the sphere's extinction time r0²/4, where the
+    /// exact radius r(t) = sqrt(r0² − 4t) no longer exists.
+    #[error(
+        "the sphere vanishes at t = r0²/4 = {extinction}: a step of τ = {tau} from t = {time} \
+         would reach it"
+    )]
+    PastExtinction {
+        time: f64,
+        tau: f64,
+        extinction: f64,
+    },
 }

@@ -5,7 +5,7 @@
 
 use super::errors::UiError;
 use crate::flow::settings::{aliases::leaf_aliases, docs, RANGES};
-use crate::flow::{Preset, COLOUR_MAPS};
+use crate::flow::{ColourMap, Preset, COLOUR_MAPS, LESSON_COLOUR_MAPS};
 use crate::io::{Format, FORMATS};
 use wasm_bindgen::prelude::*;
 
@@ -21,8 +21,13 @@ use wasm_bindgen::prelude::*;
 /// * `exportFormats`: names of the formats `export` and `exportMesh` write.
 /// * `settingRanges`: `[{key, min, max, min_open, text}]` — the ranges the core enforces
 ///   (unbounded limits are null).
+/// * `detail`: `[{name, presets: {preset: {cells, min_edge: {auto, icosphere, isosurface}}}}]`
+///   — the Detail levels, coarse first ([`crate::flow::detail::table`]).
+/// * `lessonColourMaps`: the colour-map names the MCF lesson offers.
 pub fn catalog_json() -> serde_json::Value {
     serde_json::json!({
+        "detail": crate::flow::detail::table(),
+        "lessonColourMaps": LESSON_COLOUR_MAPS.map(ColourMap::name),
         "formats": FORMATS,
         "colourMaps": COLOUR_MAPS,
         "presets": Preset::ALL.map(Preset::name),
@@ -106,6 +111,16 @@ mod tests {
         assert_eq!(c["presetLabels"][3], "MCF (ignore target)");
         assert_eq!(c["presets"].as_array().unwrap().len(), Preset::ALL.len());
         assert_eq!(c["settingRanges"][0]["key"], "start.icosphere_level");
+        assert_eq!(c["detail"][2]["name"], "normal");
+        assert_eq!(c["detail"][4]["presets"]["full-wrap"]["cells"], 64);
+        assert_eq!(
+            c["detail"][4]["presets"]["full-wrap"]["min_edge"]["icosphere"],
+            0.0875
+        );
+        assert_eq!(
+            c["lessonColourMaps"],
+            serde_json::json!(["curvature", "kappa"])
+        );
         let docs: serde_json::Value = serde_json::from_str(&settings_docs()).unwrap();
         assert!(docs["flow"]["tau"].is_null() && docs["flow.tau"].is_string());
         let aliases: serde_json::Value = serde_json::from_str(&setting_aliases()).unwrap();

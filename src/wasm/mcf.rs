@@ -1,9 +1,12 @@
 //! [`McfSession`]: mean-curvature flow of an icosphere, the teaching demo and the pipeline's smoke
 //! test; its radius is checked against the analytic r(t) = sqrt(r0² − 4t).
 
-use super::errors::ui_error;
+use super::errors::{ui_error, UiError};
 use super::{index_array, scalar_array, to_js, vec3_array};
-use crate::flow::{self, exact_sphere_radius, FlowError, McfSettings};
+use crate::flow::mcf::{check_sphere_step, lesson_steps_left, lesson_tau_advice};
+use crate::flow::{
+    self, exact_sphere_radius, ColourMap, FlowError, McfSettings, LESSON_COLOUR_MAPS,
+};
 use crate::geometry::icosphere::icosphere;
 use crate::geometry::sphere::mean_radius;
 use crate::mesh::HalfedgeMesh;
@@ -81,11 +84,12 @@ impl McfSession {
         })
     }
 
-    /// Advances `n` steps. Stops with an error (mesh unchanged by the failing step) if a solve fails
-    /// or the sphere has (nearly) vanished.
+    /// Advances `n` steps. Stops with an error (mesh unchanged by the failing step) if a solve
+    /// fails or a step would reach the sphere's extinction time r0²/4.
     pub fn step(&mut self, n: u32) -> Result<(), JsValue> {
         let t0 = crate::clock::now_ms();
         for _ in 0..n {
+            check_sphere_step(self.r0, self.settings.tau, self.stats.step).map_err(ui_error)?;
             let rep = flow::mcf_step(&mut self.mesh, &self.settings).map_err(ui_error)?;
             self.stats.step += 1;
             self.stats.time = self.stats.step as f64 * self.settings.tau;
@@ -122,6 +126,34 @@ impl McfSession {
     #[wasm_bindgen(js_name = meanCurvature)]
     pub fn mean_curvature(&self) -> Float32Array {
         scalar_array(&flow::mcf::mean_curvature(&self.mesh))
+    }
+
+    /// Steps the lesson still takes: up to the radius 15 % of r0, never into the extinction
+    /// time (see [`crate::flow::mcf::lesson_steps_left`]); 0 when it is over.
+    #[wasm_bindgen(js_name = stepsLeft)]
+    pub fn steps_left(&self) -> u32 {
+        lesson_steps_left(self.r0, self.settings.tau, self.stats.step)
+    }
+
+    /// What this session's τ means for the lesson, before it runs: `{tau, extinctionTime,
+    /// steps, tauMin, tauMax, sensible, warning}` (see [`crate::flow::TauAdvice`]).
+    #[wasm_bindgen(js_name = tauAdvice)]
+    pub fn tau_advice(&self) -> Result<JsValue, JsValue> {
+        to_js(&lesson_tau_advice(self.r0, self.settings.tau))
+    }
+
+    /// A per-vertex scalar of the lesson's colour maps (`lessonColourMaps` in the catalog:
+    /// "curvature", "kappa"), in mesh units.
+    pub fn scalar(&self, name: &str) -> Result<Float32Array, JsValue> {
+        let values = ColourMap::from_name(name).and_then(|m| m.mesh_values(&self.mesh));
+        let values = values.ok_or_else(|| {
+            UiError::unknown(
+                "unknown lesson scalar",
+                name,
+                &LESSON_COLOUR_MAPS.map(ColourMap::name),
+            )
+        })?;
+        Ok(scalar_array(&values))
     }
 
     /// Current statistics as a plain JS object (see `McfStats`).

@@ -22,6 +22,8 @@ export class Compute {
   /** A replacement's 'ready' repeats what the page already has: it is dropped. */
   private restarting = false;
   private cancelTimer: ReturnType<typeof setTimeout> | null = null;
+  /** Callers of `cancel` waiting for its answer (or the replacement). */
+  private waiting: (() => void)[] = [];
 
   constructor(private readonly hooks: ComputeHooks) {
     this.start();
@@ -41,11 +43,13 @@ export class Compute {
       this.restarting = false;
       return;
     }
-    if ((msg.type === 'stopped' || msg.type === 'error') && this.cancelTimer) {
+    const answered = msg.type === 'stopped' || msg.type === 'error';
+    if (answered && this.cancelTimer) {
       clearTimeout(this.cancelTimer);
       this.cancelTimer = null;
     }
     this.hooks.message(msg);
+    if (answered) this.release();
     // After a panic or an allocation failure the wasm instance may be unusable: start afresh.
     if (msg.type === 'error' && (msg.error.code === 'internal' || msg.error.code === 'out-of-memory')) this.restart();
   }
@@ -58,14 +62,25 @@ export class Compute {
     this.hooks.restarted();
   }
 
-  /** Stops a run: asks the worker, and replaces it if it does not answer in time. */
-  cancel(): void {
+  /**
+   * Stops a run: asks the worker, and replaces it if it does not answer in time. Resolves once
+   * the worker has answered or been replaced, so that a new job sent then is not lost with it.
+   */
+  cancel(): Promise<void> {
+    const done = new Promise<void>((resolve) => this.waiting.push(resolve));
     this.send({ type: 'cancel' });
-    if (this.cancelTimer) return;
-    this.cancelTimer = setTimeout(() => {
-      this.cancelTimer = null;
-      this.restart();
-      this.hooks.unanswered();
-    }, CANCEL_MS);
+    if (!this.cancelTimer) {
+      this.cancelTimer = setTimeout(() => {
+        this.cancelTimer = null;
+        this.restart();
+        this.hooks.unanswered();
+        this.release();
+      }, CANCEL_MS);
+    }
+    return done;
+  }
+
+  private release(): void {
+    for (const resolve of this.waiting.splice(0)) resolve();
   }
 }

@@ -2,7 +2,7 @@
 // The UI thread neither computes nor draws: the flow runs in one worker, three.js in another.
 // Each concern lives in its own module; this file builds them, hands each its dependencies and
 // routes the workers' messages. tests/unit/layout.test.ts keeps it at most 200 lines.
-import { applyCatalog } from './catalog-ui';
+import { applyCatalog, colourMenu } from './catalog-ui';
 import { Compute } from './compute';
 import { byId } from './dom';
 import { Exporter } from './export';
@@ -10,13 +10,16 @@ import { FieldControls } from './field-view';
 import { drawFrame } from './frame-view';
 import { bindDrop } from './drop';
 import { bindInputs } from './inputs';
+import { bindHelp } from './help';
 import { KeptResult } from './kept';
+import { bindLayout } from './layout';
 import { Lesson } from './lesson';
 import { ModeSwitch } from './mode';
 import { RunSettings } from './panel';
 import type { Frame, FromWorker } from './protocol';
 import { Renderer } from './renderer';
 import { Scrubber } from './scrubber';
+import { describeFile } from './share';
 import { readLink, ShareLink } from './share-link';
 import { StatusLine } from './status';
 import { bindOrbit, ViewControls } from './view-controls';
@@ -26,7 +29,7 @@ import { WrapRun } from './wrap-run';
 const canvas = byId<HTMLCanvasElement>('canvas');
 const health = byId('health');
 const mode = new ModeSwitch();
-const status = new StatusLine(() => mode.current === 'wrap');
+const status = new StatusLine();
 const renderer = new Renderer();
 const draw = renderer.draw;
 
@@ -35,33 +38,36 @@ if (!renderer.attach(canvas)) {
   status.set('error', 'Unsupported browser');
 }
 bindOrbit(canvas, draw);
+bindLayout();
+bindHelp();
 
 // The computation worker; its hooks reach modules built below, and run only once they exist.
 const compute = new Compute({
   message: onWorkerMessage,
   failed: (e) => status.fail({ code: 'worker', message: `The computation worker failed: ${e.message}`, hint: 'The page restarts it; try a smaller grid or another preset.' }),
-  // A fresh worker knows nothing of the page: tell it the colour map and field view again.
+  // A fresh worker knows nothing of the page: tell it the colour map and field view again, and
+  // start the lesson afresh, or note that the wrap's session is gone (Play loads it again).
   restarted: () => {
     view.sendColour();
     field.request();
+    if (mode.current === 'mcf') lesson.reset();
+    else run.lost();
   },
-  unanswered: () => {
-    status.set('idle', 'Cancelled (worker restarted)');
-    kept.restore();
-  },
+  unanswered: () => mode.current === 'wrap' && run.cancelledByRestart(),
 });
 const send = compute.send;
 renderer.onError((e) => status.fail({ code: 'worker', message: `The render worker failed: ${e.message}`, hint: 'Reload the page.' }));
 
 const updateShare = () => share.update();
 const view = new ViewControls(draw, send, updateShare);
+mode.onSwitch = (m) => view.offer(colourMenu(m));
 const scrubber = new Scrubber(draw);
 const field = new FieldControls(draw, send);
 const settings = new RunSettings(byId('preset'), byId('gui'), send, updateShare);
 const readout = new WrapReadout();
 const kept = new KeptResult(draw, health);
 const lesson = new Lesson({ mode, status, field, draw, send, share: updateShare });
-const run = new WrapRun({ mode, status, settings, kept, readout, field, health, draw, send, share: updateShare });
+const run = new WrapRun({ mode, status, settings, kept, readout, field, health, draw, send, cancel: () => compute.cancel(), share: updateShare });
 const exporter = new Exporter(send, kept, () => run.name);
 const share = new ShareLink(
   () =>
@@ -71,8 +77,8 @@ const share = new ShareLink(
       changed: settings.panel.changed(),
       view: view.view,
       iso: mode.current === 'wrap' && run.volumeIso !== null ? run.volumeIso : undefined,
+      file: (mode.current === 'wrap' && run.stamp) || undefined,
     },
-  () => mode.current === 'wrap' && !run.dataset,
   status,
 );
 
@@ -104,14 +110,14 @@ function onWorkerMessage(msg: FromWorker): void {
       return onFrame(msg);
     case 'loading':
       return status.set('loading', msg.what);
+    case 'mcf-advice':
+      return lesson.advice(msg.advice);
     case 'target':
       return run.loaded(msg);
     case 'result':
       return run.result(msg);
     case 'stopped':
-      if (msg.reason === 'finished' && mode.current === 'mcf') status.set('done', Lesson.DONE);
-      else run.stopped(msg.reason);
-      return;
+      return mode.current === 'mcf' ? lesson.stopped(msg.reason) : run.stopped(msg.reason);
     case 'exported':
       return exporter.save(msg);
     case 'field':
@@ -126,22 +132,28 @@ function onWorkerMessage(msg: FromWorker): void {
     case 'error':
       // (Compute replaces the worker afterwards if the error may have left it unusable.)
       status.fail(msg.error);
-      if (mode.current === 'wrap') kept.restore();
+      if (mode.current === 'wrap') {
+        run.lost();
+        kept.restore();
+      }
       return;
   }
 }
 
 /** The worker's presets are in: build the settings, then open what the link asks for (else the lesson). */
 function onReady(msg: Extract<FromWorker, { type: 'ready' }>): void {
-  const presets = settings.build(msg.presets, msg.docs, msg.enums);
+  const presets = settings.build(msg.presets, msg.docs, msg.enums, msg.catalog);
   applyCatalog(msg.catalog);
   const { state, notices } = readLink(presets, { aliases: msg.aliases, colourMaps: [...msg.catalog.colourMaps.map((m) => m.name), 'none'] });
   status.notice(notices);
   settings.apply(state.preset, state.changed);
   view.apply(state.view);
+  view.offer(colourMenu(mode.current)); // (after the link is read: offering rewrites the link)
   settings.sendCurves();
   const d = state.dataset;
   run.linkIso = state.iso ?? null;
+  run.linkFile = state.file ?? null;
+  if (state.file) status.notice([...notices, `This link was made with ${describeFile(state.file)}: drop it here to reproduce the result.`]);
   if (d && d !== 'demo:mcf') {
     if (d.startsWith('demo:')) startDemo(d.slice(5));
     else run.openUrl(d);
@@ -150,24 +162,20 @@ function onReady(msg: Extract<FromWorker, { type: 'ready' }>): void {
 
 // ---- Controls ---------------------------------------------------------------------------------
 
-byId('play').onclick = () => {
-  status.error(null);
-  send({ type: 'play' });
-  status.set('running', 'Running');
-};
+byId('play').onclick = () => (mode.current === 'mcf' ? lesson.play() : run.play());
 byId('pause').onclick = () => send({ type: 'pause' });
-byId('step').onclick = () => send({ type: 'step', n: 1 });
-byId('cancel').onclick = () => compute.cancel();
+byId('step').onclick = () => (mode.current === 'mcf' ? send({ type: 'step', n: 1 }) : run.step());
+byId('cancel').onclick = () => void compute.cancel();
 byId('reset').onclick = () => (mode.current === 'mcf' ? lesson.reset() : run.reset());
 bindInputs({
-  file: (f) => void run.openFile(f),
+  file: (f) => run.openFile(f),
   url: (u) => run.openUrl(u),
   demo: (id, preset) => {
     settings.forDemo(id, preset);
     startDemo(id);
   },
 });
-bindDrop(byId('drop'), (f) => void run.openFile(f));
+bindDrop(byId('drop'), (f) => run.openFile(f));
 
 /** Test and automation hooks: read-only views of what is shown. */
 (window as unknown as { __lsw: object }).__lsw = {

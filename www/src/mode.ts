@@ -6,6 +6,8 @@ export type Mode = 'mcf' | 'wrap';
 
 export class ModeSwitch {
   private mode: Mode = 'mcf';
+  /** Runs after every switch (the colour menu follows the mode). */
+  onSwitch: (m: Mode) => void = () => {};
 
   get current(): Mode {
     return this.mode;
@@ -18,5 +20,7 @@ export class ModeSwitch {
     byId('mcf-box').hidden = m !== 'mcf';
     byId('mcf-plots').hidden = m !== 'mcf';
     byId('wrap-plots').hidden = m !== 'wrap';
+    byId('plot-controls').hidden = m !== 'wrap'; // ε(δ), η(δ) steer a wrap, not the lesson
+    this.onSwitch(m);
   }
 }

@@ -1,10 +1,30 @@
-// The advanced settings panel (lil-gui), built entirely from what the core reports: the preset's
-// settings JSON (fields, types, defaults), the doc comment of every field and the options of
-// every enum field (both read from the Rust sources by `settingsDocs` / `settingsEnums`).
-// Nothing about individual settings is written here.
+// The run's settings: the simple controls in front (Detail, Start surface) and the advanced panel
+// (lil-gui) with every setting by stage, built entirely from what the core reports: the preset's
+// settings JSON (fields, types, defaults), the doc comment of every field, the options of every
+// enum field, the range of every bounded number and the Detail table (catalog). Nothing about
+// individual settings is written here except the two keys the Detail table sets.
 import GUI from 'lil-gui';
-import type { Send } from './protocol';
+import { byId } from './dom';
+import type { Catalog, DetailLevel, Send, SettingRange } from './protocol';
 import { diff, flatten, unflatten, type Flat, type Leaf } from './share';
+
+/** The keys the simple controls set (the Detail table's two settings and the start surface). */
+const CELLS = 'field.cells_per_min_dimension';
+const MIN_EDGE = 'remesh.min_edge_multiplier';
+const START = 'start.surface';
+
+/** Whether `v` lies in `r` (the core refuses a wrap with a setting outside it). */
+function inRange(v: number, r: SettingRange): boolean {
+  const aboveMin = r.min === null || (r.min_open ? v > r.min : v >= r.min);
+  return aboveMin && (r.max === null || v <= r.max);
+}
+
+/** Shows (or, with '', hides) the line under the panel that says why a value was refused. */
+function warn(text: string): void {
+  const el = byId('settings-warning');
+  el.hidden = !text;
+  el.textContent = text;
+}
 
 /** Display form of a leaf: arrays and optional numbers become text fields. */
 function shown(v: Leaf): string | number | boolean {
@@ -25,8 +45,25 @@ export class SettingsPanel {
     readonly presets: Record<string, Flat>,
     private readonly docs: Record<string, string>,
     private readonly enums: Record<string, string[]>,
+    private readonly ranges: Record<string, SettingRange>,
     private readonly onChange: () => void,
   ) {}
+
+  /** The current value of a setting. */
+  value(key: string): Leaf | undefined {
+    return this.values[key];
+  }
+
+  /** Sets settings (keys unknown to the preset are ignored), shows them, and reports the change. */
+  assign(values: Flat): void {
+    for (const [k, v] of Object.entries(values)) {
+      if (!(k in this.base)) continue;
+      this.values[k] = v;
+      this.view[k] = shown(v);
+    }
+    for (const c of this.gui?.controllersRecursive() ?? []) c.updateDisplay();
+    this.onChange();
+  }
 
   /** Picks a preset and applies `changed` on top (keys unknown to the preset are ignored). */
   set(preset: string, changed: Flat = {}): void {
@@ -67,12 +104,16 @@ export class SettingsPanel {
       const options = this.enums[key];
       const c = options ? folder.add(this.view, key, options) : folder.add(this.view, key);
       c.name(key.slice(dot + 1));
-      const doc = this.docs[key];
+      const range = this.ranges[key];
+      const said = range && this.docs[key]?.includes(range.text);
+      const doc = [this.docs[key], range && !said && `Range: ${range.text}.`].filter(Boolean).join('\n');
       if (doc) c.domElement.title = doc;
       c.domElement.dataset.setting = key;
       c.onFinishChange((v: string | number | boolean) => {
         const parsed = this.parse(v, base);
-        if (parsed === undefined) {
+        const outside = typeof parsed === 'number' && range && !inRange(parsed, range);
+        warn(outside ? `${key} = ${parsed} is outside its range ${range.text}; kept ${shown(this.values[key])}.` : '');
+        if (parsed === undefined || outside) {
           this.view[key] = shown(this.values[key]);
           c.updateDisplay();
           return;
@@ -101,12 +142,16 @@ export class SettingsPanel {
 }
 
 /**
- * The run's settings as one source: the preset <select> and the advanced panel. The panel exists
- * once the worker has reported the presets; until then there are no settings (`panel` is null).
- * The worker computes the control curves of the settings, so every change is sent to it.
+ * The run's settings as one source: the preset <select>, the simple controls and the advanced
+ * panel. The panel exists once the worker has reported the presets; until then there are no
+ * settings (`panel` is null). The worker computes the control curves of the settings, so every
+ * change is sent to it.
  */
 export class RunSettings {
   panel: SettingsPanel | null = null;
+  private readonly detail = byId<HTMLSelectElement>('detail');
+  private readonly start = byId<HTMLSelectElement>('start-surface');
+  private levels: DetailLevel[] = [];
 
   /** `container`: where the panel goes; `changed`: runs after the user changed the settings (the share link follows). */
   constructor(
@@ -117,25 +162,69 @@ export class RunSettings {
   ) {
     select.onchange = () => {
       this.panel?.set(select.value);
+      this.sync();
       this.sendCurves();
       changed();
     };
+    this.detail.onchange = () => this.panel?.assign(this.levelValues(this.detail.value, this.startSurface()) ?? {});
+    // A new start surface keeps the Detail level: λ_min depends on the start (src/flow/detail.rs).
+    this.start.onchange = () => {
+      const level = this.level(this.startSurface());
+      this.panel?.assign({ [START]: this.start.value, ...(level ? this.levelValues(level, this.start.value) : {}) });
+    };
   }
 
-  /** Builds the panel from the worker's presets (nested JSON), docs and enum options; returns the presets flattened. */
-  build(presets: Record<string, Record<string, unknown>>, docs: Record<string, string>, enums: Record<string, string[]>): Record<string, Flat> {
+  /** Builds the panel and the simple controls from the worker's presets (nested JSON), docs,
+   * enum options and catalog; returns the presets flattened. */
+  build(presets: Record<string, Record<string, unknown>>, docs: Record<string, string>, enums: Record<string, string[]>, catalog: Pick<Catalog, 'detail' | 'settingRanges'>): Record<string, Flat> {
     const flat = Object.fromEntries(Object.entries(presets).map(([k, v]) => [k, flatten(v)]));
-    this.panel = new SettingsPanel(this.container, flat, docs, enums, () => {
+    const ranges = Object.fromEntries(catalog.settingRanges.map((r) => [r.key, r]));
+    this.panel = new SettingsPanel(this.container, flat, docs, enums, ranges, () => {
+      this.sync();
       this.sendCurves();
       this.changed();
     });
+    this.levels = catalog.detail;
+    const custom = new Option('custom', 'custom');
+    custom.disabled = true;
+    this.detail.replaceChildren(...this.levels.map((l) => new Option(l.name, l.name)), custom);
+    this.start.replaceChildren(...(enums[START] ?? []).map((s) => new Option(s, s)));
+    this.start.parentElement!.title = docs[START] ?? '';
     return flat;
+  }
+
+  private startSurface(): string {
+    return String(this.panel?.value(START) ?? 'auto');
+  }
+
+  /** The two settings of Detail level `name` for the current preset and start surface `start`. */
+  private levelValues(name: string, start: string): Flat | null {
+    const v = this.levels.find((l) => l.name === name)?.presets[this.panel?.preset ?? ''];
+    return v && v.min_edge[start] !== undefined ? { [CELLS]: v.cells, [MIN_EDGE]: v.min_edge[start] } : null;
+  }
+
+  /** The Detail level whose values are in force with start surface `start`, if any. */
+  private level(start: string): string | null {
+    const p = this.panel;
+    const found = this.levels.find((l) => {
+      const v = this.levelValues(l.name, start);
+      return v && p?.value(CELLS) === v[CELLS] && p?.value(MIN_EDGE) === v[MIN_EDGE];
+    });
+    return found?.name ?? null;
+  }
+
+  /** Shows in the simple controls what the settings hold ("custom" when no level matches). */
+  private sync(): void {
+    if (!this.panel) return;
+    this.start.value = this.startSurface();
+    this.detail.value = this.level(this.startSurface()) ?? 'custom';
   }
 
   /** Applies a link's preset and changed settings. */
   apply(preset: string, changed: Flat): void {
     this.panel!.set(preset, changed);
     this.select.value = this.panel!.preset;
+    this.sync();
   }
 
   /** A demo's preset: the one its button names (genus 2 → isosurface), else the current one for the lesson, else full-wrap. */
@@ -145,6 +234,7 @@ export class RunSettings {
     if (panel && preset !== panel.preset) {
       panel.set(preset);
       this.select.value = preset;
+      this.sync();
       this.sendCurves();
     }
   }

@@ -1,6 +1,20 @@
-// Live plot of the mean radius against the exact law r(t) = sqrt(r0² − 4t).
+// The live plots: the lesson's radius against the exact law r(t) = sqrt(r0² − 4t), the wrap's
+// per-step lines and the κ histogram. Each is as wide as its host element, which the style
+// sheet sizes (#plots: one row that shares the view's width, scrolling sideways when narrow).
 import uPlot from 'uplot';
 import 'uplot/dist/uPlot.min.css';
+
+/** Keeps `plot` as wide as `el` (uPlot draws at a fixed pixel size). */
+function followWidth(el: HTMLElement, plot: uPlot, height: number): void {
+  let last = 0;
+  new ResizeObserver(() => {
+    const w = Math.floor(el.clientWidth);
+    if (w > 0 && w !== last) {
+      last = w;
+      plot.setSize({ width: w, height });
+    }
+  }).observe(el);
+}
 
 export class RadiusPlot {
   private readonly t: number[] = [];
@@ -25,6 +39,7 @@ export class RadiusPlot {
       [[], [], []],
       el,
     );
+    followWidth(el, this.plot, 170);
   }
 
   clear(): void {
@@ -69,6 +84,7 @@ export class LinePlot {
       this.cols as uPlot.AlignedData,
       el,
     );
+    followWidth(el, this.plot, opts.height ?? 170);
   }
 
   clear(): void {
@@ -120,6 +136,7 @@ export class HistogramPlot {
       this.data as uPlot.AlignedData,
       el,
     );
+    followWidth(el, this.plot, 170);
   }
 
   set(lo: number, hi: number, counts: number[]): void {

@@ -41,6 +41,21 @@ export interface McfStats {
   faces: number;
 }
 
+/** What a time step τ means for the lesson (mirrors `flow::mcf::TauAdvice`, camelCase). */
+export interface TauAdvice {
+  tau: number;
+  /** t* = r0²/4, when the sphere vanishes. */
+  extinctionTime: number;
+  /** Steps the lesson will take. */
+  steps: number;
+  /** The sensible range of τ. */
+  tauMin: number;
+  tauMax: number;
+  sensible: boolean;
+  /** What is wrong with τ ('' when sensible). */
+  warning: string;
+}
+
 export interface McfParams {
   level: number;
   radius: number;
@@ -84,8 +99,29 @@ export interface Catalog {
   presetLabels: string[];
   /** Names of the formats `export` and `exportMesh` write. */
   exportFormats: string[];
+  /** The Detail levels, coarse first: per preset the grid cells and λ_min by start surface name
+   * they set (see src/flow/detail.rs). */
+  detail: DetailLevel[];
+  /** The colour maps the MCF lesson offers (a subset of `colourMaps`). */
+  lessonColourMaps: string[];
   /** Ranges of numeric settings the core enforces (unbounded limits are null). */
-  settingRanges: { key: string; min: number | null; max: number | null; min_open: boolean; text: string }[];
+  settingRanges: SettingRange[];
+}
+
+/** A Detail level (`Catalog.detail`): `field.cells_per_min_dimension` and, by start surface,
+ * `remesh.min_edge_multiplier` for every preset. */
+export interface DetailLevel {
+  name: string;
+  presets: Record<string, { cells: number; min_edge: Record<string, number> }>;
+}
+
+/** The allowed range of a numeric setting (`Catalog.settingRanges`; unbounded limits are null). */
+export interface SettingRange {
+  key: string;
+  min: number | null;
+  max: number | null;
+  min_open: boolean;
+  text: string;
 }
 
 /** A per-vertex scalar the core can colour by (a `Catalog.colourMaps` name, `WrapSession.scalar`), or 'none'. */
@@ -177,7 +213,6 @@ export type ToWorker =
   | { type: 'play' }
   | { type: 'pause' }
   | { type: 'step'; n: number }
-  | { type: 'reset'; settings: Record<string, unknown>; run: number }
   | { type: 'cancel' }
   | { type: 'colour'; map: ColourMap }
   | { type: 'export'; format: string; kept?: { positions: Float32Array; indices: Uint32Array } }
@@ -208,6 +243,8 @@ export interface Frame {
   colour: ColourMap;
   /** MCF demo statistics (mode mcf). */
   stats?: McfStats;
+  /** MCF: the lesson's last frame (kept by the scrubber whatever its stride). */
+  final?: boolean;
   /** Wrap step report (mode wrap; null before the first step). */
   report?: StepReport | null;
   /** Reports of every step since the previous frame (for the per-step plots). */
@@ -216,18 +253,23 @@ export interface Frame {
   histogram?: Histogram;
   /** Step limit of the wrap's settings (for the progress bar). */
   stepLimit?: number;
-  /** Milliseconds since the wrap was started (load included). */
+  /** Working milliseconds since the wrap was started (load included, pauses not). */
   elapsedMs?: number;
   playing: boolean;
 }
+
+export type StopReason = 'paused' | 'finished' | 'cancelled' | 'ready';
 
 /** Worker → UI. */
 export type FromWorker =
   | { type: 'ready'; presets: Record<string, Record<string, unknown>>; docs: Record<string, string>; enums: Record<string, string[]>; aliases: Record<string, string>; catalog: Catalog }
   | Frame
   | { type: 'loading'; what: string }
+  /** The lesson's τ, judged before it runs (sent with every new lesson). */
+  | { type: 'mcf-advice'; advice: TauAdvice }
   | { type: 'target'; run: number; positions: Float32Array; indices: Uint32Array; info: TargetInfo; name: string }
-  | { type: 'stopped'; reason: 'paused' | 'finished' | 'cancelled' }
+  /** The worker stopped stepping: paused, finished, cancelled, or loaded and `ready` to play (no autoplay). */
+  | { type: 'stopped'; reason: StopReason }
   | { type: 'result'; run: number; hash: string; name: string; positions: Float32Array; normals: Float32Array; indices: Uint32Array; elapsedMs: number; steps: number; certificate: Certificate; stopReason: string | null; start: string; wasmBytes: number }
   | { type: 'exported'; bytes: Uint8Array; format: string }
   | { type: 'curves'; curves: ControlCurves }
@@ -285,6 +327,8 @@ export type ToRender =
   | { type: 'show-frame'; index: number }
   | { type: 'refit' }
   | { type: 'fit' }
+  /** Looks from these orbit angles and frames the surface (front, side, top buttons). */
+  | { type: 'look'; yaw: number; pitch: number }
   | { type: 'rotate'; dx: number; dy: number }
   | { type: 'zoom'; factor: number }
   | { type: 'set-view'; yaw: number; pitch: number; zoom: number }

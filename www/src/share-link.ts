@@ -1,22 +1,34 @@
-// The share link: the page's state (dataset, preset, changed settings, view, volume iso-value)
-// written into the URL hash with share.ts's versioned codec, and read back when the page opens.
+// The share link: the page's state (dataset, preset, changed settings, view, volume iso-value,
+// the dropped file's stamp) written into the URL hash with share.ts's versioned codec, and read
+// back when the page opens.
 import { byId } from './dom';
-import { decode, encode, validDataset, type Decoded, type DecodeOptions, type Flat, type ShareState } from './share';
+import { decode, describeFile, encode, validDataset, type Decoded, type DecodeOptions, type FileStamp, type Flat, type ShareState } from './share';
 import type { StatusLine } from './status';
+
+/** A dropped file's stamp for links: name, size and the first 8 bytes of its SHA-256 in hex (the
+ * browser's digest; '' where there is none, e.g. a page not served from a secure origin). */
+export async function stampFile(file: File): Promise<FileStamp> {
+  let sha = '';
+  try {
+    const digest = await crypto.subtle.digest('SHA-256', await file.arrayBuffer());
+    sha = [...new Uint8Array(digest, 0, 8)].map((b) => b.toString(16).padStart(2, '0')).join('');
+  } catch {
+    // No SubtleCrypto here: the link names the file by name and size only.
+  }
+  return { name: file.name, size: file.size, sha };
+}
 
 export class ShareLink {
   private readonly field = byId<HTMLInputElement>('share-url');
   private readonly button = byId('copy-link');
 
-  /**
-   * `state`: the state to share, or null while there are no settings yet (before the worker's presets);
-   * `droppedFile`: whether the input is a dropped file, which a link cannot carry.
-   */
-  constructor(private readonly state: () => ShareState | null, droppedFile: () => boolean, status: StatusLine) {
+  /** `state`: the state to share, or null while there are no settings yet (before the worker's presets). */
+  constructor(private readonly state: () => ShareState | null, status: StatusLine) {
     this.button.onclick = async () => {
       this.update();
       const url = this.field.value;
-      if (droppedFile()) status.notice(['A dropped file cannot travel in a link: the link keeps the settings and view; the receiver drops the same file.']);
+      const file = this.state()?.file;
+      if (file) status.notice([`The link names ${describeFile(file)} but cannot carry the file itself: whoever opens it drops the same file to reproduce the result.`]);
       try {
         await navigator.clipboard.writeText(url);
         this.button.textContent = 'Copied ✓';

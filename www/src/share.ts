@@ -1,11 +1,24 @@
 // App state <-> URL hash, versioned. The hash is plain `key=value` pairs (URLSearchParams):
-//   v=1  d=<dataset: demo id | https URL>  p=<preset>  s.<setting path>=<JSON literal>  view.<key>=<value>
-// Decoding never evaluates anything: values are parsed with JSON.parse or as plain strings and
-// checked against the defaults' types; anything unknown, old or malformed falls back to the
-// default and is reported in `notices` (shown as text, never as HTML).
+//   v=2  d=<dataset: demo id | https URL>  p=<preset>  s.<setting path>=<JSON literal>  view.<key>=<value>
+//   f.name, f.size, f.sha=<the dropped file the link was made with: name, bytes, SHA-256 prefix>
+// Version 2 added the f.* keys; version 1 links decode as before. Decoding never evaluates
+// anything: values are parsed with JSON.parse or as plain strings and checked against the
+// defaults' types; anything unknown, old or malformed falls back to the default and is reported
+// in `notices` (shown as text, never as HTML).
 
 /** The current hash format. */
-export const SHARE_VERSION = 1;
+export const SHARE_VERSION = 2;
+/** Versions whose settings this app reads (each one adds keys to the one before). */
+const READABLE_VERSIONS = ['1', '2'];
+
+/** A dropped file as a link names it: it cannot travel in the link, so the receiver drops it again. */
+export interface FileStamp {
+  name: string;
+  /** Bytes. */
+  size: number;
+  /** Leading hex digits of the file's SHA-256, or '' where the browser could not compute it. */
+  sha: string;
+}
 
 /** A JSON-like value (settings leaves). */
 export type Leaf = number | string | boolean | null | number[];
@@ -45,6 +58,8 @@ export interface ShareState {
   view: ViewState;
   /** Volumes: the iso-value wrapped (absent for meshes, clouds and Otsu's default). */
   iso?: number;
+  /** The dropped file the state was made with (absent for gallery shapes and addresses). */
+  file?: FileStamp;
 }
 
 export interface Decoded {
@@ -112,6 +127,11 @@ export function encode(state: ShareState): string {
   if (state.dataset) q.set('d', state.dataset);
   q.set('p', state.preset);
   if (state.iso !== undefined && Number.isFinite(state.iso)) q.set('iso', String(state.iso));
+  if (state.file) {
+    q.set('f.name', state.file.name);
+    q.set('f.size', String(state.file.size));
+    if (state.file.sha) q.set('f.sha', state.file.sha);
+  }
   for (const k of Object.keys(state.changed).sort()) q.set(`s.${k}`, JSON.stringify(state.changed[k]));
   const v = state.view;
   for (const k of Object.keys(DEFAULT_VIEW) as (keyof ViewState)[]) {
@@ -139,7 +159,7 @@ export function decode(hash: string, presets: Record<string, Flat>, opts: Decode
     return { state, notices };
   }
   const version = q.get('v');
-  const old = version !== String(SHARE_VERSION);
+  const old = version === null || !READABLE_VERSIONS.includes(version);
   if (old) {
     notices.push(
       version === null || !/^\d{1,4}$/.test(version)
@@ -159,8 +179,10 @@ export function decode(hash: string, presets: Record<string, Flat>, opts: Decode
   }
   const defaults = presets[state.preset] ?? {};
   const unknown: string[] = [];
+  const file = decodeFile(q, notices);
+  if (file) state.file = file;
   for (const [key, value] of q) {
-    if (key === 'v' || key === 'd' || key === 'p' || key === 'dataset' || key === 'preset') continue;
+    if (key === 'v' || key === 'd' || key === 'p' || key === 'dataset' || key === 'preset' || key.startsWith('f.')) continue;
     if (key === 'iso') {
       const n = Number(value);
       if (value.trim() !== '' && Number.isFinite(n)) state.iso = n;
@@ -205,4 +227,42 @@ export function decode(hash: string, presets: Record<string, Flat>, opts: Decode
   }
   if (unknown.length) notices.push(`Ignored unknown key${unknown.length > 1 ? 's' : ''}: ${unknown.slice(0, 8).map((k) => k.slice(0, 40)).join(', ')}.`);
   return { state, notices };
+}
+
+/** The f.* keys: a name (no control characters), a byte count and an optional SHA-256 prefix. */
+function decodeFile(q: URLSearchParams, notices: string[]): FileStamp | undefined {
+  const name = q.get('f.name'), size = q.get('f.size'), sha = q.get('f.sha') ?? '';
+  if (name === null && size === null && !sha) return undefined;
+  const n = Number(size);
+  const control = (c: string) => c.charCodeAt(0) < 32 || c.charCodeAt(0) === 127;
+  const nameOk = name !== null && name.length > 0 && name.length <= 255 && ![...name].some(control);
+  if (!nameOk || size === null || !Number.isSafeInteger(n) || n < 0 || !/^([0-9a-f]{8,64})?$/.test(sha)) {
+    notices.push('Ignored the link\'s file (f.name, f.size, f.sha): malformed.');
+    return undefined;
+  }
+  return { name: name!, size: n, sha };
+}
+
+/** Bytes for people: "812 B", "1.2 MB". */
+export function formatBytes(n: number): string {
+  if (n < 1024) return `${n} B`;
+  const units = ['kB', 'MB', 'GB', 'TB'];
+  let v = n / 1024, i = 0;
+  while (v >= 1024 && i < units.length - 1) {
+    v /= 1024;
+    i++;
+  }
+  return `${v.toPrecision(v < 10 ? 2 : 3)} ${units[i]}`;
+}
+
+/** A file stamp in words: "bunny.ply (1.2 MB, fingerprint 3fa2c9e1d07b4a55)". */
+export function describeFile(f: FileStamp): string {
+  return `${f.name} (${formatBytes(f.size)}${f.sha ? `, fingerprint ${f.sha}` : ''})`;
+}
+
+/** Whether `got` is the file `expected` names: same size and fingerprint (a renamed copy is the
+ * same file); without both fingerprints, same size and name. */
+export function sameFile(expected: FileStamp, got: FileStamp): boolean {
+  if (expected.size !== got.size) return false;
+  return expected.sha && got.sha ? expected.sha === got.sha : expected.name === got.name;
 }

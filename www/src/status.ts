@@ -1,5 +1,5 @@
 // The status line and its neighbours: the run state (which also enables Play / Pause / Cancel),
-// the error box and the dismissable notice. They show; they decide nothing.
+// the progress readout, the error box and the dismissable notice. They show; they decide nothing.
 import { byId } from './dom';
 import type { UiError } from './protocol';
 
@@ -11,9 +11,28 @@ export class StatusLine {
   private readonly errorBox = byId('error');
   private readonly noticeBox = byId('notice');
 
-  /** `cancellable`: whether a running or loading job may be cancelled (wraps may, the MCF lesson may not). */
-  constructor(private readonly cancellable: () => boolean) {
+  constructor() {
     this.noticeBox.onclick = () => (this.noticeBox.hidden = true);
+  }
+
+  /** The run state shown. */
+  get state(): RunState {
+    return this.line.dataset.state as RunState;
+  }
+
+  /** Whether a job is under way (loading or running): Cancel stops it, a new input replaces it. */
+  get busy(): boolean {
+    return this.state === 'running' || this.state === 'loading';
+  }
+
+  /** Clears what described the previous run: progress bar, step statistics, colour legend. */
+  clearReadout(): void {
+    byId('progress').hidden = true;
+    byId('progress-text').textContent = '';
+    const stats = byId('stats');
+    stats.textContent = '';
+    delete stats.dataset.step;
+    byId('legend').hidden = true;
   }
 
   set(state: RunState, text: string): void {
@@ -22,7 +41,7 @@ export class StatusLine {
     const running = state === 'running';
     byId<HTMLButtonElement>('play').disabled = running || state === 'loading';
     byId<HTMLButtonElement>('pause').disabled = !running;
-    byId<HTMLButtonElement>('cancel').disabled = !(running || state === 'loading') || !this.cancellable();
+    byId<HTMLButtonElement>('cancel').disabled = !(running || state === 'loading');
   }
 
   /** Shows an error with its hint, or hides the box (null). */

@@ -25,13 +25,25 @@ export function bindOrbit(canvas: HTMLCanvasElement, draw: Draw): void {
   canvas.addEventListener('dblclick', () => draw({ type: 'refit' }));
 }
 
+/** Orbit angles (yaw, pitch) of the view buttons; the camera's pitch stops short of ±π/2. */
+const VIEWS: Record<string, [number, number]> = { front: [0, 0], side: [Math.PI / 2, 0], top: [0, 1.5] };
+
 export class ViewControls {
   /** The view as a share link has it. */
   view: ViewState = { ...DEFAULT_VIEW };
+  /** The colour map last chosen (by the user or a link); shown whenever the menu offers it. */
+  private wanted = DEFAULT_VIEW.cmap;
+  private readonly cmap = byId<HTMLSelectElement>('cmap');
+  /** The colour menu offered now (it depends on the mode). */
+  private menu: [string, string][] = [];
 
   /** `send` gets the colour map (the computation worker colours the vertices); `changed` runs after every change of the view. */
   constructor(private readonly draw: Draw, private readonly send: Send, private readonly changed: () => void) {
     byId('fit').onclick = () => draw({ type: 'fit' });
+    for (const b of document.querySelectorAll<HTMLButtonElement>('[data-view]')) {
+      const [yaw, pitch] = VIEWS[b.dataset.view!];
+      b.onclick = () => draw({ type: 'look', yaw, pitch });
+    }
     byId<HTMLInputElement>('wireframe').onchange = (e) => {
       this.view.wire = (e.target as HTMLInputElement).checked;
       draw({ type: 'wireframe', on: this.view.wire });
@@ -43,10 +55,9 @@ export class ViewControls {
       changed();
     };
     byId<HTMLInputElement>('show-target').onchange = (e) => draw({ type: 'show-target', on: (e.target as HTMLInputElement).checked });
-    byId<HTMLSelectElement>('cmap').onchange = (e) => {
-      this.view.cmap = (e.target as HTMLSelectElement).value;
-      this.sendColour();
-      changed();
+    this.cmap.onchange = () => {
+      this.wanted = this.cmap.value;
+      this.show(this.cmap.value);
     };
   }
 
@@ -56,12 +67,33 @@ export class ViewControls {
     this.changed();
   }
 
+  /**
+   * Offers a menu of colour maps (value, label): the wanted map if it is there, else the menu's
+   * first, so the menu, the legend and the worker always agree.
+   */
+  offer(items: [string, string][]): void {
+    if (!items.length) return;
+    this.menu = items;
+    this.cmap.replaceChildren(...items.map(([value, label]) => new Option(label, value)));
+    const v = items.some(([x]) => x === this.wanted) ? this.wanted : items[0][0];
+    this.cmap.value = v;
+    if (v !== this.view.cmap) this.show(v);
+  }
+
+  private show(map: string): void {
+    this.view.cmap = map;
+    this.sendColour();
+    this.changed();
+  }
+
   /** Takes a view from a share link: the controls show it, both workers get it. */
   apply(view: ViewState): void {
     this.view = view;
+    this.wanted = view.cmap;
     byId<HTMLInputElement>('wireframe').checked = view.wire;
     byId<HTMLInputElement>('smooth').checked = view.smooth;
-    byId<HTMLSelectElement>('cmap').value = view.cmap;
+    if (this.menu.length) this.offer(this.menu);
+    else this.cmap.value = view.cmap;
     this.draw({ type: 'wireframe', on: view.wire });
     this.draw({ type: 'smooth', on: view.smooth });
     this.draw({ type: 'set-view', yaw: view.yaw, pitch: view.pitch, zoom: view.zoom });

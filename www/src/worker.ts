@@ -5,10 +5,11 @@ import init, {
   McfSession, WrapSession, presetSettings, settingsDocs, settingsEnums, settingAliases, catalog, demoShape, demoMesh, controlCurves, exportMesh,
   VolumeView, phantomVolume,
 } from '../pkg/lsw.js';
-import type { Catalog, Certificate, ColourMap, FieldView, FromWorker, Histogram, McfStats, Source, StepReport, TargetInfo, ToWorker, VolumeInfo } from './protocol';
+import type { Catalog, Certificate, ColourMap, FieldView, FromWorker, Histogram, McfStats, Source, StepReport, TargetInfo, TauAdvice, ToWorker, VolumeInfo } from './protocol';
 import { toUiError } from './protocol';
 import { batchSize } from './schedule';
 import { colorize, robustRange } from './colormap';
+import { Stopwatch } from './stopwatch';
 
 const ready = init();
 /** Bytes of the wasm instance's linear memory (it only grows): the tab's memory for the core. */
@@ -27,7 +28,8 @@ let playing = false;
 let msPerStep = 1;
 let sentIndices = false;
 let colour: ColourMap = 'distance';
-let startedAt = 0;
+/** The current wrap's working time: loading and stepping count, pauses do not. */
+const clock = new Stopwatch();
 let runId = 0;
 /** The page's number for the current wrap, echoed in frames so the page can drop stale ones. */
 let pageRun = 0;
@@ -64,14 +66,17 @@ function colours(values: Float32Array | null, fixed?: [number, number]): { color
 
 // ---- MCF teaching demo -------------------------------------------------------------------------
 
-let currentR0 = 1;
+/** The colour maps the lesson offers (the catalog's `lessonColourMaps`), the first its default. */
+let lessonMaps: string[] = ['curvature'];
 
 function sendMcfFrame(): void {
   if (!mcf) return;
   const positions = mcf.positions();
   const normals = mcf.normals();
   const stats = mcf.stats() as McfStats;
-  const { colors, range } = colours(colour === 'none' ? null : mcf.meanCurvature());
+  // A wrap's map the lesson does not have (distance, …) shows its first one.
+  const map = colour === 'none' || lessonMaps.includes(colour) ? colour : lessonMaps[0];
+  const { colors, range } = colours(map === 'none' ? null : mcf.scalar(map));
   const transfer: Transferable[] = [positions.buffer, normals.buffer];
   if (colors) transfer.push(colors.buffer);
   let indices: Uint32Array | undefined;
@@ -80,25 +85,37 @@ function sendMcfFrame(): void {
     transfer.push(indices.buffer);
     sentIndices = true;
   }
-  post({ type: 'frame', mode: 'mcf', run: pageRun, positions, normals, indices, colors, range, colour: colour === 'none' ? 'none' : 'curvature', stats, playing }, transfer);
+  const final = mcf.stepsLeft() === 0;
+  post({ type: 'frame', mode: 'mcf', run: pageRun, positions, normals, indices, colors, range, colour: map, stats, playing, final }, transfer);
+}
+
+/**
+ * Up to `n` lesson steps, never past its end (the core stops it at 15 % of the radius, before
+ * the sphere vanishes); true when the lesson is over. A non-finite radius is a failure to
+ * explain, never an end.
+ */
+function mcfSteps(session: McfSession, n: number): boolean {
+  session.step(Math.min(n, session.stepsLeft()));
+  const stats = session.stats() as McfStats;
+  msPerStep = stats.msPerStep;
+  if (!Number.isFinite(stats.meanRadius)) {
+    throw {
+      code: 'diverged',
+      message: `The sphere's mesh radius is no longer a number after step ${stats.step} (t = ${stats.time.toPrecision(3)}).`,
+      hint: 'Choose a smaller time step τ (see the warning next to it).',
+    };
+  }
+  return session.stepsLeft() === 0;
 }
 
 function mcfLoop(): void {
   if (!playing || !mcf || mode !== 'mcf') return;
   try {
-    mcf.step(batchSize(msPerStep));
-    const stats = mcf.stats() as McfStats;
-    msPerStep = stats.msPerStep;
-    // Stop before the sphere collapses to a point: below 15 % of the start radius the step τ
-    // is no longer small against the co-volumes and the linearised flow loses accuracy.
-    if (!(stats.exactRadius > 0.15 * currentR0)) {
-      playing = false;
-      sendMcfFrame();
-      post({ type: 'stopped', reason: 'finished' });
-      return;
-    }
+    const over = mcfSteps(mcf, batchSize(msPerStep));
+    if (over) playing = false;
     sendMcfFrame();
-    setTimeout(mcfLoop, 0);
+    if (over) post({ type: 'stopped', reason: 'finished' });
+    else setTimeout(mcfLoop, 0);
   } catch (e) {
     fail(e);
   }
@@ -230,7 +247,7 @@ function sendWrapFrame(session: WrapSession): void {
   post(
     {
       type: 'frame', mode: 'wrap', run: pageRun, positions, normals, indices, colors, range, colour, report, reports: pendingReports, histogram, playing,
-      stepLimit: session.stepLimit(), elapsedMs: performance.now() - startedAt,
+      stepLimit: session.stepLimit(), elapsedMs: clock.ms,
     },
     transfer,
   );
@@ -239,6 +256,7 @@ function sendWrapFrame(session: WrapSession): void {
 
 function finish(session: WrapSession): void {
   playing = false;
+  clock.pause();
   if (result && result !== session) result.free();
   result = session;
   const positions = session.positions();
@@ -249,7 +267,7 @@ function finish(session: WrapSession): void {
   const certificate = plain(session.certificate()) as Certificate;
   post(
     {
-      type: 'result', run: pageRun, hash: session.resultHash(), name: source?.name ?? 'result', positions, normals, indices, elapsedMs: performance.now() - startedAt, steps: report?.step ?? 0,
+      type: 'result', run: pageRun, hash: session.resultHash(), name: source?.name ?? 'result', positions, normals, indices, elapsedMs: clock.ms, steps: report?.step ?? 0,
       certificate, stopReason: session.stopReason() ?? null, start: session.startSurface(), wasmBytes: wasmMemory?.buffer.byteLength ?? 0,
     },
     [positions.buffer, normals.buffer, indices.buffer],
@@ -290,7 +308,7 @@ async function loadWrap(src: Source, settings: Record<string, unknown>, autoplay
   dropRun();
   const id = runId;
   mode = 'wrap';
-  startedAt = performance.now();
+  clock.restart();
   post({ type: 'loading', what: src.kind === 'url' ? 'Downloading…' : 'Reading…' });
   const input = await sourceBytes(src);
   if (id !== runId) return;
@@ -320,7 +338,10 @@ async function startSession(autoplay: boolean, id: number): Promise<void> {
   if (autoplay) {
     playing = true;
     wrapLoop(id);
-  } else post({ type: 'stopped', reason: 'paused' });
+  } else {
+    clock.pause();
+    post({ type: 'stopped', reason: 'ready' });
+  }
 }
 
 self.onmessage = async (ev: MessageEvent<ToWorker>) => {
@@ -334,8 +355,8 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
         const next = new McfSession(msg.params.level, msg.params.radius, msg.params.tau);
         mcf?.free();
         mcf = next;
-        currentR0 = msg.params.radius;
         sentIndices = false;
+        post({ type: 'mcf-advice', advice: next.tauAdvice() as TauAdvice });
         sendMcfFrame();
         break;
       }
@@ -351,7 +372,10 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
           if (wrap === result || wrap.isDone()) {
             playing = false;
             post({ type: 'stopped', reason: 'finished' });
-          } else wrapLoop(runId);
+          } else {
+            clock.resume();
+            wrapLoop(runId);
+          }
         } else {
           playing = false;
           post({ type: 'stopped', reason: 'paused' });
@@ -359,21 +383,14 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
         break;
       case 'pause':
         playing = false;
+        clock.pause();
         post({ type: 'stopped', reason: 'paused' });
         break;
       case 'cancel':
         if (mode === 'wrap') dropRun();
         playing = false;
+        clock.pause();
         post({ type: 'stopped', reason: 'cancelled' });
-        break;
-      case 'reset':
-        if (mode === 'wrap' && source) {
-          pageRun = msg.run;
-          dropRun();
-          wrapSettings = msg.settings;
-          startedAt = performance.now();
-          await startSession(false, runId);
-        }
         break;
       case 'colour':
         colour = msg.map;
@@ -385,10 +402,12 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
       case 'step':
         playing = false;
         if (mode === 'mcf') {
-          mcf?.step(msg.n);
+          if (mcf && mcfSteps(mcf, msg.n)) post({ type: 'stopped', reason: 'finished' });
           sendMcfFrame();
         } else if (wrap && wrap !== result) {
+          clock.resume();
           const done = wrap.step(msg.n);
+          clock.pause();
           pendingReports.push(wrap.report() as StepReport);
           sendWrapFrame(wrap);
           if (done) finish(wrap);
@@ -418,7 +437,7 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
             volume.frame = msg.frame;
           }
           wrapSettings = msg.settings;
-          startedAt = performance.now();
+          clock.restart();
           await startSession(true, runId);
         }
         break;
@@ -437,7 +456,7 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
         break;
     }
   } catch (e) {
-    if (msg.type === 'wrap-load' || msg.type === 'reset' || msg.type === 'volume-iso') dropRun();
+    if (msg.type === 'wrap-load' || msg.type === 'volume-iso') dropRun();
     fail(e);
   }
 };
@@ -445,6 +464,7 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
 ready.then(
   () => {
     const lists = JSON.parse(catalog()) as Catalog;
+    lessonMaps = lists.lessonColourMaps;
     const presets: Record<string, Record<string, unknown>> = {};
     for (const p of lists.presets) presets[p] = JSON.parse(presetSettings(p));
     post({ type: 'ready', presets, docs: JSON.parse(settingsDocs()), enums: JSON.parse(settingsEnums()), aliases: JSON.parse(settingAliases()), catalog: lists });

@@ -6,11 +6,12 @@ import { HistogramPlot, LinePlot } from './plots';
 import type { ControlCurves, Frame } from './protocol';
 
 export class WrapReadout {
-  private readonly distance = new LinePlot(byId('plot-distance'), 'Distance to target per step', ['mean |d|', 'max |d|'], ['#4aa3ff', '#ff7a59'], { log: true });
-  private readonly covolume = new LinePlot(byId('plot-covolume'), 'Co-volume min / mean / max', ['min', 'mean', 'max'], ['#ff7a59', '#4aa3ff', '#9fd39f'], { log: true });
+  // Titles fit the narrowest plot (175 px); each host's tooltip (index.html) says more.
+  private readonly distance = new LinePlot(byId('plot-distance'), 'Distance to target', ['mean |d|', 'max |d|'], ['#4aa3ff', '#ff7a59'], { log: true });
+  private readonly covolume = new LinePlot(byId('plot-covolume'), 'Co-volume', ['min', 'mean', 'max'], ['#ff7a59', '#4aa3ff', '#9fd39f'], { log: true });
   private readonly vertices = new LinePlot(byId('plot-vertices'), 'Vertices', ['vertices'], ['#ffb347']);
-  private readonly kappa = new HistogramPlot(byId('plot-kappa'), 'κ(J_Δ) of the current frame (1 = equilateral)', 'κ');
-  private readonly controls = new LinePlot(byId('plot-controls'), 'Controls ε(δ), η(δ) (stabilised units)', ['ε', 'η facing', 'η side-on'], ['#4aa3ff', '#ffb347', '#ff7a59'], { xLabel: 'δ = d − d₀' });
+  private readonly kappa = new HistogramPlot(byId('plot-kappa'), 'Quality κ(J_Δ)', 'κ (1 = equilateral)');
+  private readonly controls = new LinePlot(byId('plot-controls'), 'Controls ε(δ), η(δ)', ['ε', 'η facing', 'η side-on'], ['#4aa3ff', '#ffb347', '#ff7a59'], { xLabel: 'δ = d − d₀' });
 
   /** Empties the per-step plots for a new run. */
   clear(): void {

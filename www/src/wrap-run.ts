@@ -4,14 +4,20 @@
 import { byId } from './dom';
 import type { FieldControls } from './field-view';
 import { showPending } from './health';
+import { revealView } from './layout';
 import type { KeptResult, TargetMesh } from './kept';
 import type { ModeSwitch } from './mode';
 import type { RunSettings } from './panel';
-import type { Draw, Frame, FromWorker, Send, Source, TargetInfo } from './protocol';
-import { validDataset } from './share';
+import type { Draw, Frame, FromWorker, Send, Source, StopReason, TargetInfo } from './protocol';
+import { describeFile, sameFile, validDataset, type FileStamp } from './share';
+import { stampFile } from './share-link';
 import type { StatusLine } from './status';
 import { VolumePanel } from './volume';
 import type { WrapReadout } from './wrap-readout';
+
+/** What a wrap reads: a dropped or picked file (kept, so that the page can send it again), or a
+ * gallery shape or address the worker generates or downloads itself. */
+type Input = { kind: 'file'; file: File } | Extract<Source, { kind: 'demo' | 'url' }>;
 
 export interface WrapRunDeps {
   mode: ModeSwitch;
@@ -23,6 +29,8 @@ export interface WrapRunDeps {
   health: HTMLElement;
   draw: Draw;
   send: Send;
+  /** Cancels the worker's job; resolves once it answered or was replaced. */
+  cancel: () => Promise<void>;
   /** Rewrites the share link. */
   share: () => void;
 }
@@ -32,6 +40,11 @@ export class WrapRun {
   dataset: string | null = null;
   /** The input's name, for the status line and export file names. */
   name = 'result';
+  /** The stamp (name, size, fingerprint) of the current wrap's dropped or picked file, for share
+   * links; null for gallery shapes and addresses, and until the fingerprint is computed. */
+  stamp: FileStamp | null = null;
+  /** The file a link was made with, until the same file is dropped. */
+  linkFile: FileStamp | null = null;
   /** Milliseconds from the start of the last completed wrap to its result. */
   lastDoneMs = 0;
   /** Size of the core's wasm memory at the last result (bytes). */
@@ -42,6 +55,14 @@ export class WrapRun {
   /** Number of the current wrap run. */
   private seq = 0;
   private startedAt = 0;
+  /** Working time of the last completed wrap (pauses excluded), as the worker measured it. */
+  private workMs = 0;
+  private input: Input | null = null;
+  /** Whether the worker holds a session of the current input: false after a cancel, an error or
+   * a worker restart, when Play, Step and Reset first load the input again. */
+  private live = false;
+  /** Set while a job under way is cancelled to make way for a new input: its answer is no news. */
+  private replacing = false;
   /** The current run's target, kept with its result. */
   private target: TargetMesh | null = null;
   private readonly volume: VolumePanel;
@@ -58,37 +79,88 @@ export class WrapRun {
     return run === this.seq;
   }
 
-  /** Starts a wrap of `source` with the current settings (the kept result stays until it completes). */
-  start(source: Source, dataset: string | null, name: string): void {
-    const { mode, status, settings, kept, readout, health, draw, send } = this.d;
+  /**
+   * Wraps a new input with the current settings. What described the previous run is cleared at
+   * once; a job under way is cancelled first; the kept result stays until the new one completes.
+   */
+  private async start(input: Input, dataset: string | null, name: string): Promise<void> {
+    const { mode, status, settings, kept, health } = this.d;
     if (!settings.panel) return;
+    const busy = status.busy;
     mode.set('wrap');
-    status.error(null);
+    this.input = input;
+    this.stamp = null;
+    if (input.kind === 'file') void this.stampInput(input.file);
     this.dataset = dataset;
     this.name = name;
-    readout.clear();
-    draw({ type: 'clear-frames' });
-    draw({ type: 'refit' });
-    draw({ type: 'field' });
-    this.startedAt = performance.now();
-    status.set('loading', `Loading ${name}…`);
+    this.clear();
     showPending(health, 'certificate: when the wrap ends');
     kept.showPrevious();
     this.volume.hide();
     this.volumeIso = this.linkIso;
     this.linkIso = null;
-    send({ type: 'wrap-load', source, settings: settings.values(), autoplay: true, run: ++this.seq, iso: this.volumeIso ?? undefined }, source.kind === 'bytes' ? [source.bytes] : []);
+    status.set('loading', `Loading ${name}…`);
+    revealView();
     this.d.share();
+    if (busy) {
+      this.replacing = true;
+      await this.d.cancel();
+      this.replacing = false;
+    }
+    await this.load(true);
+  }
+
+  /** Fingerprints a dropped file for share links and checks it against the file a link named. */
+  private async stampInput(file: File): Promise<void> {
+    const stamp = await stampFile(file);
+    if (this.input?.kind !== 'file' || this.input.file !== file) return;
+    this.stamp = stamp;
+    this.d.share();
+    const expected = this.linkFile;
+    if (!expected) return;
+    const same = sameFile(expected, stamp);
+    if (same) this.linkFile = null;
+    this.d.status.notice(
+      same
+        ? [`✓ This is the file the link was made with: ${describeFile(stamp)}.`]
+        : [`⚠ Not the file the link was made with: it names ${describeFile(expected)}, this is ${describeFile(stamp)}. The result may differ from the link's.`],
+    );
+  }
+
+  /** Sends the input to the worker (a file is read again: the bytes sent before were transferred). */
+  private async load(autoplay: boolean): Promise<void> {
+    const input = this.input;
+    if (!input || !this.d.settings.panel) return;
+    const run = ++this.seq;
+    this.live = false;
+    this.startedAt = performance.now();
+    const source: Source = input.kind === 'file' ? { kind: 'bytes', bytes: await input.file.arrayBuffer(), name: input.file.name } : input;
+    if (run !== this.seq) return; // a newer input or reset came while the file was read
+    const msg = { type: 'wrap-load', source, settings: this.d.settings.values(), autoplay, run, iso: this.volumeIso ?? undefined } as const;
+    this.d.send(msg, source.kind === 'bytes' ? [source.bytes] : []);
+  }
+
+  /** Clears the previous run's readout, plots, frames, field view and input description; its
+   * messages still in flight are stale from now on. */
+  private clear(): void {
+    const { status, readout, draw } = this.d;
+    this.seq++;
+    status.error(null);
+    status.clearReadout();
+    readout.clear();
+    draw({ type: 'clear-frames' });
+    draw({ type: 'refit' });
+    draw({ type: 'field' });
+    byId('target-info').textContent = '';
   }
 
   /** A gallery shape, generated by the core. */
   demo(id: string): void {
-    this.start({ kind: 'demo', id: `demo:${id}` }, `demo:${id}`, id);
+    void this.start({ kind: 'demo', id: `demo:${id}` }, `demo:${id}`, id);
   }
 
-  async openFile(file: File): Promise<void> {
-    const bytes = await file.arrayBuffer();
-    this.start({ kind: 'bytes', bytes, name: file.name }, null, file.name);
+  openFile(file: File): void {
+    void this.start({ kind: 'file', file }, null, file.name);
   }
 
   openUrl(url: string): void {
@@ -96,17 +168,50 @@ export class WrapRun {
       this.d.status.error({ code: 'bad-url', message: `"${url.slice(0, 80)}" is not an http(s) address.`, hint: 'Give a full address such as https://example.org/scan.ply.' });
       return;
     }
-    this.start({ kind: 'url', url }, url, decodeURIComponent(new URL(url).pathname.split('/').pop() || 'download'));
+    void this.start({ kind: 'url', url }, url, decodeURIComponent(new URL(url).pathname.split('/').pop() || 'download'));
   }
 
-  /** Wraps the loaded input again with the current settings. */
+  /** Play: steps on, or (no session since a cancel or a restart) loads the input again and plays. */
+  play(): void {
+    const { status, send } = this.d;
+    if (!this.input) return;
+    if (this.live) {
+      status.error(null);
+      send({ type: 'play' });
+      status.set('running', `Wrapping ${this.name}`);
+    } else this.again(true);
+  }
+
+  /** Step: one step, or (no session) the input loaded again, ready to step. */
+  step(): void {
+    if (this.live) this.d.send({ type: 'step', n: 1 });
+    else this.again(false);
+  }
+
+  /** Reset: the state right after loading the input, with the current settings; starts nothing. */
   reset(): void {
-    const { status, readout, settings, draw, send } = this.d;
-    status.error(null);
-    readout.clear();
-    draw({ type: 'clear-frames' });
-    this.startedAt = performance.now();
-    send({ type: 'reset', settings: settings.values(), run: ++this.seq });
+    this.again(false);
+  }
+
+  private again(autoplay: boolean): void {
+    if (!this.input) return;
+    this.clear();
+    showPending(this.d.health, 'certificate: when the wrap ends');
+    this.d.status.set('loading', `Loading ${this.name}…`);
+    void this.load(autoplay);
+  }
+
+  /** The worker lost its session (replaced after a crash or an unanswered cancel). */
+  lost(): void {
+    this.live = false;
+  }
+
+  /** A cancel went unanswered and the worker was replaced: back to a ready state. */
+  cancelledByRestart(): void {
+    if (this.replacing) return;
+    this.live = false;
+    this.d.status.set('idle', `Cancelled (worker restarted) — Play wraps ${this.name} again`);
+    this.d.kept.restore();
   }
 
   /** Volumes: the panel chose an iso-value (or a volume of a 4-D file): wrap the input again there. */
@@ -116,12 +221,15 @@ export class WrapRun {
     this.volumeIso = Number(iso.toPrecision(6));
     this.d.share();
     status.set('loading', `Wrapping at iso-value ${iso.toPrecision(4)}…`);
+    if (!this.live) return void this.load(true); // the worker no longer holds the volume
+    this.live = false;
     send({ type: 'volume-iso', iso, frame, settings: settings.values(), run: ++this.seq });
   }
 
   /** The input is loaded: draw it, offer its distance field, describe it. */
   loaded(msg: Extract<FromWorker, { type: 'target' }>): void {
     if (!this.isCurrent(msg.run)) return;
+    this.live = true;
     this.target = { positions: msg.positions.slice(), indices: msg.indices.slice() };
     this.d.draw({ type: 'target', positions: msg.positions, indices: msg.indices.length ? msg.indices : null }, [msg.positions.buffer, msg.indices.buffer]);
     const i: TargetInfo = msg.info;
@@ -149,20 +257,24 @@ export class WrapRun {
     if (!this.isCurrent(msg.run)) return;
     this.d.kept.keep(msg, this.target);
     this.wasmBytes = msg.wasmBytes;
+    this.workMs = msg.elapsedMs;
     this.lastDoneMs = performance.now() - this.startedAt;
     byId('hash').dataset.ms = String(Math.round(this.lastDoneMs));
     this.d.draw({ type: 'fit' });
   }
 
   /** The worker stopped stepping; a finished wrap is done only if its result is certified. */
-  stopped(reason: 'paused' | 'finished' | 'cancelled'): void {
+  stopped(reason: StopReason): void {
     const { status, kept } = this.d;
+    if (this.replacing) return;
     const k = kept.result;
     if (reason === 'finished' && k && !k.valid) status.set('invalid', `Not valid — ${k.why}`);
-    else if (reason === 'finished') status.set('done', `Done — ${this.name} wrapped in ${(this.lastDoneMs / 1000).toFixed(1)} s`);
+    else if (reason === 'finished') status.set('done', `Done — ${this.name} wrapped in ${(this.workMs / 1000).toFixed(1)} s`);
     else if (reason === 'cancelled') {
-      status.set('idle', 'Cancelled');
+      this.live = false;
+      status.set('idle', `Cancelled — Play wraps ${this.name} again`);
       kept.restore();
-    } else status.set('idle', 'Paused');
+    } else if (reason === 'ready') status.set('idle', `Ready — ${this.name} is loaded: Play wraps it`);
+    else status.set('idle', 'Paused');
   }
 }

@@ -9,6 +9,7 @@ const here = dirname(fileURLToPath(import.meta.url));
 const server = await serve(join(here, '..', '..', 'dist'));
 const browser = await chromium.launch({ executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium', headless: true, args: ['--disable-gpu', '--enable-unsafe-swiftshader'] });
 const page = await browser.newPage({ viewport: { width: 1720, height: 980 } });
+await page.addInitScript(() => window.localStorage.setItem('lsw.help.seen', '1')); // no help overlay in the picture
 await page.goto(server.url + '#v=1&d=demo%3Abunny-points&p=full-wrap&view.wire=false&view.yaw=0.2&view.pitch=0.25');
 await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 300000 });
 await page.uncheck('#show-target');

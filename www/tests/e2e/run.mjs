@@ -312,7 +312,7 @@ test('a share link opened in a fresh page reproduces the same result hash; bad k
   const hash1 = await resultHash(page);
   await page.click('[data-testid=copy-link]');
   const link = await page.inputValue('[data-testid=share-url]');
-  assert(/#v=1&/.test(link) && /s\.stop\.steps=40/.test(link) && /d=demo%3Anoisy-sphere/.test(link), `link lacks state: ${link}`);
+  assert(/#v=2&/.test(link) && /s\.stop\.steps=40/.test(link) && /d=demo%3Anoisy-sphere/.test(link), `link lacks state: ${link}`);
   const fresh = await browser.newPage({ viewport: { width: 1280, height: 800 } });
   await fresh.goto(link + '&s.nonsense=3');
   await fresh.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
@@ -353,6 +353,13 @@ test('cancel mid-run answers within 200 ms', async (browser, url) => {
   const restarted = await page.textContent('[data-testid=status]');
   assert(ms2 <= 200, `cancel during the field construction took ${ms2.toFixed(0)} ms`);
   assert(/restarted/.test(restarted), `expected a worker restart, status says "${restarted}"`);
+  // A ready state, not "Running" forever: the state stays idle, and Play loads the input again.
+  await page.waitForTimeout(500);
+  const settled = await page.getAttribute('[data-testid=status]', 'data-state');
+  assert(settled === 'idle' && !(await page.isDisabled('[data-testid=play]')), `after the restart: ${settled}, Play disabled: ${await page.isDisabled('[data-testid=play]')}`);
+  await page.click('[data-testid=play]');
+  await page.waitForFunction(() => /distance field/.test(document.querySelector('[data-testid=status]').textContent), null, { timeout: 30000 });
+  await cancelLatency(page);
   // The app still works after a possible worker restart.
   await page.click('[data-demo=noisy-sphere]');
   await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });

@@ -15,6 +15,7 @@ const server = await serve(join(here, '..', '..', 'dist'));
 const browser = await chromium.launch({ executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium', headless: true, args: ['--disable-gpu', '--enable-unsafe-swiftshader'] });
 try {
   const page = await browser.newPage({ viewport: { width: 1720, height: 980 } });
+  await page.addInitScript(() => window.localStorage.setItem('lsw.help.seen', '1')); // no help overlay in the picture
   page.on('pageerror', (e) => console.log('pageerror:', e.message));
   const t0 = Date.now();
   await page.goto(server.url + '#v=1&d=demo%3Aphantom&p=full-wrap&view.yaw=0.6&view.pitch=0.3');

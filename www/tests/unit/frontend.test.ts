@@ -22,6 +22,11 @@ describe('colour map', () => {
     const [lo, hi] = robustRange([2, 2, 2]);
     expect(lo).toBeLessThan(2);
     expect(hi).toBeGreaterThan(2);
+    // Rounding noise around a uniform value (a sphere's curvature): ±5 %, not the noise's width.
+    const [l, h] = robustRange(Array.from({ length: 50 }, (_, i) => 1 + 1e-6 * Math.sin(i)));
+    expect(l).toBeCloseTo(0.95, 4);
+    expect(h).toBeCloseTo(1.05, 4);
+    expect(robustRange([0, 0])).toEqual([-1e-6, 1e-6]);
   });
   it('colorize writes RGB per value', () => {
     const out = new Float32Array(6);

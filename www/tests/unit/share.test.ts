@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { decode, DEFAULT_VIEW, diff, encode, flatten, unflatten, type Flat, type ShareState } from '../../src/share';
+import { decode, DEFAULT_VIEW, describeFile, diff, encode, flatten, formatBytes, sameFile, unflatten, type Flat, type ShareState } from '../../src/share';
 
 const base = { tau: 0.07, steps: 146, schedule: [3, 10], start: 'icosphere', remesh: true, field: { cells_per_min_dimension: 40, truncation: null } };
 const presets: Record<string, Flat> = { 'full-wrap': flatten(base), obstacle: flatten({ ...base, tau: 0.05 }) };
@@ -13,10 +13,41 @@ describe('URL state codec', () => {
       view: { ...DEFAULT_VIEW, wire: false, cmap: 'kappa', yaw: 1.25 },
     };
     const hash = encode(state);
-    expect(hash.startsWith('v=1')).toBe(true);
+    expect(hash.startsWith('v=2')).toBe(true);
     const { state: back, notices } = decode('#' + hash, presets, { colourMaps: ['distance', 'kappa', 'none'] });
     expect(notices).toEqual([]);
     expect(back).toEqual(state);
+  });
+
+  it('carries a dropped file as name, size and fingerprint; version 1 links read as before', () => {
+    const file = { name: 'scan & co=1.ply', size: 1234567, sha: '3fa2c9e1d07b4a55' };
+    const state: ShareState = { dataset: null, preset: 'full-wrap', changed: { steps: 20 }, view: { ...DEFAULT_VIEW }, file };
+    const hash = encode(state);
+    expect(hash).toContain('f.size=1234567');
+    const back = decode(hash, presets);
+    expect(back.notices).toEqual([]);
+    expect(back.state).toEqual(state);
+    expect(describeFile(file)).toBe('scan & co=1.ply (1.2 MB, fingerprint 3fa2c9e1d07b4a55)');
+    // A link of version 1 (before files): its settings are read, nothing is missing.
+    const v1 = decode('v=1&p=obstacle&s.steps=20&s.start="isosurface"', presets);
+    expect(v1.notices).toEqual([]);
+    expect(v1.state.changed).toEqual({ steps: 20, start: 'isosurface' });
+    expect(v1.state.file).toBeUndefined();
+  });
+
+  it('refuses malformed file keys with a notice and compares files by size and fingerprint', () => {
+    for (const bad of ['f.name=x.ply&f.size=-1', 'f.name=x.ply&f.size=1.5', 'f.name=&f.size=3', 'f.name=x.ply&f.size=3&f.sha=XYZ', 'f.name=a%00b&f.size=3', 'f.sha=abcdef12']) {
+      const { state, notices } = decode(`v=2&${bad}`, presets);
+      expect(state.file).toBeUndefined();
+      expect(notices.join(' ')).toMatch(/file/);
+    }
+    const a = { name: 'a.ply', size: 10, sha: 'aaaaaaaa' };
+    expect(sameFile(a, { ...a, name: 'renamed.ply' })).toBe(true);
+    expect(sameFile(a, { ...a, sha: 'bbbbbbbb' })).toBe(false);
+    expect(sameFile(a, { ...a, size: 11 })).toBe(false);
+    expect(sameFile({ ...a, sha: '' }, { ...a, sha: 'bbbbbbbb' })).toBe(true);
+    expect(sameFile({ ...a, sha: '' }, { ...a, name: 'b.ply' })).toBe(false);
+    expect([formatBytes(812), formatBytes(2048), formatBytes(5e9)]).toEqual(['812 B', '2.0 kB', '4.7 GB']);
   });
 
   it('round-trips source URLs with their own query strings', () => {

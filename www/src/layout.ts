@@ -1,0 +1,21 @@
+// The page's layout controls: the side panel can be hidden to give the view the whole width
+// (the plots and every panel section fold with their own <details> summaries); on a phone, where
+// the panel lies below the view, a new input brings the view back on screen.
+import { byId } from './dom';
+
+export function bindLayout(): void {
+  const toggle = byId('toggle-side');
+  toggle.onclick = () => {
+    const hidden = document.body.dataset.side !== 'hidden';
+    document.body.dataset.side = hidden ? 'hidden' : '';
+    toggle.setAttribute('aria-expanded', String(!hidden));
+  };
+}
+
+/** Scrolls the 3-D view into sight when most of it is off screen (one column: a demo or file
+ * was chosen in the panel below it). */
+export function revealView(): void {
+  const r = byId('stage').getBoundingClientRect();
+  const visible = Math.min(r.bottom, window.innerHeight) - Math.max(r.top, 0);
+  if (visible < r.height / 2) window.scrollTo({ top: window.scrollY + r.top - byId('header').offsetHeight, behavior: 'instant' });
+}
