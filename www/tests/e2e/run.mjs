@@ -1,25 +1,18 @@
 // End-to-end tests: the built app in headless Debian Chromium, driven by playwright-core.
 // Screenshots go to www/test-results/. Prints "N passed, N failed" and exits non-zero on failure.
-import { chromium } from 'playwright-core';
 import { mkdir, readFile, writeFile } from 'node:fs/promises';
 import { execFileSync } from 'node:child_process';
 import { existsSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { serve } from './server.mjs';
+import { dropFile, octahedron, out, runSuite, suite } from './harness.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
-const dist = join(here, '..', '..', 'dist');
-const out = join(here, '..', '..', 'test-results');
 const repo = join(here, '..', '..', '..');
 const shared = process.env.LSW_SHARED_DATA;
 await mkdir(out, { recursive: true });
 
-const tests = [];
-const test = (name, fn) => tests.push({ name, fn });
-const assert = (cond, msg) => {
-  if (!cond) throw new Error(msg);
-};
+const { tests, test, assert } = suite();
 
 /** Opens the app in a fresh page, collecting console errors and long main-thread tasks. */
 async function openApp(browser, url) {
@@ -118,21 +111,6 @@ test('bad parameters give a readable error and the page survives', async (browse
   await page.waitForSelector('[data-testid=status][data-state=idle]', { timeout: 10000 });
   await page.close();
 });
-
-
-/** Drops a file (bytes from disk) on the page as a user would: a real DataTransfer on `drop`. */
-async function dropFile(page, name, bytes) {
-  const dt = await page.evaluateHandle(({ name, b64 }) => {
-    const bin = atob(b64);
-    const u8 = new Uint8Array(bin.length);
-    for (let i = 0; i < bin.length; i++) u8[i] = bin.charCodeAt(i);
-    const dt = new DataTransfer();
-    dt.items.add(new File([u8], name));
-    return dt;
-  }, { name, b64: Buffer.from(bytes).toString('base64') });
-  await page.dispatchEvent('body', 'dragenter', { dataTransfer: dt });
-  await page.dispatchEvent('body', 'drop', { dataTransfer: dt });
-}
 
 /** Clicks Cancel and resolves with the milliseconds until the status turns idle. */
 const cancelLatency = (page) => page.evaluate(() => new Promise((resolve) => {
@@ -461,28 +439,4 @@ test('field view: slice z and isosurface of the noisy sphere are drawn', async (
   await page.close();
 });
 
-const octahedron = 'v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\nf 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n';
-const server = await serve(dist, { '/fixtures/octahedron.obj': Buffer.from(octahedron) });
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-  headless: true,
-  args: ['--disable-quic', '--disable-gpu', '--enable-unsafe-swiftshader', '--disable-background-networking', '--disable-component-update', '--no-first-run'],
-});
-let passed = 0, failed = 0;
-const only = process.argv[2];
-for (const t of tests) {
-  if (only && !t.name.includes(only)) continue;
-  const t0 = Date.now();
-  try {
-    await t.fn(browser, server.url);
-    passed++;
-    console.log(`ok   ${t.name} (${Date.now() - t0} ms)`);
-  } catch (e) {
-    failed++;
-    console.log(`FAIL ${t.name}: ${e.message}`);
-  }
-}
-await browser.close();
-await server.close();
-console.log(`${passed} passed, ${failed} failed`);
-process.exit(failed ? 1 : 0);
+await runSuite(tests, { '/fixtures/octahedron.obj': Buffer.from(octahedron) });

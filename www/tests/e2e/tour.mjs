@@ -4,23 +4,13 @@
 // legends, the help overlay, links for dropped files and the simple controls.
 // Usage (after `npm run build`): node tests/e2e/tour.mjs [name filter]. Screenshots go to
 // www/test-results/tour-*.png. Prints "N passed, N failed" and exits non-zero on failure.
-import { chromium } from 'playwright-core';
 import { mkdir, readFile } from 'node:fs/promises';
-import { dirname, join } from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { serve } from './server.mjs';
-
-const here = dirname(fileURLToPath(import.meta.url));
-const dist = join(here, '..', '..', 'dist');
-const out = join(here, '..', '..', 'test-results');
+import { join } from 'node:path';
+import { dropFile, octahedron, out, runSuite, suite } from './harness.mjs';
 const shared = process.env.LSW_SHARED_DATA;
 await mkdir(out, { recursive: true });
 
-const tests = [];
-const test = (name, fn) => tests.push({ name, fn });
-const assert = (cond, msg) => {
-  if (!cond) throw new Error(msg);
-};
+const { tests, test, assert } = suite();
 
 /** Opens the app (help overlay already seen unless `firstVisit`), collecting page errors. */
 async function openApp(browser, url, { width = 1280, height = 800, firstVisit = false, hash = '' } = {}) {
@@ -39,20 +29,6 @@ const statusText = (page) => page.textContent('[data-testid=status]');
 const waitState = (page, states, timeout = 120000) =>
   page.waitForSelector(states.map((s) => `[data-testid=status][data-state=${s}]`).join(', '), { timeout });
 const noErrors = (errors) => assert(errors.length === 0, `page errors: ${errors.join(' | ')}`);
-
-/** Drops a file on the page as a user would: a real DataTransfer on `drop`. */
-async function dropFile(page, name, bytes) {
-  const dt = await page.evaluateHandle(({ name, b64 }) => {
-    const bin = atob(b64);
-    const u8 = new Uint8Array(bin.length);
-    for (let i = 0; i < bin.length; i++) u8[i] = bin.charCodeAt(i);
-    const dt = new DataTransfer();
-    dt.items.add(new File([u8], name));
-    return dt;
-  }, { name, b64: Buffer.from(bytes).toString('base64') });
-  await page.dispatchEvent('body', 'dragenter', { dataTransfer: dt });
-  await page.dispatchEvent('body', 'drop', { dataTransfer: dt });
-}
 
 /** Clicks Cancel; resolves with the milliseconds until the status leaves loading / running. */
 const cancelLatency = (page) =>
@@ -348,28 +324,4 @@ test('simple controls in front: Detail drives the grid and the smallest edge tog
   await page.close();
 });
 
-const octahedron = 'v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\nf 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n';
-const server = await serve(dist);
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-  headless: true,
-  args: ['--disable-quic', '--disable-gpu', '--enable-unsafe-swiftshader', '--disable-background-networking', '--disable-component-update', '--no-first-run'],
-});
-let passed = 0, failed = 0;
-const only = process.argv[2];
-for (const t of tests) {
-  if (only && !t.name.includes(only)) continue;
-  const t0 = Date.now();
-  try {
-    await t.fn(browser, server.url);
-    passed++;
-    console.log(`ok   ${t.name} (${Date.now() - t0} ms)`);
-  } catch (e) {
-    failed++;
-    console.log(`FAIL ${t.name}: ${e.message}`);
-  }
-}
-await browser.close();
-await server.close();
-console.log(`${passed} passed, ${failed} failed`);
-process.exit(failed ? 1 : 0);
+await runSuite(tests);
