@@ -26,6 +26,12 @@ pub struct McfArgs {
 /// Runs the flow; JSON keys: level, vertices, steps, tau, time, mean_radius, exact_radius,
 /// max_relative_radius_error, ms_per_step, solver_iterations_max.
 pub fn run(a: &McfArgs) -> Result<String, String> {
+    // The sphere vanishes at t = r0²/4: a run that would reach it has no exact radius to compare
+    // with and ends in a failed solve, so it is refused up front with the reason.
+    for k in 0..a.steps {
+        crate::flow::mcf::check_sphere_step(a.radius, a.tau, k)
+            .map_err(|e| format!("step {}: {} (or fewer --steps)", k + 1, super::explained(e)))?;
+    }
     let mut mesh = icosphere(a.level, a.radius, DVec3::ZERO).map_err(super::explained)?;
     let settings = McfSettings {
         tau: a.tau,
@@ -55,4 +61,23 @@ pub fn run(a: &McfArgs) -> Result<String, String> {
         "solver_iterations_max": iters,
     }))
     .expect("JSON of plain values"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_run_past_the_extinction_time_is_refused_with_the_reason() {
+        let args = |tau, steps| McfArgs {
+            level: 2,
+            radius: 1.0,
+            tau,
+            steps,
+        };
+        let e = run(&args(0.01, 30)).unwrap_err();
+        assert!(e.contains("0.25") || e.contains("0.250"), "{e}");
+        let ok: serde_json::Value = serde_json::from_str(&run(&args(0.01, 20)).unwrap()).unwrap();
+        assert!(ok["exact_radius"].as_f64().unwrap() > 0.0);
+    }
 }
