@@ -25,31 +25,40 @@ impl PointGrid {
     /// 8 times finer) while the occupied cells hold many more than [`POINTS_PER_CELL`] points.
     /// Scans sample surfaces, so a cell's count falls with the square of its size.
     pub fn new(points: &[DVec3], radius: f64) -> Self {
-        let coarse = Self::with_cell(points, radius);
-        let occupied = coarse.start.windows(2).filter(|w| w[1] > w[0]).count();
-        let per_cell = points.len() as f64 / occupied.max(1) as f64;
+        let per_cell = points.len() as f64 / Self::occupied_cells(points, radius).max(1) as f64;
         let refine = (per_cell / POINTS_PER_CELL).sqrt().ceil().clamp(1.0, 8.0);
-        if refine > 1.0 {
-            Self::with_cell(points, radius / refine)
-        } else {
-            coarse
-        }
+        Self::with_cell(points, radius / refine)
     }
 
-    /// Buckets `points` into cells of size `cell` (> 0; at most 1024 per axis).
-    pub fn with_cell(points: &[DVec3], cell: f64) -> Self {
+    /// How many cells of size `cell` hold a point (the grid's keys only: no buckets, no copy).
+    fn occupied_cells(points: &[DVec3], cell: f64) -> usize {
+        let probe = PointGrid::empty(points, cell);
+        let mut seen = vec![false; probe.start.len() - 1];
+        points
+            .iter()
+            .for_each(|&p| seen[probe.key(probe.cell_of(p))] = true);
+        seen.iter().filter(|&&s| s).count()
+    }
+
+    /// The grid's frame (origin, cell, dims) over `points`, with empty buckets.
+    fn empty(points: &[DVec3], cell: f64) -> Self {
         let bbox = crate::geometry::aabb::Aabb::from_points(points);
         let dims = ((bbox.size() / cell).floor() + DVec3::ONE)
             .to_array()
             .map(|d| (d as usize).clamp(1, 1 << 10));
-        let mut g = PointGrid {
+        PointGrid {
             points: Vec::new(),
             origin: bbox.min,
             cell,
             dims,
             start: vec![0; dims[0] * dims[1] * dims[2] + 1],
             order: vec![0; points.len()],
-        };
+        }
+    }
+
+    /// Buckets `points` into cells of size `cell` (> 0; at most 1024 per axis).
+    pub fn with_cell(points: &[DVec3], cell: f64) -> Self {
+        let mut g = PointGrid::empty(points, cell);
         let keys: Vec<usize> = points.iter().map(|&p| g.key(g.cell_of(p))).collect();
         for &k in &keys {
             g.start[k + 1] += 1;
