@@ -71,9 +71,10 @@ pub fn apply_overrides(
 /// Runs the wrap; JSON keys: input, output, preset, start, written, stop_reason, certificate
 /// {valid, closed, manifold, oriented, finite, genus, components, euler_characteristic,
 /// self_intersections, degenerate_faces, distance_min, distance_max, problem}, contacts,
+/// surgery [{step, kind, position, genus_before, genus_after}],
 /// vertices, faces, steps, stopped_early,
 /// scale, result_hash, iso_level, times_ms {read, field, start, evolve, write, total}, evolve_ms {normals,
-/// assembly, solve, remesh}, distance_mean, distance_max; for volumes also iso (the iso-value
+/// assembly, solve, remesh, guard, fit, surgery}, distance_mean, distance_max; for volumes also iso (the iso-value
 /// wrapped) and volume (see [`super::volume::volume_json`]).
 pub fn run(a: &WrapArgs) -> Result<String, String> {
     let t0 = crate::clock::now_ms();
@@ -157,6 +158,7 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
             "pairs_resolved": reports.iter().map(|r| r.contacts.pairs).sum::<usize>(),
             "remesh_reverted": reports.iter().filter(|r| r.remesh_reverted).count(),
         },
+        "surgery": ev.surgery_events(),
         "vertices": positions.len(),
         "faces": triangles.len(),
         "steps": ev.steps_done(),
@@ -184,6 +186,7 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
             "remesh": sum(|r| r.times.remesh),
             "guard": sum(|r| r.times.guard),
             "fit": sum(|r| r.times.fit),
+            "surgery": sum(|r| r.times.surgery),
         },
     }))
     .expect("JSON of plain values");

@@ -11,6 +11,7 @@ pub mod settings;
 pub mod snap;
 pub mod start;
 pub mod surface_terms;
+pub mod surgery;
 pub mod tangential;
 
 pub use colour::{ColourMap, ColourMapInfo, COLOUR_MAPS, LESSON_COLOUR_MAPS};

@@ -18,12 +18,14 @@ mod forces;
 mod remeshing;
 mod schedule;
 mod solve;
+mod surgery;
 
 use super::guard::{ContactReport, Divergence, DivergenceLimits};
 use super::mcf::stats;
 use super::settings::{StartSurface, WrapSettings};
 use super::snap::SnapTarget;
 use super::start::build_start;
+use super::surgery::SurgeryEvent;
 use crate::clock::now_ms;
 use crate::field::{DistanceField, FieldError};
 use crate::geometry::icosphere::IcosphereError;
@@ -99,6 +101,8 @@ pub struct PhaseTimes {
     pub guard: f64,
     /// Final fit (last step only).
     pub fit: f64,
+    /// Topology surgery (detection, and the cut, glue and remesh when it operates).
+    pub surgery: f64,
     /// The whole step.
     pub total: f64,
 }
@@ -138,6 +142,8 @@ pub struct StepReport {
     pub held: usize,
     /// True when this step's remesh was undone because it left intersecting faces.
     pub remesh_reverted: bool,
+    /// Topology changes made at the end of this step.
+    pub surgery: Vec<SurgeryEvent>,
     /// Per-phase wall times.
     pub times: PhaseTimes,
     /// True when the stopping rule or the step limit has been reached.
@@ -177,6 +183,10 @@ pub struct Evolver {
     checkpoint: Checkpoint,
     /// Steps left in which the contact guard checks every step (after a roll-back).
     guarded_left: u32,
+    /// Surgery's "far from the data" distance (stabilised frame).
+    empty_distance: f64,
+    /// Every topology change so far.
+    surgery_events: Vec<SurgeryEvent>,
 }
 
 /// What the evolution needs to resume from a certified state.
@@ -201,6 +211,7 @@ struct StepParts<'a> {
     fitted: Option<usize>,
     contacts: ContactReport,
     remesh_reverted: bool,
+    surgery: Vec<SurgeryEvent>,
 }
 
 impl Evolver {
@@ -219,6 +230,7 @@ impl Evolver {
         let fit_target = (settings.fit.enabled && settings.flow.use_target)
             .then(|| SnapTarget::new(target, center, phi, settings.fit.radius_cells * c * phi));
         let d0 = settings.flow.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
+        let empty_distance = phi * empty_distance(target, c, &settings);
         let mut ev = Evolver {
             tau: settings.flow.tau,
             d1: settings.flow.d1,
@@ -248,6 +260,8 @@ impl Evolver {
                 sizes_changed: true,
             },
             guarded_left: 0,
+            empty_distance,
+            surgery_events: Vec::new(),
         };
         ev.save_checkpoint();
         ev.refresh_distances();
@@ -323,6 +337,11 @@ impl Evolver {
     /// The start surface actually built (`Auto` resolved).
     pub fn start_surface(&self) -> StartSurface {
         self.start
+    }
+
+    /// Every topology change so far, in order.
+    pub fn surgery_events(&self) -> &[SurgeryEvent] {
+        &self.surgery_events
     }
 
     /// Why the evolution stopped early (divergence, solver failure), if it did.
@@ -402,6 +421,7 @@ impl Evolver {
             fitted: None,
             contacts: ContactReport::default(),
             remesh_reverted: false,
+            surgery: Vec::new(),
         };
         match contact {
             Contact::Checked(contacts, remesh_reverted) => {
@@ -420,6 +440,7 @@ impl Evolver {
         parts.fitted = self.fit_if_done(&mut times);
         parts.remesh = remesh;
         self.refresh_distances();
+        parts.surgery = self.surgery_if_due(&mut times);
         times.total = now_ms() - t_start;
         Ok(self.report(parts, times))
     }
@@ -452,6 +473,7 @@ impl Evolver {
             contacts: p.contacts,
             held: p.held,
             remesh_reverted: p.remesh_reverted,
+            surgery: p.surgery,
             times,
             done: self.done,
         }
@@ -484,6 +506,22 @@ impl Evolver {
         }
         Ok(())
     }
+}
+
+/// Surgery's "far from the data" distance in the target's units: `surgery.empty_cells` cells,
+/// and on a point cloud at least `surgery.empty_spacings` median point spacings (0 when surgery
+/// is off: the spacing costs a tree over the points).
+fn empty_distance(target: &Target, cell: f64, settings: &WrapSettings) -> f64 {
+    let s = &settings.surgery;
+    if !s.enabled {
+        return 0.0;
+    }
+    let spacing = if target.triangles.is_empty() {
+        crate::geometry::spatial::spacing::median_spacing(&target.points)
+    } else {
+        0.0
+    };
+    (s.empty_cells * cell).max(s.empty_spacings * spacing)
 }
 
 /// The divergence guard's limits in the stabilised frame: the box of the start surface and the

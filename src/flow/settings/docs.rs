@@ -3,13 +3,14 @@
 //! text is the code's own.
 
 /// Sources whose struct fields are documented for the settings panel: (struct name, source).
-const DOC_SOURCES: [(&str, &str, &str); 10] = [
+const DOC_SOURCES: [(&str, &str, &str); 11] = [
     ("", "WrapSettings", include_str!("mod.rs")),
     ("start", "StartSettings", include_str!("stages.rs")),
     ("flow", "FlowSettings", include_str!("stages.rs")),
     ("remesh", "RemeshingSettings", include_str!("stages.rs")),
     ("fit", "FitSettings", include_str!("stages.rs")),
     ("stop", "StopSettings", include_str!("stages.rs")),
+    ("surgery", "SurgerySettings", include_str!("stages.rs")),
     ("guard", "GuardSettings", include_str!("../guard.rs")),
     ("field", "FieldSettings", include_str!("../../field/mod.rs")),
     (

@@ -1,4 +1,5 @@
-//! Settings of a wrap, nested by stage (start, field, flow, remesh, fit, guard, solver, stop),
+//! Settings of a wrap, nested by stage (start, field, flow, remesh, fit, guard, surgery, solver,
+//! stop),
 //! with the method's names and defaults (method spec §10.1), and the presets users pick from.
 //! Everything (de)serialises with serde so a URL or a JSON file can carry it; unknown keys are
 //! rejected by [`WrapSettings::from_json`], missing keys default, and the flat keys of the first
@@ -10,7 +11,7 @@ mod stages;
 
 pub use stages::{
     FitSettings, FlowSettings, RemeshTrigger, RemeshingSettings, StartSettings, StartSurface,
-    StopSettings,
+    StopSettings, SurgerySettings,
 };
 
 use super::guard::GuardSettings;
@@ -113,6 +114,8 @@ pub struct WrapSettings {
     pub fit: FitSettings,
     /// Guards: contact (no self-intersection) and divergence.
     pub guard: GuardSettings,
+    /// Topology surgery: handles open where two membranes meet in empty space.
+    pub surgery: SurgerySettings,
     /// The linear solver.
     pub solver: SolverSettings,
     /// When the evolution ends.
@@ -193,6 +196,11 @@ pub const RANGES: &[SettingRange] = &[
     SettingRange::new("flow.d1", 0.0, f64::INFINITY, false, "≥ 0"),
     SettingRange::new("flow.d2", 0.0, f64::INFINITY, false, "≥ 0"),
     SettingRange::new("fit.max_points", 6.0, 1e6, false, "6–1000000"),
+    SettingRange::new("surgery.check_every", 1.0, 1e6, false, "≥ 1"),
+    SettingRange::new("surgery.empty_cells", 0.0, 1e6, false, "≥ 0"),
+    SettingRange::new("surgery.empty_spacings", 0.0, 1e6, false, "≥ 0"),
+    SettingRange::new("surgery.gap_ratio", 0.0, 1.0, true, "(0, 1]"),
+    SettingRange::new("surgery.min_vertices", 3.0, 1e9, false, "≥ 3"),
 ];
 
 impl WrapSettings {

@@ -198,6 +198,41 @@ impl Default for FitSettings {
     }
 }
 
+/// Topology surgery (see [`crate::flow::surgery`]): two membranes that meet far from the data
+/// (across the hole of a handle) are cut and joined by a tube, so handles open.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SurgerySettings {
+    /// Surgery on. Default true.
+    pub enabled: bool,
+    /// Sheets are looked for every this many steps. Range ≥ 1; default 4.
+    pub check_every: u32,
+    /// Empty space: farther from the target than this many cells of the distance grid (and than
+    /// `empty_spacings`). Holes narrower than about twice this stay closed. Range ≥ 0; default 3.
+    pub empty_cells: f64,
+    /// Empty space on a point cloud: also farther than this many median point spacings (gaps
+    /// in a random sampling reach about three). Range ≥ 0; default 3.
+    pub empty_spacings: f64,
+    /// Two facing sheets meet when their gap is below this fraction of their distance to the
+    /// target. Range (0, 1]; default 0.25.
+    pub gap_ratio: f64,
+    /// Smallest patch (vertices) that is cut. Range ≥ 3; default 6.
+    pub min_vertices: usize,
+}
+
+impl Default for SurgerySettings {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            check_every: 4,
+            empty_cells: 3.0,
+            empty_spacings: 3.0,
+            gap_ratio: 0.25,
+            min_vertices: 6,
+        }
+    }
+}
+
 /// When the evolution ends.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]

@@ -1,0 +1,56 @@
+//! Phase 7 of a step, *surgery*: every `surgery.check_every` steps, membranes that meet far
+//! from the data are cut and joined by a tube ([`crate::flow::surgery`]), the seam is remeshed,
+//! and the operated surface becomes the certified state (roll-backs never undo a surgery).
+
+use super::{Evolver, PhaseTimes};
+use crate::clock::now_ms;
+use crate::flow::surgery::detect::FacingQuery;
+use crate::flow::surgery::{events, open_handles, SurgeryEvent};
+use crate::metrics::intersections::count_self_intersections;
+use glam::DVec3;
+
+impl Evolver {
+    /// Operates when due and needed; the events of this step (empty when nothing happened).
+    pub(super) fn surgery_if_due(&mut self, times: &mut PhaseTimes) -> Vec<SurgeryEvent> {
+        let s = &self.settings.surgery;
+        if !s.enabled || self.done || self.step % s.check_every.max(1) != 0 {
+            return Vec::new();
+        }
+        let t0 = now_ms();
+        let (phi, center) = (self.phi, self.center);
+        // A hole once opened is left alone: its ball reaches the cut's rim plus the width of the
+        // membrane left around it (at most `empty` from the data), with a margin.
+        let opened = self
+            .surgery_events
+            .iter()
+            .map(|e| {
+                let c = phi * (DVec3::from_array(e.position) - center);
+                (c, phi * e.radius + 1.5 * self.empty_distance)
+            })
+            .collect();
+        let query = FacingQuery {
+            empty: self.empty_distance,
+            gap_ratio: s.gap_ratio,
+            opened,
+        };
+        let Some(op) = open_handles(&self.mesh, &self.distances, &query, s.min_vertices) else {
+            times.surgery += now_ms() - t0;
+            return Vec::new();
+        };
+        let out = events(&op, self.step, phi, |p| p / phi + center);
+        let operated = op.mesh;
+        self.mesh = operated.clone();
+        // The tube's faces are as long as the loops' edges and as tall as the gap: remesh them,
+        // keeping the unremeshed surface if the remesh leaves intersecting faces.
+        let remeshed = self.remesh_phase(times).is_ok()
+            && count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) == 0;
+        if !remeshed {
+            self.mesh = operated;
+        }
+        self.refresh_distances();
+        self.save_checkpoint();
+        self.surgery_events.extend(out.iter().cloned());
+        times.surgery += now_ms() - t0;
+        out
+    }
+}

@@ -1,0 +1,291 @@
+//! Handle surgery: cut out two facing patches of a closed surface and glue their boundary loops
+//! with a tube (genus +1, or one component less when the patches lie on two components).
+//!
+//! The patches are the facing vertices found by [`super::detect::facing_pairs`], grouped into
+//! connected regions of the surface; a region is cut only when its faces form a disk (one simple
+//! boundary loop) and its partners form another such disk. The tube zips the two loops by the
+//! shorter diagonal (the classic contour-stitching rule), A forwards and B backwards, so its faces
+//! take the orientation of the surface they join.
+
+use crate::mesh::HalfedgeMesh;
+use glam::DVec3;
+
+/// One tube glued between two patches.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tube {
+    /// Centroid of the two loops (the hole the tube opens).
+    pub position: DVec3,
+    /// Farthest loop vertex from `position`.
+    pub radius: f64,
+    /// Vertices on the two loops.
+    pub loop_vertices: [usize; 2],
+}
+
+/// The surface after surgery (compacted: vertices of the cut patches removed).
+pub struct Glued {
+    pub positions: Vec<DVec3>,
+    pub triangles: Vec<[u32; 3]>,
+    pub tubes: Vec<Tube>,
+}
+
+/// Share of a loop's vertices that must lie within `rim` of the target for the patch to be cut.
+const RIM_SHARE: f64 = 0.75;
+
+/// Regions of at least `min_vertices` paired vertices, matched into (A, B) pairs of distinct,
+/// mutually facing regions; each pair is replaced by a tube. `None` when no pair qualifies.
+///
+/// A patch is cut only once it spans its hole: most of its boundary within `rim` of the target
+/// (`distances` per vertex). Two membranes first touch in one spot; a tube cut there would leave
+/// the rest of them facing each other around it, and cutting that later would open a second
+/// handle through the same hole.
+pub fn glue_facing_regions(
+    mesh: &HalfedgeMesh,
+    partner: &[Option<u32>],
+    distances: &[f64],
+    rim: f64,
+    min_vertices: usize,
+) -> Option<Glued> {
+    let spans = |lp: &[u32]| {
+        let at_rim = lp.iter().filter(|&&v| distances[v as usize].abs() < rim);
+        at_rim.count() as f64 >= RIM_SHARE * lp.len() as f64
+    };
+    let (region, sizes) = regions(mesh, partner);
+    let n_regions = sizes.len();
+    // The region each region mostly faces.
+    let mut votes: Vec<Vec<(u32, usize)>> = vec![Vec::new(); n_regions];
+    for (v, p) in partner.iter().enumerate() {
+        if let (Some(u), Some(a)) = (p, region[v]) {
+            if let Some(b) = region[*u as usize] {
+                let list = &mut votes[a as usize];
+                match list.iter_mut().find(|(r, _)| *r == b) {
+                    Some(e) => e.1 += 1,
+                    None => list.push((b, 1)),
+                }
+            }
+        }
+    }
+    let faces_of = |a: u32| -> Option<u32> {
+        votes[a as usize]
+            .iter()
+            .max_by_key(|&&(r, c)| (c, std::cmp::Reverse(r)))
+            .map(|&(r, _)| r)
+    };
+    if std::env::var("LSW_DEBUG_SURGERY").is_ok() {
+        let mut big: Vec<(usize, u32, Option<u32>)> = (0..n_regions as u32)
+            .map(|a| (sizes[a as usize], a, faces_of(a)))
+            .collect();
+        big.sort_by(|x, y| y.cmp(x));
+        big.truncate(4);
+        let disk = |a: u32| disk_loop(mesh, &region, a, &vec![false; mesh.n_faces()]).map(|l| l.len());
+        let info: Vec<_> = big.iter().map(|&(sz, a, b)| (sz, a, b, disk(a))).collect();
+        eprintln!("paired {} regions {} biggest {:?}", partner.iter().flatten().count(), n_regions, info);
+    }
+    let mut removed = vec![false; mesh.n_faces()];
+    let mut tubes_tris = Vec::new();
+    let mut tubes = Vec::new();
+    for a in 0..n_regions as u32 {
+        let Some(b) = faces_of(a) else { continue };
+        if b <= a || faces_of(b) != Some(a) {
+            continue;
+        }
+        if sizes[a as usize] < min_vertices || sizes[b as usize] < min_vertices {
+            continue;
+        }
+        let (Some(la), Some(lb)) = (
+            disk_loop(mesh, &region, a, &removed),
+            disk_loop(mesh, &region, b, &removed),
+        ) else {
+            continue;
+        };
+        if std::env::var("LSW_DEBUG_SURGERY").is_ok() {
+            let f = |lp: &[u32]| {
+                lp.iter().filter(|&&v| distances[v as usize].abs() < rim).count() as f64
+                    / lp.len() as f64
+            };
+            eprintln!(
+                "regions {a} {b} sizes {} {} loops {} {} span {:.2} {:.2}",
+                sizes[a as usize],
+                sizes[b as usize],
+                la.len(),
+                lb.len(),
+                f(&la),
+                f(&lb)
+            );
+        }
+        if !(spans(&la) && spans(&lb)) {
+            continue;
+        }
+        for f in 0..mesh.n_faces() as u32 {
+            if !mesh.is_deleted_face(f) {
+                let r = mesh.face_vertices(f).map(|v| region[v as usize]);
+                if r.iter().all(|&x| x == Some(a)) || r.iter().all(|&x| x == Some(b)) {
+                    removed[f as usize] = true;
+                }
+            }
+        }
+        let c: DVec3 = la.iter().chain(&lb).map(|&v| mesh.position(v)).sum::<DVec3>()
+            / (la.len() + lb.len()) as f64;
+        tubes_tris.extend(zip_loops(mesh, &la, &lb));
+        let radius = la
+            .iter()
+            .chain(&lb)
+            .map(|&v| mesh.position(v).distance(c))
+            .fold(0.0, f64::max);
+        tubes.push(Tube {
+            position: c,
+            radius,
+            loop_vertices: [la.len(), lb.len()],
+        });
+    }
+    if tubes.is_empty() {
+        return None;
+    }
+    let mut tris: Vec<[u32; 3]> = (0..mesh.n_faces() as u32)
+        .filter(|&f| !mesh.is_deleted_face(f) && !removed[f as usize])
+        .map(|f| mesh.face_vertices(f))
+        .collect();
+    tris.extend(tubes_tris);
+    let (positions, triangles) = compact(mesh.positions(), &tris);
+    Some(Glued {
+        positions,
+        triangles,
+        tubes,
+    })
+}
+
+/// Connected regions of paired vertices (edges between paired vertices): each vertex's region
+/// and each region's size, numbered in vertex order (deterministic).
+fn regions(mesh: &HalfedgeMesh, partner: &[Option<u32>]) -> (Vec<Option<u32>>, Vec<usize>) {
+    let mut region = vec![None; partner.len()];
+    let mut sizes = Vec::new();
+    let mut stack = Vec::new();
+    for s in 0..partner.len() as u32 {
+        if partner[s as usize].is_none() || region[s as usize].is_some() {
+            continue;
+        }
+        let id = sizes.len() as u32;
+        let mut size = 0;
+        region[s as usize] = Some(id);
+        stack.push(s);
+        while let Some(v) = stack.pop() {
+            size += 1;
+            for u in mesh.neighbors(v) {
+                if partner[u as usize].is_some() && region[u as usize].is_none() {
+                    region[u as usize] = Some(id);
+                    stack.push(u);
+                }
+            }
+        }
+        sizes.push(size);
+    }
+    (region, sizes)
+}
+
+/// The boundary loop of region `r`'s faces (those with all three vertices in `r`) when they
+/// form a disk: one simple loop and Euler characteristic 1. Vertices in the direction of the
+/// region's own halfedges. Faces already `removed` disqualify the region.
+fn disk_loop(
+    mesh: &HalfedgeMesh,
+    region: &[Option<u32>],
+    r: u32,
+    removed: &[bool],
+) -> Option<Vec<u32>> {
+    let inside = |f: u32| {
+        !mesh.is_deleted_face(f)
+            && mesh
+                .face_vertices(f)
+                .iter()
+                .all(|&v| region[v as usize] == Some(r))
+    };
+    let faces: Vec<u32> = (0..mesh.n_faces() as u32).filter(|&f| inside(f)).collect();
+    if faces.is_empty() || faces.iter().any(|&f| removed[f as usize]) {
+        return None;
+    }
+    // Boundary halfedges of the region: in a region face, opposite outside the region.
+    let mut next_of = std::collections::BTreeMap::new();
+    let mut verts = std::collections::BTreeSet::new();
+    let mut interior_edges = 0usize;
+    for &f in &faces {
+        let h0 = mesh.face_halfedge(f);
+        let mut h = h0;
+        loop {
+            verts.insert(mesh.from(h));
+            let o = HalfedgeMesh::opposite(h);
+            if mesh.is_boundary_halfedge(o) || !inside(mesh.face(o)) {
+                if next_of.insert(mesh.from(h), mesh.to(h)).is_some() {
+                    return None; // the loop touches itself at a vertex
+                }
+            } else {
+                interior_edges += 1;
+            }
+            h = mesh.next(h);
+            if h == h0 {
+                break;
+            }
+        }
+    }
+    let edges = interior_edges / 2 + next_of.len();
+    let euler = verts.len() as i64 - edges as i64 + faces.len() as i64;
+    if euler != 1 || next_of.len() < 3 {
+        return None;
+    }
+    let (&first, _) = next_of.iter().next()?;
+    let mut lp = vec![first];
+    let mut v = next_of[&first];
+    while v != first {
+        lp.push(v);
+        v = *next_of.get(&v)?;
+        if lp.len() > next_of.len() {
+            return None;
+        }
+    }
+    (lp.len() == next_of.len()).then_some(lp)
+}
+
+/// The tube between loops `a` and `b` (each in its region's halfedge direction): `a` forwards,
+/// `b` backwards from its vertex nearest `a[0]`, advancing on the side whose diagonal is shorter.
+fn zip_loops(mesh: &HalfedgeMesh, a: &[u32], b: &[u32]) -> Vec<[u32; 3]> {
+    let (n, m) = (a.len(), b.len());
+    let p = |v: u32| mesh.position(v);
+    let j0 = (0..m)
+        .min_by(|&i, &j| {
+            let (di, dj) = (p(b[i]).distance(p(a[0])), p(b[j]).distance(p(a[0])));
+            di.total_cmp(&dj).then(i.cmp(&j))
+        })
+        .unwrap_or(0);
+    let bk = |k: usize| b[(j0 + m - k % m) % m];
+    let ai = |i: usize| a[i % n];
+    let (mut i, mut k) = (0, 0);
+    let mut tris = Vec::with_capacity(n + m);
+    while i < n || k < m {
+        let advance_a = k == m
+            || (i < n && p(ai(i + 1)).distance(p(bk(k))) <= p(ai(i)).distance(p(bk(k + 1))));
+        if advance_a {
+            tris.push([ai(i), ai(i + 1), bk(k)]);
+            i += 1;
+        } else {
+            tris.push([bk(k + 1), bk(k), ai(i)]);
+            k += 1;
+        }
+    }
+    tris
+}
+
+/// Drops unreferenced vertices, keeping the order of the others.
+fn compact(positions: &[DVec3], tris: &[[u32; 3]]) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let mut map = vec![u32::MAX; positions.len()];
+    for t in tris {
+        for &v in t {
+            map[v as usize] = 0;
+        }
+    }
+    let mut out = Vec::new();
+    for (v, m) in map.iter_mut().enumerate() {
+        if *m == 0 {
+            *m = out.len() as u32;
+            out.push(positions[v]);
+        }
+    }
+    let tris = tris.iter().map(|t| t.map(|v| map[v as usize])).collect();
+    (out, tris)
+}
