@@ -187,6 +187,8 @@ pub struct Evolver {
     empty_distance: f64,
     /// Every topology change so far.
     surgery_events: Vec<SurgeryEvent>,
+    /// Vertices paired with a facing sheet at surgery's last look.
+    surgery_paired: usize,
 }
 
 /// What the evolution needs to resume from a certified state.
@@ -262,6 +264,7 @@ impl Evolver {
             guarded_left: 0,
             empty_distance,
             surgery_events: Vec::new(),
+            surgery_paired: 0,
         };
         ev.save_checkpoint();
         ev.refresh_distances();

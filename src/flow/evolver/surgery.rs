@@ -33,7 +33,15 @@ impl Evolver {
             gap_ratio: s.gap_ratio,
             opened,
         };
-        let Some(op) = open_handles(&self.mesh, &self.distances, &query, s.min_vertices) else {
+        let look = open_handles(
+            &self.mesh,
+            &self.distances,
+            &query,
+            s.min_vertices,
+            self.surgery_paired,
+        );
+        self.surgery_paired = look.paired;
+        let Some(op) = look.operated else {
             times.surgery += now_ms() - t0;
             return Vec::new();
         };

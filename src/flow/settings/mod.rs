@@ -461,6 +461,7 @@ mod tests {
                 check_every: 4,
                 ..Default::default()
             },
+            surgery: SurgerySettings::default(),
             field: FieldSettings {
                 band_cells: 4.0,
                 ..Default::default()

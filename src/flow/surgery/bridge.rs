@@ -28,14 +28,17 @@ pub struct Glued {
     pub tubes: Vec<Tube>,
 }
 
-/// Share of a loop's vertices that must lie within `rim` of the target for the patch to be cut.
-const RIM_SHARE: f64 = 0.75;
+/// A patch spans its hole when the median distance of its rim to the target is below this share
+/// of its deepest vertex's (or below `rim`).
+const RIM_DEPTH: f64 = 0.5;
 
 /// Regions of at least `min_vertices` paired vertices, matched into (A, B) pairs of distinct,
 /// mutually facing regions; each pair is replaced by a tube. `None` when no pair qualifies.
 ///
-/// A patch is cut only once it spans its hole: most of its boundary within `rim` of the target
-/// (`distances` per vertex). Two membranes first touch in one spot; a tube cut there would leave
+/// A patch is cut only once it spans its hole: the median distance of its rim to the target
+/// (`distances` per vertex) below `rim` or below half its deepest vertex's, or once the membranes
+/// have `settled` (stopped closing in on each other). Two membranes first touch in one spot; a
+/// tube cut there would leave
 /// the rest of them facing each other around it, and cutting that later would open a second
 /// handle through the same hole.
 pub fn glue_facing_regions(
@@ -43,13 +46,21 @@ pub fn glue_facing_regions(
     partner: &[Option<u32>],
     distances: &[f64],
     rim: f64,
+    settled: bool,
     min_vertices: usize,
 ) -> Option<Glued> {
-    let spans = |lp: &[u32]| {
-        let at_rim = lp.iter().filter(|&&v| distances[v as usize].abs() < rim);
-        at_rim.count() as f64 >= RIM_SHARE * lp.len() as f64
-    };
     let (region, sizes) = regions(mesh, partner);
+    let d = |v: &u32| distances[*v as usize].abs();
+    let spans = |lp: &[u32], r: u32| {
+        let mut rim_d: Vec<f64> = lp.iter().map(d).collect();
+        let mid = rim_d.len() / 2;
+        let median = *rim_d.select_nth_unstable_by(mid, f64::total_cmp).1;
+        let deepest = (0..partner.len() as u32)
+            .filter(|&v| region[v as usize] == Some(r))
+            .map(|v| d(&v))
+            .fold(0.0, f64::max);
+        settled || median < rim.max(RIM_DEPTH * deepest)
+    };
     let n_regions = sizes.len();
     // The region each region mostly faces.
     let mut votes: Vec<Vec<(u32, usize)>> = vec![Vec::new(); n_regions];
@@ -70,16 +81,6 @@ pub fn glue_facing_regions(
             .max_by_key(|&&(r, c)| (c, std::cmp::Reverse(r)))
             .map(|&(r, _)| r)
     };
-    if std::env::var("LSW_DEBUG_SURGERY").is_ok() {
-        let mut big: Vec<(usize, u32, Option<u32>)> = (0..n_regions as u32)
-            .map(|a| (sizes[a as usize], a, faces_of(a)))
-            .collect();
-        big.sort_by(|x, y| y.cmp(x));
-        big.truncate(4);
-        let disk = |a: u32| disk_loop(mesh, &region, a, &vec![false; mesh.n_faces()]).map(|l| l.len());
-        let info: Vec<_> = big.iter().map(|&(sz, a, b)| (sz, a, b, disk(a))).collect();
-        eprintln!("paired {} regions {} biggest {:?}", partner.iter().flatten().count(), n_regions, info);
-    }
     let mut removed = vec![false; mesh.n_faces()];
     let mut tubes_tris = Vec::new();
     let mut tubes = Vec::new();
@@ -97,22 +98,7 @@ pub fn glue_facing_regions(
         ) else {
             continue;
         };
-        if std::env::var("LSW_DEBUG_SURGERY").is_ok() {
-            let f = |lp: &[u32]| {
-                lp.iter().filter(|&&v| distances[v as usize].abs() < rim).count() as f64
-                    / lp.len() as f64
-            };
-            eprintln!(
-                "regions {a} {b} sizes {} {} loops {} {} span {:.2} {:.2}",
-                sizes[a as usize],
-                sizes[b as usize],
-                la.len(),
-                lb.len(),
-                f(&la),
-                f(&lb)
-            );
-        }
-        if !(spans(&la) && spans(&lb)) {
+        if !(spans(&la, a) && spans(&lb, b)) {
             continue;
         }
         for f in 0..mesh.n_faces() as u32 {
@@ -123,7 +109,11 @@ pub fn glue_facing_regions(
                 }
             }
         }
-        let c: DVec3 = la.iter().chain(&lb).map(|&v| mesh.position(v)).sum::<DVec3>()
+        let c: DVec3 = la
+            .iter()
+            .chain(&lb)
+            .map(|&v| mesh.position(v))
+            .sum::<DVec3>()
             / (la.len() + lb.len()) as f64;
         tubes_tris.extend(zip_loops(mesh, &la, &lb));
         let radius = la
@@ -258,8 +248,8 @@ fn zip_loops(mesh: &HalfedgeMesh, a: &[u32], b: &[u32]) -> Vec<[u32; 3]> {
     let (mut i, mut k) = (0, 0);
     let mut tris = Vec::with_capacity(n + m);
     while i < n || k < m {
-        let advance_a = k == m
-            || (i < n && p(ai(i + 1)).distance(p(bk(k))) <= p(ai(i)).distance(p(bk(k + 1))));
+        let advance_a =
+            k == m || (i < n && p(ai(i + 1)).distance(p(bk(k))) <= p(ai(i)).distance(p(bk(k + 1))));
         if advance_a {
             tris.push([ai(i), ai(i + 1), bk(k)]);
             i += 1;

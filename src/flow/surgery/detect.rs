@@ -131,7 +131,9 @@ mod tests {
         }
         // Nothing pairs inside a hole already opened.
         q.opened.push((DVec3::ZERO, 2.0));
-        assert!(facing_pairs(&m, &normals, &far, &q).iter().all(Option::is_none));
+        assert!(facing_pairs(&m, &normals, &far, &q)
+            .iter()
+            .all(Option::is_none));
     }
 
     #[test]
@@ -145,7 +147,9 @@ mod tests {
         };
         // At the data: every vertex within `empty` of the target.
         let near = vec![0.1; m.n_vertices()];
-        assert!(facing_pairs(&m, &normals, &near, &q).iter().all(Option::is_none));
+        assert!(facing_pairs(&m, &normals, &near, &q)
+            .iter()
+            .all(Option::is_none));
         // A round sphere: opposite sides are 2 apart, far above a quarter of their distance.
         let s = icosphere(4, 1.0, DVec3::ZERO).unwrap();
         let far = vec![1.0; s.n_vertices()];

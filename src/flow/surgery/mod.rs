@@ -44,23 +44,53 @@ pub struct Operated {
     pub genus_after: i64,
 }
 
+/// Membranes have settled when their count of paired vertices grew by less than this factor
+/// since the last look.
+const SETTLED_GROWTH: f64 = 1.1;
+
+/// What one look for facing membranes found.
+pub struct Look {
+    /// Vertices paired with a facing sheet (pass it to the next look).
+    pub paired: usize,
+    /// The operated surface, if surgery was done.
+    pub operated: Option<Operated>,
+}
+
 /// Looks for facing membranes in empty space and glues each facing pair of patches with a tube.
 /// The result is kept only when it is a closed, oriented manifold free of self-intersections
-/// whose genus rose by the number of tubes (else `None`: the surface stays as it was).
-/// `distances` are the vertices' distances to the target.
+/// whose genus rose by the number of tubes (else the surface stays as it was). `distances` are
+/// the vertices' distances to the target; `previous` is the last look's `paired`.
 pub fn open_handles(
     mesh: &HalfedgeMesh,
     distances: &[f64],
     query: &FacingQuery,
     min_vertices: usize,
-) -> Option<Operated> {
+    previous: usize,
+) -> Look {
     let normals = angle_weighted_normals(mesh);
     let partner = facing_pairs(mesh, &normals, distances, query);
-    if partner.iter().filter(|p| p.is_some()).count() < 2 * min_vertices {
-        return None;
-    }
+    let paired = partner.iter().filter(|p| p.is_some()).count();
+    let settled = paired as f64 <= SETTLED_GROWTH * previous as f64;
+    let operated = if paired < 2 * min_vertices {
+        None
+    } else {
+        operate(mesh, &partner, distances, query, settled, min_vertices)
+    };
+    Look { paired, operated }
+}
+
+/// Cuts and glues; `None` when nothing qualified or the result failed a check.
+fn operate(
+    mesh: &HalfedgeMesh,
+    partner: &[Option<u32>],
+    distances: &[f64],
+    query: &FacingQuery,
+    settled: bool,
+    min_vertices: usize,
+) -> Option<Operated> {
     let before = mesh.validate().ok()?;
-    let glued = glue_facing_regions(mesh, &partner, distances, RIM * query.empty, min_vertices)?;
+    let rim = RIM * query.empty;
+    let glued = glue_facing_regions(mesh, partner, distances, rim, settled, min_vertices)?;
     let out = HalfedgeMesh::from_triangles(glued.positions, &glued.triangles).ok()?;
     let after = out.validate().ok()?;
     let expected = before.genus + glued.tubes.len() as i64;
@@ -98,4 +128,92 @@ pub fn events(
             genus_after: op.genus_after,
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::icosphere::icosphere;
+    use crate::metrics::intersections::self_intersecting_pairs_brute_force;
+
+    /// The membrane a genus-0 surface leaves across a ring-shaped target: a unit disk squashed to
+    /// a gap of `gap`, whose rim touches the ring (distance 1 − r from the axis).
+    fn membrane(gap: f64) -> (HalfedgeMesh, Vec<f64>) {
+        let mut m = icosphere(4, 1.0, DVec3::ZERO).unwrap();
+        for p in m.positions_mut() {
+            p.z *= gap / 2.0;
+        }
+        let d = m
+            .positions()
+            .iter()
+            .map(|p| (1.0 - p.truncate().length()).max(0.0))
+            .collect();
+        (m, d)
+    }
+
+    #[test]
+    fn a_membrane_across_a_ring_becomes_a_tube() {
+        let (m, d) = membrane(0.02);
+        let q = FacingQuery {
+            empty: 0.15,
+            gap_ratio: 0.25,
+            opened: vec![],
+        };
+        // It spans the hole (its rim near the ring): cut at the first look.
+        let op = open_handles(&m, &d, &q, 6, 0)
+            .operated
+            .expect("the membrane is cut");
+        assert_eq!((op.genus_before, op.genus_after), (0, 1));
+        assert_eq!(op.tubes.len(), 1);
+        let r = op.mesh.validate().unwrap();
+        assert_eq!((r.genus, r.components), (1, 1));
+        // Exact predicates, every pair: the tube's faces cross none of their neighbours.
+        let pairs = self_intersecting_pairs_brute_force(op.mesh.positions(), &op.mesh.triangles());
+        assert!(pairs.is_empty(), "{pairs:?}");
+        // The hole is where the membrane was deepest: around the axis, its rim near the ring.
+        let t = &op.tubes[0];
+        assert!(t.position.truncate().length() < 0.1, "{:?}", t.position);
+        assert!(t.radius > 0.5 && t.radius < 1.0, "{}", t.radius);
+        // Nothing pairs inside the opened hole any more.
+        let q2 = FacingQuery {
+            opened: vec![(t.position, t.radius + 1.5 * q.empty)],
+            ..q
+        };
+        assert!(
+            open_handles(&op.mesh, &vec![0.5; op.mesh.n_vertices()], &q2, 6, 1 << 20)
+                .operated
+                .is_none()
+        );
+    }
+
+    #[test]
+    fn a_first_contact_waits_until_the_membranes_settle() {
+        // Sheets touching in the middle of a wide hole: the rim of the contact is as deep as
+        // its centre, so the membranes are still closing in; cut once they stop.
+        let (m, d) = membrane(0.02);
+        let deep: Vec<f64> = d.iter().map(|d| d + 1.0).collect();
+        let q = FacingQuery {
+            empty: 0.15,
+            gap_ratio: 0.25,
+            opened: vec![],
+        };
+        let first = open_handles(&m, &deep, &q, 6, 0);
+        assert!(first.paired > 0 && first.operated.is_none());
+        let op = open_handles(&m, &deep, &q, 6, first.paired).operated;
+        assert_eq!(op.map(|o| o.genus_after), Some(1));
+    }
+
+    #[test]
+    fn a_membrane_at_the_data_is_left_alone() {
+        let (m, _) = membrane(0.02);
+        let near = vec![0.1; m.n_vertices()];
+        let q = FacingQuery {
+            empty: 0.15,
+            gap_ratio: 0.25,
+            opened: vec![],
+        };
+        let look = open_handles(&m, &near, &q, 6, 1 << 20);
+        assert_eq!(look.paired, 0);
+        assert!(look.operated.is_none());
+    }
 }
