@@ -6,6 +6,7 @@ pub mod detail;
 pub mod evolver;
 pub mod guard;
 pub mod mcf;
+pub mod mcf_mesh;
 pub mod scaling;
 pub mod settings;
 pub mod snap;
@@ -16,6 +17,7 @@ pub mod tangential;
 pub use colour::{ColourMap, ColourMapInfo, COLOUR_MAPS, LESSON_COLOUR_MAPS};
 pub use evolver::{EvolveError, Evolver, PhaseTimes, StepReport};
 pub use mcf::{exact_sphere_radius, mcf_step, McfSettings, McfStepReport, TauAdvice};
+pub use mcf_mesh::{MeshFlow, MeshFlowStats, MeshMcfError, MeshTauAdvice};
 pub use settings::{
     FitSettings, FlowSettings, Preset, RemeshTrigger, RemeshingSettings, StartSettings,
     StartSurface, StopSettings, WrapSettings,
