@@ -39,6 +39,37 @@ pub const MESH_LESSON_STOP_AREA: f64 = 0.05;
 /// The default relative time step τ/D²: 200 steps to the horizon.
 pub const MESH_LESSON_TAU: f64 = 5e-5;
 
+/// An entry of the app's lesson menu (the catalog's `lessons`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct LessonInfo {
+    /// Stable name: "mcf" (the sphere, also the gallery id `demo:mcf`) or "mcf-mesh".
+    pub name: &'static str,
+    /// Button label.
+    pub label: &'static str,
+    /// What it shows, for the button's tooltip.
+    pub title: &'static str,
+    /// Whether it flows the loaded mesh (offered only while a mesh, not a point cloud or a
+    /// volume, is loaded).
+    pub needs_mesh: bool,
+}
+
+/// The MCF lessons, in menu order.
+pub const LESSONS: [LessonInfo; 2] = [
+    LessonInfo {
+        name: "mcf",
+        label: "MCF sphere",
+        title: "Mean-curvature flow of a sphere against the exact law",
+        needs_mesh: false,
+    },
+    LessonInfo {
+        name: "mcf-mesh",
+        label: "MCF on the loaded mesh",
+        title: "Mean-curvature flow of the mesh you loaded: smoothing as a lesson (area and volume over time; an open mesh keeps its boundary)",
+        needs_mesh: true,
+    },
+];
+
 /// Why an MCF session on a given mesh could not start, or a step of it failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MeshMcfError {
@@ -276,15 +307,33 @@ impl MeshFlow {
         })
     }
 
-    /// One implicit MCF step of τ = (τ/D²)·D², the boundary pinned. On error the mesh is left
-    /// as it was.
+    /// One implicit MCF step of τ = (τ/D²)·D², the boundary pinned, negative cotangent weights
+    /// clamped to zero. On error the mesh is left as it was.
+    ///
+    /// The clamp makes every step a convex combination of the old positions (the system is an
+    /// M-matrix with unit row sums: a discrete maximum principle), so no loaded mesh can blow up.
+    /// Without it, meshes with sliver and obtuse triangles do: the npm bunny's area grew 900-fold
+    /// in the lesson's 200 steps, the teapot's 30-fold (the ±19.1 cotangent clamp likely leaves
+    /// the operator indefinite on slivers). On the acute icosphere it changes nothing. Should
+    /// the corrector pass's solve fail on a (nearly) collapsed mesh, the step is retried with the
+    /// plain semi-implicit scheme, whose clamped system is strictly diagonally dominant.
     pub fn step(&mut self) -> Result<&McfStepReport, MeshMcfError> {
-        let report = mcf_step_with(&mut self.mesh, &self.settings, self.mobility.as_deref())
-            .map_err(|source| MeshMcfError::Step {
-                step: self.step + 1,
-                time: self.time(),
-                source,
-            })?;
+        let mobility = self.mobility.as_deref();
+        let report = match mcf_step_with(&mut self.mesh, &self.settings, mobility, true) {
+            Err(FlowError::Solve(_)) if self.settings.corrector_passes > 0 => {
+                let plain = McfSettings {
+                    corrector_passes: 0,
+                    ..self.settings.clone()
+                };
+                mcf_step_with(&mut self.mesh, &plain, mobility, true)
+            }
+            r => r,
+        }
+        .map_err(|source| MeshMcfError::Step {
+            step: self.step + 1,
+            time: self.time(),
+            source,
+        })?;
         self.step += 1;
         self.area = self.mesh.surface_area();
         Ok(self.last.insert(report))

@@ -17,7 +17,7 @@ pub mod tangential;
 pub use colour::{ColourMap, ColourMapInfo, COLOUR_MAPS, LESSON_COLOUR_MAPS};
 pub use evolver::{EvolveError, Evolver, PhaseTimes, StepReport};
 pub use mcf::{exact_sphere_radius, mcf_step, McfSettings, McfStepReport, TauAdvice};
-pub use mcf_mesh::{MeshFlow, MeshFlowStats, MeshMcfError, MeshTauAdvice};
+pub use mcf_mesh::{LessonInfo, MeshFlow, MeshFlowStats, MeshMcfError, MeshTauAdvice, LESSONS};
 pub use settings::{
     FitSettings, FlowSettings, Preset, RemeshTrigger, RemeshingSettings, StartSettings,
     StartSurface, StopSettings, WrapSettings,
