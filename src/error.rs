@@ -11,7 +11,7 @@ use crate::demo::DemoError;
 use crate::field::FieldError;
 use crate::flow::guard::Divergence;
 use crate::flow::settings::SettingError;
-use crate::flow::{EvolveError, FlowError};
+use crate::flow::{EvolveError, FlowError, MeshMcfError};
 use crate::geometry::icosphere::IcosphereError;
 use crate::io::formats::join_list;
 use crate::io::IoError;
@@ -100,6 +100,38 @@ impl Explain for FlowError {
             FlowError::NonFinite { .. } => STEP_HINT,
             FlowError::PastExtinction { .. } => {
                 "Choose a smaller time step τ: the lesson must stop before the sphere vanishes."
+            }
+        }
+    }
+}
+
+/// The mesh lesson (MCF on a loaded mesh): a mesh it cannot flow, or a failed step.
+impl Explain for MeshMcfError {
+    fn code(&self) -> &'static str {
+        match self {
+            MeshMcfError::Empty { .. }
+            | MeshMcfError::Ragged { .. }
+            | MeshMcfError::NonFinite { .. }
+            | MeshMcfError::NotManifold(_)
+            | MeshMcfError::NoExtent { .. } => "bad-target",
+            MeshMcfError::BadTimeStep(_) => "bad-parameter",
+            MeshMcfError::Step { source, .. } => source.code(),
+        }
+    }
+    fn hint(&self) -> &'static str {
+        match self {
+            MeshMcfError::Empty { .. } | MeshMcfError::Ragged { .. } => {
+                "Load a triangle mesh first (a point cloud or a volume has no triangles to flow)."
+            }
+            MeshMcfError::NonFinite { .. } | MeshMcfError::NoExtent { .. } => {
+                "The mesh needs finite coordinates spread in space: clean it, or load another."
+            }
+            MeshMcfError::NotManifold(_) => {
+                "MCF needs a manifold, consistently oriented mesh: repair it, or wrap it and flow the result."
+            }
+            MeshMcfError::BadTimeStep(_) => "Choose a positive time step τ/D².",
+            MeshMcfError::Step { .. } => {
+                "The mesh was kept at its last good step. Reduce the time step τ/D² and reset."
             }
         }
     }
@@ -338,6 +370,36 @@ mod tests {
                 FlowError::Solve(_) => "Solve",
                 FlowError::NonFinite { .. } => "NonFinite",
                 FlowError::PastExtinction { .. } => "PastExtinction",
+            },
+        );
+        check(
+            &[
+                MeshMcfError::Empty {
+                    vertices: 0,
+                    triangles: 0,
+                },
+                MeshMcfError::Ragged {
+                    what: "the index array",
+                    len: 4,
+                },
+                MeshMcfError::NonFinite { vertex: 2 },
+                MeshMcfError::NotManifold(MeshBuildError::NonManifoldVertex { vertex: 1 }),
+                MeshMcfError::NoExtent { diagonal: 0.0 },
+                MeshMcfError::BadTimeStep(-1.0),
+                MeshMcfError::Step {
+                    step: 3,
+                    time: 0.1,
+                    source: FlowError::NonFinite { vertex: 1 },
+                },
+            ],
+            |e| match e {
+                MeshMcfError::Empty { .. } => "Empty",
+                MeshMcfError::Ragged { .. } => "Ragged",
+                MeshMcfError::NonFinite { .. } => "NonFinite",
+                MeshMcfError::NotManifold(_) => "NotManifold",
+                MeshMcfError::NoExtent { .. } => "NoExtent",
+                MeshMcfError::BadTimeStep(_) => "BadTimeStep",
+                MeshMcfError::Step { .. } => "Step",
             },
         );
         let (f, at) = (Format::Ply, Location::Line(3));

@@ -2,7 +2,7 @@
 //! The same test bodies run natively (`cargo test`) and in headless Chromium
 //! (`cargo test --target wasm32-unknown-unknown`).
 
-use lsw::flow::{exact_sphere_radius, mcf_step, McfSettings};
+use lsw::flow::{exact_sphere_radius, mcf_step, McfSettings, MeshFlow};
 use lsw::geometry::icosphere::icosphere;
 use lsw::geometry::sphere::mean_radius;
 use lsw::DVec3;
@@ -85,4 +85,30 @@ fn mcf_shrinks_towards_centroid_and_keeps_it() {
         "centroid drifted to {centroid:?}"
     );
     assert!(mean_radius(mesh.positions()) < 0.5);
+}
+
+#[wasm_bindgen_test(unsupported = test)]
+fn mcf_on_a_loaded_icosphere_follows_the_law_and_loses_area() {
+    // The smoothing lesson's session fed the icosphere as a loaded mesh: τ/D² chosen so that
+    // τ = 1e-3, the same bound as the sphere lesson (1 % to t = 0.2), and the area falls at
+    // every step.
+    let m = icosphere(4, 1.0, DVec3::ZERO).unwrap();
+    let (lo, hi) = m.bounds();
+    let d2 = (hi - lo).length_squared();
+    let mut flow = MeshFlow::new(m.positions().to_vec(), &m.triangles(), 1e-3 / d2).unwrap();
+    let mut area = flow.stats().area;
+    for k in 1..=200 {
+        flow.step().unwrap_or_else(|e| panic!("step {k}: {e}"));
+        let exact = exact_sphere_radius(1.0, flow.time());
+        let err = (mean_radius(flow.mesh().positions()) - exact).abs() / exact;
+        assert!(
+            err < 0.01,
+            "step {k}: mean radius off by {:.3} %",
+            100.0 * err
+        );
+        let s = flow.stats();
+        assert!(s.area < area, "step {k}: area rose");
+        area = s.area;
+    }
+    assert!((flow.time() - 0.2).abs() < 1e-9);
 }

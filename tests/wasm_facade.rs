@@ -106,3 +106,68 @@ fn the_lesson_colours_by_its_maps_and_stops_before_the_sphere_vanishes() {
     assert_eq!(code, "bad-parameter");
     assert!(hint.contains("smaller time step"), "{hint}");
 }
+
+#[wasm_bindgen_test]
+fn the_mesh_lesson_flows_a_loaded_mesh_and_refuses_bad_ones() {
+    // An icosphere handed over as flat arrays, as the worker hands over a loaded mesh.
+    let m = lsw::geometry::icosphere::icosphere(3, 1.0, lsw::DVec3::ZERO).unwrap();
+    let p: Vec<f32> = m
+        .positions()
+        .iter()
+        .flat_map(|v| [v.x as f32, v.y as f32, v.z as f32])
+        .collect();
+    let i: Vec<u32> = m.triangles().concat();
+    let mut s = McfSession::from_mesh(&p, &i, 5e-5).unwrap();
+    assert_eq!(s.lesson(), "mesh");
+    assert_eq!(s.steps_left(), 200);
+    let advice = s.tau_advice().unwrap();
+    assert_eq!(get(&advice, "sensible").as_bool(), Some(true));
+    assert_eq!(get(&advice, "horizon").as_f64(), Some(0.01));
+    let c: serde_json::Value = serde_json::from_str(&catalog()).unwrap();
+    for name in c["lessonColourMaps"].as_array().unwrap() {
+        let name = name.as_str().unwrap();
+        assert_eq!(
+            s.scalar(name).unwrap().length() as usize,
+            p.len() / 3,
+            "{name}"
+        );
+    }
+    let area = |s: &McfSession| get(&s.stats().unwrap(), "areaRatio").as_f64().unwrap();
+    let mut last = area(&s);
+    assert_eq!(last, 1.0);
+    for _ in 0..10 {
+        s.step(5).unwrap();
+        let a = area(&s);
+        assert!(a < last, "area ratio {last} → {a}");
+        last = a;
+    }
+    let st = s.stats().unwrap();
+    assert_eq!(get(&st, "lesson").as_string().unwrap(), "mesh");
+    assert_eq!(get(&st, "step").as_f64(), Some(50.0));
+    assert!(get(&st, "volumeRatio").as_f64().unwrap() < 1.0);
+    assert!(get(&st, "meanAbsH").as_f64().unwrap() > 1.0);
+    assert_eq!(s.steps_left(), 150);
+    // Open meshes have no volume: null, not undefined.
+    let half: Vec<u32> = m
+        .triangles()
+        .into_iter()
+        .filter(|t| t.iter().all(|&v| m.position(v).z > -1e-9))
+        .flatten()
+        .collect();
+    let open = McfSession::from_mesh(&p, &half, 5e-5).unwrap();
+    assert!(get(&open.stats().unwrap(), "volume").is_null());
+    // Bad input: typed errors with a code and a hint, never a panic.
+    let e = McfSession::from_mesh(&[], &[], 5e-5).err().unwrap();
+    assert_eq!(code_and_hint(e).0, "bad-target");
+    let mut nan = p.clone();
+    nan[4] = f32::NAN;
+    let e = McfSession::from_mesh(&nan, &i, 5e-5).err().unwrap();
+    assert_eq!(code_and_hint(e).0, "bad-target");
+    let mut three = i.clone();
+    three.extend([i[0], i[1], 5]);
+    let (code, hint) = code_and_hint(McfSession::from_mesh(&p, &three, 5e-5).err().unwrap());
+    assert_eq!(code, "bad-target");
+    assert!(hint.contains("manifold"), "{hint}");
+    let e = McfSession::from_mesh(&p, &i, -1.0).err().unwrap();
+    assert_eq!(code_and_hint(e).0, "bad-parameter");
+}

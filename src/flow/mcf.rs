@@ -173,6 +173,21 @@ pub fn mcf_step(
     mesh: &mut HalfedgeMesh,
     settings: &McfSettings,
 ) -> Result<McfStepReport, FlowError> {
+    mcf_step_with(mesh, settings, None, false)
+}
+
+/// [`mcf_step`] with a per-vertex mobility: vertex `i` moves with speed `mobility[i]`·2H
+/// (`None` = 1 everywhere). A vertex of mobility 0 gets an identity row and stays put: the mesh
+/// lesson pins an open mesh's boundary this way (the Dirichlet problem of MCF), since at a
+/// boundary vertex the cotangent Laplacian measures the boundary curve's curvature, not H.
+/// With `clamp_negative`, negative cotangent weights are clamped to zero (see
+/// [`CotanLaplacian::implicit_system`]): robust on any mesh, exact where all angles are acute.
+pub fn mcf_step_with(
+    mesh: &mut HalfedgeMesh,
+    settings: &McfSettings,
+    mobility: Option<&[f64]>,
+    clamp_negative: bool,
+) -> Result<McfStepReport, FlowError> {
     let tau = settings.tau;
     if !(tau > 0.0 && tau.is_finite()) {
         return Err(FlowError::BadTimeStep(tau));
@@ -182,7 +197,7 @@ pub fn mcf_step(
     let lap = CotanLaplacian::new(mesh);
     let (covolume_min, covolume_mean, covolume_max) = stats(&lap.covolumes);
     let mut solve = solve_xyz_scaled(
-        &lap.implicit_system(mesh, tau, None, false)?,
+        &lap.implicit_system(mesh, tau, mobility, clamp_negative)?,
         &old,
         &mut x,
         &settings.solver,
@@ -192,7 +207,7 @@ pub fn mcf_step(
             if pass > 0 {
                 let lap = CotanLaplacian::new(mesh);
                 let r = solve_xyz_scaled(
-                    &lap.implicit_system(mesh, tau, None, false)?,
+                    &lap.implicit_system(mesh, tau, mobility, clamp_negative)?,
                     &old,
                     &mut x,
                     &settings.solver,

@@ -6,6 +6,7 @@ pub mod detail;
 pub mod evolver;
 pub mod guard;
 pub mod mcf;
+pub mod mcf_mesh;
 pub mod scaling;
 pub mod settings;
 pub mod snap;
@@ -17,6 +18,7 @@ pub mod tangential;
 pub use colour::{ColourMap, ColourMapInfo, COLOUR_MAPS, LESSON_COLOUR_MAPS};
 pub use evolver::{EvolveError, Evolver, PhaseTimes, StepReport};
 pub use mcf::{exact_sphere_radius, mcf_step, McfSettings, McfStepReport, TauAdvice};
+pub use mcf_mesh::{LessonInfo, MeshFlow, MeshFlowStats, MeshMcfError, MeshTauAdvice, LESSONS};
 pub use settings::{
     FitSettings, FlowSettings, Preset, RemeshTrigger, RemeshingSettings, StartSettings,
     StartSurface, StopSettings, WrapSettings,

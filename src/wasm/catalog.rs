@@ -5,7 +5,7 @@
 
 use super::errors::UiError;
 use crate::flow::settings::{aliases::leaf_aliases, docs, RANGES};
-use crate::flow::{ColourMap, Preset, COLOUR_MAPS, LESSON_COLOUR_MAPS};
+use crate::flow::{ColourMap, Preset, COLOUR_MAPS, LESSONS, LESSON_COLOUR_MAPS};
 use crate::io::{Format, FORMATS};
 use wasm_bindgen::prelude::*;
 
@@ -24,8 +24,11 @@ use wasm_bindgen::prelude::*;
 /// * `detail`: `[{name, presets: {preset: {cells, min_edge: {auto, icosphere, isosurface}}}}]`
 ///   — the Detail levels, coarse first ([`crate::flow::detail::table`]).
 /// * `lessonColourMaps`: the colour-map names the MCF lesson offers.
+/// * `lessons`: `[{name, label, title, needsMesh}]` — the MCF lessons
+///   ([`crate::flow::LESSONS`]): the sphere, and the loaded mesh (offered only for a mesh).
 pub fn catalog_json() -> serde_json::Value {
     serde_json::json!({
+        "lessons": LESSONS,
         "detail": crate::flow::detail::table(),
         "lessonColourMaps": LESSON_COLOUR_MAPS.map(ColourMap::name),
         "formats": FORMATS,
@@ -108,6 +111,8 @@ mod tests {
         );
         assert_eq!(c["colourMaps"][1]["exportName"], "mean_curvature");
         assert_eq!(c["presets"][0], "full-wrap");
+        assert_eq!(c["lessons"][0]["name"], "mcf");
+        assert_eq!(c["lessons"][1]["needsMesh"], true);
         assert_eq!(c["presetLabels"][3], "MCF (ignore target)");
         assert_eq!(c["presets"].as_array().unwrap().len(), Preset::ALL.len());
         assert_eq!(c["settingRanges"][0]["key"], "start.icosphere_level");

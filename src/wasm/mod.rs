@@ -27,7 +27,7 @@ pub use catalog::{catalog, preset_settings, setting_aliases, settings_docs, sett
 pub use demo::{control_curves, demo_mesh, demo_shape};
 pub use errors::{ui_error, UiError};
 pub use io::export_mesh;
-pub use mcf::{McfSession, McfStats};
+pub use mcf::{McfSession, McfStats, MeshLessonStats};
 pub use session::WrapSession;
 pub use volume::{phantom_volume, VolumeView};
 

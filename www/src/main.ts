@@ -72,7 +72,7 @@ const exporter = new Exporter(send, kept, () => run.name);
 const share = new ShareLink(
   () =>
     settings.panel && {
-      dataset: mode.current === 'mcf' ? 'demo:mcf' : run.dataset,
+      dataset: mode.current === 'mcf' && lesson.kind === 'sphere' ? 'demo:mcf' : run.dataset,
       preset: settings.panel.preset,
       changed: settings.panel.changed(),
       view: view.view,
@@ -89,7 +89,7 @@ renderer.listen((m) => {
 
 /** A gallery demo: MCF is the lesson; any other is a wrap of a shape the core generates. */
 function startDemo(id: string): void {
-  if (id === 'mcf') lesson.reset();
+  if (id === 'mcf') lesson.start('sphere');
   else run.demo(id);
 }
 
@@ -113,6 +113,7 @@ function onWorkerMessage(msg: FromWorker): void {
     case 'mcf-advice':
       return lesson.advice(msg.advice);
     case 'target':
+      lesson.target(msg.name, msg.lessonMesh);
       return run.loaded(msg);
     case 'result':
       return run.result(msg);
@@ -144,6 +145,7 @@ function onWorkerMessage(msg: FromWorker): void {
 function onReady(msg: Extract<FromWorker, { type: 'ready' }>): void {
   const presets = settings.build(msg.presets, msg.docs, msg.enums, msg.catalog);
   applyCatalog(msg.catalog);
+  lesson.menu(msg.catalog.lessons);
   const { state, notices } = readLink(presets, { aliases: msg.aliases, colourMaps: [...msg.catalog.colourMaps.map((m) => m.name), 'none'] });
   status.notice(notices);
   settings.apply(state.preset, state.changed);
@@ -164,7 +166,7 @@ function onReady(msg: Extract<FromWorker, { type: 'ready' }>): void {
 
 byId('play').onclick = () => (mode.current === 'mcf' ? lesson.play() : run.play());
 byId('pause').onclick = () => send({ type: 'pause' });
-byId('step').onclick = () => (mode.current === 'mcf' ? send({ type: 'step', n: 1 }) : run.step());
+byId('step').onclick = () => (mode.current === 'mcf' ? lesson.step() : run.step());
 byId('cancel').onclick = () => void compute.cancel();
 byId('reset').onclick = () => (mode.current === 'mcf' ? lesson.reset() : run.reset());
 bindInputs({
@@ -180,6 +182,7 @@ bindDrop(byId('drop'), (f) => run.openFile(f));
 /** Test and automation hooks: read-only views of what is shown. */
 (window as unknown as { __lsw: object }).__lsw = {
   radiusSeries: () => lesson.series(),
+  areaSeries: () => lesson.areaSeries(),
   distanceSeries: () => readout.distanceSeries(),
   controlSeries: () => readout.controlSeries(),
   resultHash: () => kept.result?.hash ?? null,

@@ -25,8 +25,9 @@ export interface UiError {
   hint: string;
 }
 
-/** Statistics of the MCF demo (mirrors `McfStats` in src/wasm/mcf.rs, camelCase via serde). */
-export interface McfStats {
+/** Statistics of the MCF sphere lesson (mirrors `McfStats` in src/wasm/mcf.rs, camelCase via serde). */
+export interface SphereStats {
+  lesson: 'sphere';
   step: number;
   time: number;
   meanRadius: number;
@@ -39,6 +40,52 @@ export interface McfStats {
   msPerStep: number;
   vertices: number;
   faces: number;
+}
+
+/** Statistics of the MCF lesson on a loaded mesh (mirrors `MeshLessonStats` in src/wasm/mcf.rs:
+ * `flow::MeshFlowStats` plus `lesson` and `msPerStep`). Times in squared mesh units; `relativeTime` = t/D². */
+export interface MeshStats {
+  lesson: 'mesh';
+  step: number;
+  time: number;
+  relativeTime: number;
+  tau: number;
+  diagonal: number;
+  area: number;
+  areaRatio: number;
+  /** Enclosed volume and its ratio to the start; null for an open mesh. */
+  volume: number | null;
+  volumeRatio: number | null;
+  meanAbsH: number;
+  maxAbsH: number;
+  covolumeMin: number;
+  covolumeMean: number;
+  covolumeMax: number;
+  solverIterations: number;
+  solverResidual: number;
+  msPerStep: number;
+  vertices: number;
+  faces: number;
+  boundaryVertices: number;
+  closed: boolean;
+}
+
+/** Statistics of either MCF lesson, told apart by `lesson`. */
+export type McfStats = SphereStats | MeshStats;
+
+/** Which MCF lesson: the sphere against its exact law, or the loaded mesh. */
+export type LessonKind = McfStats['lesson'];
+
+/** What a relative time step τ/D² means for the mesh lesson (mirrors `flow::MeshTauAdvice`). */
+export interface MeshTauAdvice {
+  tau: number;
+  /** The lesson's end, t/D². */
+  horizon: number;
+  steps: number;
+  tauMin: number;
+  tauMax: number;
+  sensible: boolean;
+  warning: string;
 }
 
 /** What a time step τ means for the lesson (mirrors `flow::mcf::TauAdvice`, camelCase). */
@@ -104,8 +151,19 @@ export interface Catalog {
   detail: DetailLevel[];
   /** The colour maps the MCF lesson offers (a subset of `colourMaps`). */
   lessonColourMaps: string[];
+  /** The MCF lessons, in menu order (mirrors `flow::LessonInfo`). */
+  lessons: CatalogLesson[];
   /** Ranges of numeric settings the core enforces (unbounded limits are null). */
   settingRanges: SettingRange[];
+}
+
+/** An MCF lesson of the catalog: `name` "mcf" (the sphere) or "mcf-mesh" (the loaded mesh). */
+export interface CatalogLesson {
+  name: string;
+  label: string;
+  title: string;
+  /** Offered only while a mesh (not a point cloud or a volume) is loaded. */
+  needsMesh: boolean;
 }
 
 /** A Detail level (`Catalog.detail`): `field.cells_per_min_dimension` and, by start surface,
@@ -209,6 +267,8 @@ export type Source =
 /** UI → worker. */
 export type ToWorker =
   | { type: 'mcf-init'; params: McfParams }
+  /** Starts the lesson on the loaded mesh with relative time step τ/D². */
+  | { type: 'mcf-mesh-init'; tau: number }
   | { type: 'wrap-load'; source: Source; settings: Record<string, unknown>; autoplay: boolean; run: number; iso?: number }
   | { type: 'play' }
   | { type: 'pause' }
@@ -266,8 +326,9 @@ export type FromWorker =
   | Frame
   | { type: 'loading'; what: string }
   /** The lesson's τ, judged before it runs (sent with every new lesson). */
-  | { type: 'mcf-advice'; advice: TauAdvice }
-  | { type: 'target'; run: number; positions: Float32Array; indices: Uint32Array; info: TargetInfo; name: string }
+  | { type: 'mcf-advice'; advice: TauAdvice | MeshTauAdvice }
+  /** What was loaded. `lessonMesh`: '' when the mesh lesson can flow it, else why not. */
+  | { type: 'target'; run: number; positions: Float32Array; indices: Uint32Array; info: TargetInfo; name: string; lessonMesh: string }
   /** The worker stopped stepping: paused, finished, cancelled, or loaded and `ready` to play (no autoplay). */
   | { type: 'stopped'; reason: StopReason }
   | { type: 'result'; run: number; hash: string; name: string; positions: Float32Array; normals: Float32Array; indices: Uint32Array; elapsedMs: number; steps: number; certificate: Certificate; stopReason: string | null; start: string; wasmBytes: number }

@@ -5,7 +5,7 @@ import init, {
   McfSession, WrapSession, presetSettings, settingsDocs, settingsEnums, settingAliases, catalog, demoShape, demoMesh, controlCurves, exportMesh,
   VolumeView, phantomVolume,
 } from '../pkg/lsw.js';
-import type { Catalog, Certificate, ColourMap, FieldView, FromWorker, Histogram, McfStats, Source, StepReport, TargetInfo, TauAdvice, ToWorker, VolumeInfo } from './protocol';
+import type { Catalog, Certificate, ColourMap, FieldView, FromWorker, Histogram, McfStats, MeshTauAdvice, Source, StepReport, TargetInfo, TauAdvice, ToWorker, VolumeInfo } from './protocol';
 import { toUiError } from './protocol';
 import { batchSize } from './schedule';
 import { colorize, robustRange } from './colormap';
@@ -17,6 +17,8 @@ let wasmMemory: WebAssembly.Memory | null = null;
 void ready.then((exports) => (wasmMemory = exports.memory));
 let mode: 'mcf' | 'wrap' = 'mcf';
 let mcf: McfSession | null = null;
+/** A copy of the loaded mesh for the mesh lesson (null while a point cloud or a volume is loaded). */
+let lessonMesh: { positions: Float32Array; indices: Uint32Array } | null = null;
 let wrap: WrapSession | null = null;
 /** The last completed wrap (kept until a new one completes). */
 let result: WrapSession | null = null;
@@ -98,14 +100,34 @@ function mcfSteps(session: McfSession, n: number): boolean {
   session.step(Math.min(n, session.stepsLeft()));
   const stats = session.stats() as McfStats;
   msPerStep = stats.msPerStep;
-  if (!Number.isFinite(stats.meanRadius)) {
+  const [what, value] = stats.lesson === 'sphere' ? ["sphere's mesh radius", stats.meanRadius] : ["mesh's area", stats.area];
+  if (!Number.isFinite(value)) {
     throw {
       code: 'diverged',
-      message: `The sphere's mesh radius is no longer a number after step ${stats.step} (t = ${stats.time.toPrecision(3)}).`,
+      message: `The ${what} is no longer a number after step ${stats.step} (t = ${stats.time.toPrecision(3)}).`,
       hint: 'Choose a smaller time step τ (see the warning next to it).',
     };
   }
   return session.stepsLeft() === 0;
+}
+
+/** Replaces the lesson's session (the running wrap stops first) and posts its τ advice and first frame. */
+function startLesson(make: () => McfSession): void {
+  dropRun();
+  mode = 'mcf';
+  const next = make();
+  mcf?.free();
+  mcf = next;
+  sentIndices = false;
+  post({ type: 'mcf-advice', advice: next.tauAdvice() as TauAdvice | MeshTauAdvice });
+  sendMcfFrame();
+}
+
+/** Why the mesh lesson cannot flow what was loaded ('' when it can). */
+function lessonMeshWhy(indices: Uint32Array): string {
+  if (volume) return 'A voxel volume is loaded: the lesson flows meshes. Export the wrap and drop it back in to flow it.';
+  if (indices.length === 0) return 'A point cloud is loaded: it has no triangles to flow. Load a mesh, or export the wrap and drop it back in.';
+  return '';
 }
 
 function mcfLoop(): void {
@@ -332,7 +354,9 @@ async function startSession(autoplay: boolean, id: number): Promise<void> {
   wrap = session;
   const tp = session.targetPositions();
   const ti = session.targetIndices();
-  post({ type: 'target', run: pageRun, positions: tp, indices: ti, info: plain(session.targetInfo()) as TargetInfo, name: source.name }, [tp.buffer, ti.buffer]);
+  const why = lessonMeshWhy(ti);
+  lessonMesh = why ? null : { positions: tp.slice(), indices: ti.slice() };
+  post({ type: 'target', run: pageRun, positions: tp, indices: ti, info: plain(session.targetInfo()) as TargetInfo, name: source.name, lessonMesh: why }, [tp.buffer, ti.buffer]);
   sendWrapFrame(session);
   if (fieldView !== 'off') sendField();
   if (autoplay) {
@@ -349,17 +373,15 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
   const msg = ev.data;
   try {
     switch (msg.type) {
-      case 'mcf-init': {
-        dropRun();
-        mode = 'mcf';
-        const next = new McfSession(msg.params.level, msg.params.radius, msg.params.tau);
-        mcf?.free();
-        mcf = next;
-        sentIndices = false;
-        post({ type: 'mcf-advice', advice: next.tauAdvice() as TauAdvice });
-        sendMcfFrame();
+      case 'mcf-init':
+        startLesson(() => new McfSession(msg.params.level, msg.params.radius, msg.params.tau));
         break;
-      }
+      case 'mcf-mesh-init':
+        startLesson(() => {
+          if (!lessonMesh) throw { code: 'bad-target', message: 'No mesh is loaded to flow.', hint: 'Load a mesh (drop one, or pick Bunny mesh or Teapot mesh), then choose MCF on the loaded mesh.' };
+          return McfSession.fromMesh(lessonMesh.positions, lessonMesh.indices, msg.tau);
+        });
+        break;
       case 'wrap-load':
         pageRun = msg.run;
         await loadWrap(msg.source, msg.settings, msg.autoplay, msg.iso);

@@ -439,4 +439,59 @@ test('field view: slice z and isosurface of the noisy sphere are drawn', async (
   await page.close();
 });
 
+test('MCF on the loaded mesh: off for a point cloud, on for a mesh; the area falls; scrubber; no page errors', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  const lessonButton = () => page.evaluate(() => {
+    const b = document.querySelector('[data-lesson=mcf-mesh]');
+    return b && { disabled: b.disabled, title: b.title, why: document.querySelector('[data-testid=lesson-why]').textContent };
+  });
+  if (await page.isVisible('[data-testid=help-close]')) await page.click('[data-testid=help-close]');
+  const off = await lessonButton();
+  assert(off && off.disabled && /load a mesh/i.test(off.why), `mesh lesson before loading: ${JSON.stringify(off)}`);
+  // A point cloud: still off, saying why.
+  await page.click('[data-demo=bunny-points]');
+  await page.waitForFunction(() => /point cloud/.test(document.querySelector('[data-testid=lesson-why]').textContent), null, { timeout: 60000 });
+  assert((await lessonButton()).disabled, 'mesh lesson offered for a point cloud');
+  // A gallery mesh: on.
+  await page.click('[data-demo=bunny]');
+  await page.waitForFunction(() => !document.querySelector('[data-lesson=mcf-mesh]').disabled, null, { timeout: 60000 });
+  await page.click('[data-lesson=mcf-mesh]');
+  await page.waitForFunction(() => /area .* of the start/.test(document.querySelector('#stats').textContent), null, { timeout: 20000 });
+  assert(/Ready/.test(await page.textContent('[data-testid=status]')), `the mesh lesson does not start Ready: ${await page.textContent('[data-testid=status]')}`);
+  assert(!(await page.isHidden('[data-testid=area-plot]')) && (await page.isHidden('[data-testid=radius-plot]')), 'the mesh lesson shows the area plot, not the radius plot');
+  assert(await page.isHidden('#level'), 'the sphere lesson\'s level is shown in the mesh lesson');
+  const title = await page.textContent('#lesson-title');
+  await page.click('[data-testid=step]');
+  await page.waitForFunction(() => document.querySelector('#stats').dataset.step === '1', null, { timeout: 20000 });
+  await page.click('[data-testid=play]');
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
+  const done = await page.textContent('[data-testid=status]');
+  const s = await page.evaluate(() => window.__lsw.areaSeries());
+  assert(s.t.length >= 3, `only ${s.t.length} plotted points`);
+  for (let i = 1; i < s.area.length; i++) assert(s.area[i] < s.area[i - 1], `area rose at point ${i}: ${s.area[i - 1]} → ${s.area[i]}`);
+  const last = s.area[s.area.length - 1];
+  assert(last < 0.95, `the area barely fell (${last})`);
+  assert(Math.abs(s.t[s.t.length - 1] - 0.01) < 1e-6, `the lesson ended at t/D² = ${s.t[s.t.length - 1]}, not 0.01`);
+  const scrub = await page.evaluate(() => ({ disabled: document.querySelector('[data-testid=scrubber]').disabled, max: Number(document.querySelector('[data-testid=scrubber]').max) }));
+  assert(!scrub.disabled && scrub.max >= 2, `scrubber after the mesh lesson: ${JSON.stringify(scrub)}`);
+  const frac = await meshPixelFraction(page);
+  assert(frac > 0.01, `canvas shows almost no mesh pixels (${(100 * frac).toFixed(2)} %)`);
+  await page.screenshot({ path: join(out, 'mcf-mesh-end.png') });
+  // Back along the recorded frames: the smoothed bunny a fifth of the way, then the start.
+  await page.fill('[data-testid=scrubber]', String(Math.round(scrub.max / 5)));
+  await page.waitForTimeout(500);
+  await page.screenshot({ path: join(out, 'mcf-mesh.png') });
+  await page.fill('[data-testid=scrubber]', '0');
+  await page.waitForFunction(() => /step 0/.test(document.querySelector('#scrub-label').textContent), null, { timeout: 5000 });
+  // A τ/D² out of range is judged before running.
+  await page.fill('[data-testid=tau-mesh]', '0.005');
+  await page.dispatchEvent('[data-testid=tau-mesh]', 'change');
+  await page.waitForSelector('[data-testid=tau-warning]:not([hidden])', { timeout: 10000 });
+  const warning = await page.textContent('[data-testid=tau-warning]');
+  assert(/too large/.test(warning), `τ/D² warning: ${warning}`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+  console.log(`   "${title}": "${done}"; ${s.t.length} plotted points, area ${(100 * last).toFixed(1)} %, volume ${s.volume.length ? s.volume[s.volume.length - 1] : '-'}; ${scrub.max + 1} frames`);
+  await page.close();
+});
+
 await runSuite(tests, { '/fixtures/octahedron.obj': Buffer.from(octahedron) });
