@@ -35,6 +35,7 @@ fn wrap(name: &str, start: StartSurface) -> (i64, Vec<SurgeryEvent>) {
                 e.step
             );
             assert_eq!(c.genus, Some(e.genus_after), "{name}: step {}", e.step);
+            assert_eq!(r.genus, e.genus_after, "{name}: the step's report");
         }
     }
     let c = certify(&ev.positions(), &ev.triangles(), Some(&target));

@@ -61,7 +61,7 @@ renderer.onError((e) => status.fail({ code: 'worker', message: `The render worke
 const updateShare = () => share.update();
 const view = new ViewControls(draw, send, updateShare);
 mode.onSwitch = (m) => view.offer(colourMenu(m));
-const scrubber = new Scrubber(draw);
+const scrubber = new Scrubber(draw, { shown: (step) => run.scrubbed(step), frames: (steps) => readout.topology.place(steps) });
 const field = new FieldControls(draw, send);
 const settings = new RunSettings(byId('preset'), byId('gui'), send, updateShare);
 const readout = new WrapReadout();

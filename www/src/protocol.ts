@@ -207,8 +207,22 @@ export interface StepReport {
   distance_mean: number;
   distance_max: number;
   settled_fraction: number;
+  /** Genus of the surface after the step. */
+  genus: number;
+  /** Topology changes made at the end of the step (mirrors `flow::surgery::SurgeryEvent`). */
+  surgery?: SurgeryEvent[];
   times: PhaseTimes;
   done: boolean;
+}
+
+/** One topology change (mirrors `flow::surgery::SurgeryEvent`). */
+export interface SurgeryEvent {
+  step: number;
+  kind: 'handle';
+  position: [number, number, number];
+  radius: number;
+  genus_before: number;
+  genus_after: number;
 }
 
 /** What was read (mirrors `WrapSession.targetInfo`). */

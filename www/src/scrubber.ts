@@ -3,17 +3,27 @@
 import { byId } from './dom';
 import type { Draw, FromRender } from './protocol';
 
+/** What the page does when the scrubber moves or its frames change. */
+export interface ScrubberHooks {
+  /** The frame of solver step `step` is on screen (null: the live end). */
+  shown(step: number | null): void;
+  /** The recorded frames (their steps) changed. */
+  frames(steps: number[]): void;
+}
+
 export class Scrubber {
   private readonly slider = byId<HTMLInputElement>('scrub');
   private readonly label = byId('scrub-label');
   /** Solver step of each recorded frame. */
   private steps: number[] = [];
 
-  constructor(draw: Draw) {
+  constructor(draw: Draw, private readonly hooks: ScrubberHooks) {
     this.slider.oninput = () => {
       const i = Number(this.slider.value);
-      draw({ type: 'show-frame', index: i >= Number(this.slider.max) ? -1 : i });
+      const end = i >= Number(this.slider.max);
+      draw({ type: 'show-frame', index: end ? -1 : i });
       this.label.textContent = `step ${this.steps[i] ?? '–'}`;
+      hooks.shown(end ? null : this.steps[i] ?? null);
     };
   }
 
@@ -25,6 +35,7 @@ export class Scrubber {
     s.max = String(Math.max(0, m.count - 1));
     s.disabled = m.count < 2;
     if (atEnd || m.showing < 0) s.value = s.max;
+    this.hooks.frames(m.steps);
     this.label.textContent = m.count ? `step ${this.steps[Number(s.value)] ?? '–'} · ${m.count} frames, ${(m.bytes / 1048576).toFixed(1)} MB` : '';
   }
 }

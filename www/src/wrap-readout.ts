@@ -4,6 +4,7 @@
 import { byId } from './dom';
 import { HistogramPlot, LinePlot } from './plots';
 import type { ControlCurves, Frame } from './protocol';
+import { TopologyTimeline } from './topology';
 
 export class WrapReadout {
   // Titles fit the narrowest plot (175 px); each host's tooltip (index.html) says more.
@@ -13,8 +14,12 @@ export class WrapReadout {
   private readonly kappa = new HistogramPlot(byId('plot-kappa'), 'Quality κ(J_Δ)', 'κ (1 = equilateral)');
   private readonly controls = new LinePlot(byId('plot-controls'), 'Controls ε(δ), η(δ)', ['ε', 'η facing', 'η side-on'], ['#4aa3ff', '#ffb347', '#ff7a59'], { xLabel: 'δ = d − d₀' });
 
+  /** Genus per step and surgery events, for the scrubber and the health badge. */
+  readonly topology = new TopologyTimeline();
+
   /** Empties the per-step plots for a new run. */
   clear(): void {
+    this.topology.clear();
     this.distance.clear();
     this.covolume.clear();
     this.vertices.clear();
@@ -34,6 +39,7 @@ export class WrapReadout {
     const verts = r?.vertices ?? msg.positions.length / 3;
     byId('progress-text').textContent = `step ${r?.step ?? 0}/${limit} · ${verts} vertices · ${el} s`;
     byId('stats').dataset.step = String(r?.step ?? 0);
+    this.topology.add(msg.reports ?? []);
     for (const q of msg.reports ?? []) {
       this.distance.push(q.step, Math.max(1e-9, q.distance_mean), Math.max(1e-9, q.distance_max));
       this.covolume.push(q.step, Math.max(1e-12, q.covolume_min), q.covolume_mean, q.covolume_max);

@@ -243,6 +243,12 @@ export class WrapRun {
     if (msg.playing) this.d.status.set('running', `Wrapping ${this.name} — step ${msg.report?.step ?? 0}`);
   }
 
+  /** The scrubber shows the frame of `step` (null: the live end): the badge follows it. */
+  scrubbed(step: number | null): void {
+    const k = this.d.kept.result;
+    this.d.readout.topology.show(this.d.health, step, k?.certificate ?? null, k?.stopReason ?? null);
+  }
+
   /** The input is a voxel volume: show its panel (histogram, slices, iso-value). */
   volumeLoaded(msg: Extract<FromWorker, { type: 'volume' }>): void {
     if (this.isCurrent(msg.run)) this.volume.show(msg.info, msg.histogram, msg.iso);

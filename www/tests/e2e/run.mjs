@@ -223,6 +223,35 @@ test('health badge: a genus-2 mesh ends done and certified (valid, genus 2, 0 SI
   await page.close();
 });
 
+test('sphere → torus: surgery opens the handle (marked on the timeline), the badge follows the scrubber from genus 0 to 1', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  await page.click('[data-testid=demo-sphere-torus]');
+  await page.waitForSelector('[data-testid=status][data-state=done], [data-testid=status][data-state=invalid]', { timeout: 300000 });
+  const h = await health(page);
+  assert(h.valid === 'true' && h.genus === '1' && h.si === '0', `badge after the torus cloud: ${JSON.stringify(h)}`);
+  const events = await page.getAttribute('[data-testid=surgery]', 'data-events');
+  const line = await page.textContent('[data-testid=surgery]');
+  assert(events === '1' && /genus 0 → 1/.test(line), `surgery line: ${events} ${line}`);
+  const ticks = await page.$$eval('#scrub-marks option', (o) => o.map((x) => Number(x.value)));
+  assert(ticks.length === 1, `timeline marks ${JSON.stringify(ticks)}`);
+  const scrub = async (i) => {
+    await page.$eval('[data-testid=scrubber]', (el, v) => { el.value = String(v); el.dispatchEvent(new window.Event('input')); }, i);
+    return health(page);
+  };
+  const before = await scrub(Math.max(0, ticks[0] - 1));
+  assert(before.genus === '0' && /earlier frame/.test(before.text), `badge before the surgery: ${JSON.stringify(before)}`);
+  const after = await scrub(ticks[0]);
+  assert(after.genus === '1', `badge at the surgery: ${JSON.stringify(after)}`);
+  await page.screenshot({ path: join(out, 'sphere-torus-surgery.png') });
+  const max = Number(await page.getAttribute('[data-testid=scrubber]', 'max'));
+  const end = await scrub(max);
+  assert(end.valid === 'true' && end.genus === '1', `badge at the end: ${JSON.stringify(end)}`);
+  await page.screenshot({ path: join(out, 'sphere-torus-done.png') });
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+  console.log(`   ${line}; marks at frames ${ticks}; before: ${before.text}; at: ${after.text}`);
+  await page.close();
+});
+
 test('exported binary PLY, STL, OBJ and GLB drop back in and load as meshes', async (browser, url) => {
   const { page, errors } = await openApp(browser, url);
   await page.click('[data-demo=noisy-sphere]');

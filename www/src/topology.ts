@@ -1,0 +1,63 @@
+// The surface's topology over time: genus per step and the surgery events (a handle opened) that
+// changed it, as marks on the time scrubber and a line under it. Scrubbing back shows the genus
+// of the frame on screen in the health badge; the end of the timeline shows the certificate again.
+import { byId } from './dom';
+import { showCertificate } from './health';
+import type { Certificate, StepReport, SurgeryEvent } from './protocol';
+
+export class TopologyTimeline {
+  private readonly genusAt = new Map<number, number>();
+  private events: SurgeryEvent[] = [];
+  private readonly list = byId('surgery');
+  private readonly marks = byId<HTMLDataListElement>('scrub-marks');
+
+  /** A new run: no steps, no events. */
+  clear(): void {
+    this.genusAt.clear();
+    this.events = [];
+    this.list.textContent = '';
+    this.list.dataset.events = '0';
+    this.marks.replaceChildren();
+  }
+
+  /** The reports of the steps since the last frame. */
+  add(reports: StepReport[]): void {
+    for (const r of reports) {
+      this.genusAt.set(r.step, r.genus);
+      this.events.push(...(r.surgery ?? []));
+    }
+    if (!this.events.length) return;
+    this.list.dataset.events = String(this.events.length);
+    this.list.textContent = 'Surgery: ' + this.events.map((e) => `step ${e.step} opened a handle (genus ${e.genus_before} → ${e.genus_after})`).join('; ');
+  }
+
+  /** Genus of the surface after `step` (the latest step at or before it). */
+  genus(step: number): number | undefined {
+    for (let s = step; s >= 0; s--) {
+      const g = this.genusAt.get(s);
+      if (g !== undefined) return g;
+    }
+    return undefined;
+  }
+
+  /** The scrubber's frames (their steps) changed: one tick at the first frame after each event. */
+  place(steps: number[]): void {
+    const ticks = this.events.map((e) => steps.findIndex((s) => s >= e.step)).filter((i) => i >= 0);
+    this.marks.replaceChildren(...[...new Set(ticks)].map((i) => Object.assign(document.createElement('option'), { value: String(i) })));
+  }
+
+  /** A frame of `step` is on screen (null: the live end): its genus, or the result's certificate. */
+  show(health: HTMLElement, step: number | null, certificate: Certificate | null, stopReason: string | null): void {
+    if (step === null) {
+      if (certificate) showCertificate(health, certificate, stopReason);
+      return;
+    }
+    const g = this.genus(step);
+    health.dataset.state = 'frame';
+    health.dataset.valid = '';
+    health.dataset.si = '';
+    health.dataset.genus = g === undefined ? '' : String(g);
+    health.textContent = `step ${step} · genus ${g ?? '?'} (earlier frame)`;
+    health.title = 'An earlier frame, not certified: the certificate is that of the result at the end of the timeline.';
+  }
+}
