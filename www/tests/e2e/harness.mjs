@@ -1,5 +1,7 @@
 // What both end-to-end suites share: the test list, drop and fixtures, and the loop that serves
 // the built app, runs the tests in headless Chromium and prints "N passed, N failed".
+import { execFileSync } from 'node:child_process';
+import { existsSync } from 'node:fs';
 import { chromium } from 'playwright-core';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -7,6 +9,7 @@ import { serve } from './server.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
 /** The built app, and where tests write screenshots and files. */
+const repoRoot = join(here, '..', '..', '..');
 export const dist = join(here, '..', '..', 'dist');
 export const out = join(here, '..', '..', 'test-results');
 
@@ -67,3 +70,13 @@ export async function runSuite(tests, fixtures = {}) {
   console.log(`${passed} passed, ${failed} failed`);
   process.exit(failed ? 1 : 0);
 }
+
+/** Runs the native CLI (the debug build `cargo test` leaves, else `cargo run`); parses its JSON. */
+export function lswCli(args) {
+  const bin = ['debug', 'release'].map((p) => join(repoRoot, 'target', p, 'lsw')).find((b) => existsSync(b));
+  const outText = bin
+    ? execFileSync(bin, args, { encoding: 'utf8' })
+    : execFileSync('cargo', ['run', '--quiet', '--bin', 'lsw', '--', ...args], { cwd: repoRoot, encoding: 'utf8' });
+  return JSON.parse(outText);
+}
+

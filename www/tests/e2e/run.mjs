@@ -1,14 +1,9 @@
 // End-to-end tests: the built app in headless Debian Chromium, driven by playwright-core.
 // Screenshots go to www/test-results/. Prints "N passed, N failed" and exits non-zero on failure.
 import { mkdir, readFile, writeFile } from 'node:fs/promises';
-import { execFileSync } from 'node:child_process';
-import { existsSync } from 'node:fs';
-import { dirname, join } from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { dropFile, octahedron, out, runSuite, suite } from './harness.mjs';
+import { join } from 'node:path';
+import { dropFile, lswCli, octahedron, out, runSuite, suite } from './harness.mjs';
 
-const here = dirname(fileURLToPath(import.meta.url));
-const repo = join(here, '..', '..', '..');
 const shared = process.env.LSW_SHARED_DATA;
 await mkdir(out, { recursive: true });
 
@@ -132,15 +127,6 @@ const resultHash = (page) => page.evaluate(() => window.__lsw.resultHash());
  * the debug build `cargo test` leaves behind (no extra compile in CI), else `cargo run`. */
 function lswInfo(file) {
   return lswCli(['info', file]);
-}
-
-/** Runs the native CLI (the debug build `cargo test` leaves, else `cargo run`); parses its JSON. */
-function lswCli(args) {
-  const bin = ['debug', 'release'].map((p) => join(repo, 'target', p, 'lsw')).find((b) => existsSync(b));
-  const outText = bin
-    ? execFileSync(bin, args, { encoding: 'utf8' })
-    : execFileSync('cargo', ['run', '--quiet', '--bin', 'lsw', '--', ...args], { cwd: repo, encoding: 'utf8' });
-  return JSON.parse(outText);
 }
 
 /** The health badge's attributes. */

@@ -6,7 +6,7 @@
 // www/test-results/tour-*.png. Prints "N passed, N failed" and exits non-zero on failure.
 import { mkdir, readFile } from 'node:fs/promises';
 import { join } from 'node:path';
-import { dropFile, octahedron, out, runSuite, suite } from './harness.mjs';
+import { dropFile, lswCli, octahedron, out, runSuite, suite } from './harness.mjs';
 const shared = process.env.LSW_SHARED_DATA;
 await mkdir(out, { recursive: true });
 
@@ -88,6 +88,22 @@ test('no dead ends: a 1 M-point cloud cancelled after 2.5 s, then the bunny drop
   }
   noErrors(errors);
   console.log(`   cancel during "${phase.slice(0, 60)}": ${ms.toFixed(0)} ms → "${after.text}"`);
+  await page.close();
+});
+
+test('a genus-4 point cloud ends done with the badge valid, genus 4, 0 SI (surgery opened four handles)', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  const file = join(out, 'torus-g4-cloud.ply');
+  lswCli(['demo', 'torus-g4-cloud', '-o', file]);
+  await dropFile(page, 'torus-g4-cloud.ply', await readFile(file));
+  await waitState(page, ['done', 'invalid', 'error'], 300000);
+  const h = await page.evaluate(() => ({ ...document.querySelector('[data-testid=health]').dataset }));
+  const events = await page.getAttribute('[data-testid=surgery]', 'data-events');
+  assert((await state(page)) === 'done' && h.valid === 'true' && h.genus === '4' && h.si === '0', `genus-4 cloud: ${await statusText(page)} ${JSON.stringify(h)}`);
+  assert(events === '4', `surgery events: ${events}`);
+  await page.screenshot({ path: join(out, 'tour-genus4-cloud.png') });
+  noErrors(errors);
+  console.log(`   ${await statusText(page)} · ${await page.textContent('[data-testid=surgery]')}`);
   await page.close();
 });
 
