@@ -20,10 +20,16 @@ wasm_bindgen_test_configure!(run_in_browser);
 /// Wraps the generated shape `name` from `start`, certifying the surface after every step that
 /// operated; returns the final genus and the events.
 fn wrap(name: &str, start: StartSurface) -> (i64, Vec<SurgeryEvent>) {
-    let (p, t) = generate(name).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let target = Target::new(p, t).unwrap();
     let mut settings = WrapSettings::default();
     settings.start.surface = start;
+    wrap_with(name, settings)
+}
+
+/// [`wrap`] with any settings.
+fn wrap_with(name: &str, settings: WrapSettings) -> (i64, Vec<SurgeryEvent>) {
+    let start = settings.start.surface;
+    let (p, t) = generate(name).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let target = Target::new(p, t).unwrap();
     let mut ev = Evolver::new(&target, settings).unwrap_or_else(|e| panic!("{name}: {e}"));
     while !ev.is_done() {
         let r = ev.step().unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -84,6 +90,18 @@ fn scan_holes_thin_parts_and_necks_are_never_cut() {
     for name in ["sphere-cut-cloud", "thin-plate-cloud", "dumbbell"] {
         let (g, events) = wrap(name, StartSurface::Icosphere);
         assert_eq!((g, events.len()), (0, 0), "{name}: {events:?}");
+    }
+}
+
+#[test]
+fn close_gaps_keeps_narrower_handles_closed() {
+    // torus-g1-cloud: the hole is 0.8 wide, 28 % of the diagonal (2.88).
+    for (close_gaps, genus) in [(0.2, 1), (0.35, 0), (1.0, 0)] {
+        let mut s = WrapSettings::default();
+        s.surgery.close_gaps = close_gaps;
+        let (g, events) = wrap_with("torus-g1-cloud", s);
+        assert_eq!(g, genus, "close_gaps {close_gaps}");
+        assert_eq!(events.len(), genus as usize, "close_gaps {close_gaps}");
     }
 }
 

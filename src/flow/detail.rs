@@ -7,6 +7,18 @@ use super::settings::{Preset, StartSurface, WrapSettings};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
+/// The app's "Close gaps up to" control: (label, `surgery.close_gaps`), automatic first. Handles
+/// whose hole is narrower than the fraction of the diagonal stay closed; "all" keeps every one.
+pub const CLOSE_GAPS: [(&str, f64); 7] = [
+    ("auto", 0.0),
+    ("1 %", 0.01),
+    ("2 %", 0.02),
+    ("5 %", 0.05),
+    ("10 %", 0.1),
+    ("25 %", 0.25),
+    ("all", 1.0),
+];
+
 /// A level of detail. `Normal` leaves a preset as it is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]

@@ -23,6 +23,8 @@ use wasm_bindgen::prelude::*;
 ///   (unbounded limits are null).
 /// * `detail`: `[{name, presets: {preset: {cells, min_edge: {auto, icosphere, isosurface}}}}]`
 ///   — the Detail levels, coarse first ([`crate::flow::detail::table`]).
+/// * `closeGaps`: `[{label, value}]` — the "Close gaps up to" choices, `surgery.close_gaps`
+///   values ([`crate::flow::detail::CLOSE_GAPS`]).
 /// * `lessonColourMaps`: the colour-map names the MCF lesson offers.
 /// * `lessons`: `[{name, label, title, needsMesh}]` — the MCF lessons
 ///   ([`crate::flow::LESSONS`]): the sphere, and the loaded mesh (offered only for a mesh).
@@ -30,6 +32,10 @@ pub fn catalog_json() -> serde_json::Value {
     serde_json::json!({
         "lessons": LESSONS,
         "detail": crate::flow::detail::table(),
+        "closeGaps": crate::flow::detail::CLOSE_GAPS
+            .iter()
+            .map(|&(label, value)| serde_json::json!({"label": label, "value": value}))
+            .collect::<Vec<_>>(),
         "lessonColourMaps": LESSON_COLOUR_MAPS.map(ColourMap::name),
         "formats": FORMATS,
         "colourMaps": COLOUR_MAPS,
@@ -117,6 +123,8 @@ mod tests {
         assert_eq!(c["presets"].as_array().unwrap().len(), Preset::ALL.len());
         assert_eq!(c["settingRanges"][0]["key"], "start.icosphere_level");
         assert_eq!(c["detail"][2]["name"], "normal");
+        assert_eq!(c["closeGaps"][0]["label"], "auto");
+        assert_eq!(c["closeGaps"][0]["value"], 0.0);
         assert_eq!(c["detail"][4]["presets"]["full-wrap"]["cells"], 64);
         assert_eq!(
             c["detail"][4]["presets"]["full-wrap"]["min_edge"]["icosphere"],

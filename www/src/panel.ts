@@ -1,17 +1,19 @@
-// The run's settings: the simple controls in front (Detail, Start surface) and the advanced panel
+// The run's settings: the simple controls in front (Detail, Close gaps, Start surface) and the advanced panel
 // (lil-gui) with every setting by stage, built entirely from what the core reports: the preset's
 // settings JSON (fields, types, defaults), the doc comment of every field, the options of every
-// enum field, the range of every bounded number and the Detail table (catalog). Nothing about
-// individual settings is written here except the two keys the Detail table sets.
+// enum field, the range of every bounded number, the Detail table and the Close gaps choices
+// (catalog). Nothing about individual settings is written here except the keys those set.
 import GUI from 'lil-gui';
 import { byId } from './dom';
 import type { Catalog, DetailLevel, Send, SettingRange } from './protocol';
 import { diff, flatten, unflatten, type Flat, type Leaf } from './share';
 
-/** The keys the simple controls set (the Detail table's two settings and the start surface). */
+/** The keys the simple controls set (the Detail table's two settings, the start surface and the
+ * width up to which gaps close). */
 const CELLS = 'field.cells_per_min_dimension';
 const MIN_EDGE = 'remesh.min_edge_multiplier';
 const START = 'start.surface';
+const CLOSE_GAPS = 'surgery.close_gaps';
 
 /** Whether `v` lies in `r` (the core refuses a wrap with a setting outside it). */
 function inRange(v: number, r: SettingRange): boolean {
@@ -151,6 +153,7 @@ export class RunSettings {
   panel: SettingsPanel | null = null;
   private readonly detail = byId<HTMLSelectElement>('detail');
   private readonly start = byId<HTMLSelectElement>('start-surface');
+  private readonly gaps = byId<HTMLSelectElement>('close-gaps');
   private levels: DetailLevel[] = [];
 
   /** `container`: where the panel goes; `changed`: runs after the user changed the settings (the share link follows). */
@@ -167,6 +170,7 @@ export class RunSettings {
       changed();
     };
     this.detail.onchange = () => this.panel?.assign(this.levelValues(this.detail.value, this.startSurface()) ?? {});
+    this.gaps.onchange = () => this.panel?.assign({ [CLOSE_GAPS]: Number(this.gaps.value) });
     // A new start surface keeps the Detail level: λ_min depends on the start (src/flow/detail.rs).
     this.start.onchange = () => {
       const level = this.level(this.startSurface());
@@ -176,7 +180,7 @@ export class RunSettings {
 
   /** Builds the panel and the simple controls from the worker's presets (nested JSON), docs,
    * enum options and catalog; returns the presets flattened. */
-  build(presets: Record<string, Record<string, unknown>>, docs: Record<string, string>, enums: Record<string, string[]>, catalog: Pick<Catalog, 'detail' | 'settingRanges'>): Record<string, Flat> {
+  build(presets: Record<string, Record<string, unknown>>, docs: Record<string, string>, enums: Record<string, string[]>, catalog: Pick<Catalog, 'detail' | 'closeGaps' | 'settingRanges'>): Record<string, Flat> {
     const flat = Object.fromEntries(Object.entries(presets).map(([k, v]) => [k, flatten(v)]));
     const ranges = Object.fromEntries(catalog.settingRanges.map((r) => [r.key, r]));
     this.panel = new SettingsPanel(this.container, flat, docs, enums, ranges, () => {
@@ -188,6 +192,10 @@ export class RunSettings {
     const custom = new Option('custom', 'custom');
     custom.disabled = true;
     this.detail.replaceChildren(...this.levels.map((l) => new Option(l.name, l.name)), custom);
+    const other = new Option('custom', 'custom');
+    other.disabled = true;
+    this.gaps.replaceChildren(...catalog.closeGaps.map((g) => new Option(g.label, String(g.value))), other);
+    this.gaps.parentElement!.title = docs[CLOSE_GAPS] ?? '';
     this.start.replaceChildren(...(enums[START] ?? []).map((s) => new Option(s, s)));
     this.start.parentElement!.title = docs[START] ?? '';
     return flat;
@@ -218,6 +226,8 @@ export class RunSettings {
     if (!this.panel) return;
     this.start.value = this.startSurface();
     this.detail.value = this.level(this.startSurface()) ?? 'custom';
+    const gaps = String(this.panel.value(CLOSE_GAPS) ?? 0);
+    this.gaps.value = [...this.gaps.options].some((o) => o.value === gaps) ? gaps : 'custom';
   }
 
   /** Applies a link's preset and changed settings. */

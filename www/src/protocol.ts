@@ -149,6 +149,8 @@ export interface Catalog {
   /** The Detail levels, coarse first: per preset the grid cells and λ_min by start surface name
    * they set (see src/flow/detail.rs). */
   detail: DetailLevel[];
+  /** The "Close gaps up to" choices: `surgery.close_gaps` values, automatic first (src/flow/detail.rs). */
+  closeGaps: { label: string; value: number }[];
   /** The colour maps the MCF lesson offers (a subset of `colourMaps`). */
   lessonColourMaps: string[];
   /** The MCF lessons, in menu order (mirrors `flow::LessonInfo`). */

@@ -515,8 +515,9 @@ impl Evolver {
 }
 
 /// Surgery's "far from the data" distance in the target's units: `surgery.empty_cells` cells,
-/// and on a point cloud at least `surgery.empty_spacings` median point spacings (0 when surgery
-/// is off: the spacing costs a tree over the points).
+/// on a point cloud at least `surgery.empty_spacings` median point spacings, and at least half
+/// of `surgery.close_gaps` diagonals (a hole of that width has its centre that far from the
+/// data). 0 when surgery is off: the spacing costs a tree over the points.
 fn empty_distance(target: &Target, cell: f64, settings: &WrapSettings) -> f64 {
     let s = &settings.surgery;
     if !s.enabled {
@@ -527,7 +528,10 @@ fn empty_distance(target: &Target, cell: f64, settings: &WrapSettings) -> f64 {
     } else {
         0.0
     };
-    (s.empty_cells * cell).max(s.empty_spacings * spacing)
+    let gaps = 0.5 * s.close_gaps * target.bbox.size().length();
+    (s.empty_cells * cell)
+        .max(s.empty_spacings * spacing)
+        .max(gaps)
 }
 
 /// The divergence guard's limits in the stabilised frame: the box of the start surface and the

@@ -218,6 +218,11 @@ pub struct SurgerySettings {
     pub gap_ratio: f64,
     /// Smallest patch (vertices) that is cut. Range ≥ 3; default 6.
     pub min_vertices: usize,
+    /// Close gaps up to this fraction of the target's bounding-box diagonal: a handle whose hole
+    /// is narrower stays closed (the app's "Close gaps up to" control). 0 leaves it to the
+    /// sampling and the grid (`empty_cells`, `empty_spacings`); 1 keeps every handle closed.
+    /// Range 0–1; default 0.
+    pub close_gaps: f64,
 }
 
 impl Default for SurgerySettings {
@@ -229,6 +234,7 @@ impl Default for SurgerySettings {
             empty_spacings: 3.0,
             gap_ratio: 0.25,
             min_vertices: 6,
+            close_gaps: 0.0,
         }
     }
 }

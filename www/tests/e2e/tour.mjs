@@ -107,6 +107,33 @@ test('a genus-4 point cloud ends done with the badge valid, genus 4, 0 SI (surge
   await page.close();
 });
 
+test('Close gaps up to: "all" keeps the torus handle closed (genus 0, no surgery) and the link carries it; "auto" opens it again', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  const choices = await page.evaluate(() => [...document.querySelector('[data-testid=close-gaps]').options].filter((o) => !o.disabled).map((o) => o.textContent));
+  assert(choices[0] === 'auto' && choices.at(-1) === 'all', `choices: ${choices}`);
+  assert((await page.inputValue('[data-testid=close-gaps]')) === '0', 'the default is not auto');
+  const badge = () => page.evaluate(() => ({ ...document.querySelector('[data-testid=health]').dataset }));
+  await page.selectOption('[data-testid=close-gaps]', { label: 'all' });
+  const link = await page.inputValue('[data-testid=share-url]');
+  assert(/s\.surgery\.close_gaps=1/.test(link), `link: ${link}`);
+  await page.click('[data-testid=demo-sphere-torus]');
+  await waitState(page, ['done', 'invalid', 'error'], 300000);
+  const closed = await badge();
+  const events = await page.getAttribute('[data-testid=surgery]', 'data-events');
+  assert(closed.valid === 'true' && closed.genus === '0' && events === '0', `all: ${JSON.stringify(closed)}, ${events} events`);
+  await page.selectOption('[data-testid=close-gaps]', { label: 'auto' });
+  await page.click('[data-testid=reset]');
+  await waitState(page, ['idle'], 60000);
+  await page.click('[data-testid=play]');
+  await waitState(page, ['done', 'invalid', 'error'], 300000);
+  const open = await badge();
+  assert(open.valid === 'true' && open.genus === '1', `auto: ${JSON.stringify(open)}`);
+  await page.screenshot({ path: join(out, 'tour-close-gaps.png') });
+  noErrors(errors);
+  console.log(`   close gaps "all": genus ${closed.genus}; "auto": genus ${open.genus}`);
+  await page.close();
+});
+
 test('a new drop during a run replaces it; Reset returns to the loaded state and starts nothing; readouts clear at once', async (browser, url) => {
   const { page, errors } = await openApp(browser, url);
   await page.click('[data-demo=bunny-points]');
