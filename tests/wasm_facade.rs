@@ -117,12 +117,12 @@ fn the_mesh_lesson_flows_a_loaded_mesh_and_refuses_bad_ones() {
         .flat_map(|v| [v.x as f32, v.y as f32, v.z as f32])
         .collect();
     let i: Vec<u32> = m.triangles().concat();
-    let mut s = McfSession::from_mesh(&p, &i, 5e-5).unwrap();
+    let mut s = McfSession::from_mesh(&p, &i, 2e-5).unwrap();
     assert_eq!(s.lesson(), "mesh");
     assert_eq!(s.steps_left(), 200);
     let advice = s.tau_advice().unwrap();
     assert_eq!(get(&advice, "sensible").as_bool(), Some(true));
-    assert_eq!(get(&advice, "horizon").as_f64(), Some(0.01));
+    assert_eq!(get(&advice, "horizon").as_f64(), Some(0.004));
     let c: serde_json::Value = serde_json::from_str(&catalog()).unwrap();
     for name in c["lessonColourMaps"].as_array().unwrap() {
         let name = name.as_str().unwrap();

@@ -28,16 +28,17 @@ use glam::DVec3;
 use serde::Serialize;
 
 /// The lesson ends at flow time t = `MESH_LESSON_HORIZON`·D². A sphere just inside its
-/// bounding box (D² = 12 r²) has then shrunk to 72 % of its radius (it vanishes at D²/48 ≈
-/// 0.021 D²); on a scan, noise and small features are gone long before.
-pub const MESH_LESSON_HORIZON: f64 = 0.01;
+/// bounding box (D² = 12 r²) has then shrunk to 90 % of its radius (it vanishes at D²/48 ≈
+/// 0.021 D²); on a scan, noise and small features are gone long before (the bunny's ears by
+/// about 0.002·D², so a longer lesson shows mostly a shrinking blob).
+pub const MESH_LESSON_HORIZON: f64 = 0.004;
 
 /// … or earlier, when the area falls below this fraction of the initial area: the mesh has
 /// (nearly) collapsed, its triangles are needles and the flow shows the mesh, not the law.
 pub const MESH_LESSON_STOP_AREA: f64 = 0.05;
 
 /// The default relative time step τ/D²: 200 steps to the horizon.
-pub const MESH_LESSON_TAU: f64 = 5e-5;
+pub const MESH_LESSON_TAU: f64 = 2e-5;
 
 /// An entry of the app's lesson menu (the catalog's `lessons`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -569,7 +570,7 @@ mod tests {
         for (v, p) in boundary {
             assert_eq!(flow.mesh().positions()[v], p, "boundary vertex {v} moved");
         }
-        assert!(area < 0.8 * s0.area, "{area} of {}", s0.area);
+        assert!(area < 0.9 * s0.area, "{area} of {}", s0.area);
     }
 
     #[test]
