@@ -1,6 +1,6 @@
 //! Topology surgery (issue 14): a genus-0 start surface shrinking onto a target with handles
 //! opens each handle by cutting the two membranes that meet across its hole and gluing a tube;
-//! scan holes stay spanned. After every surgery the surface is certified (closed, manifold,
+//! a neck between separate objects is cut and capped; scan holes stay spanned. After every surgery the surface is certified (closed, manifold,
 //! oriented, 0 intersecting face pairs by exact predicates) and its genus is the event's.
 //! Runs natively and, a subset, in headless Chromium.
 //!
@@ -91,6 +91,19 @@ fn scan_holes_thin_parts_and_necks_are_never_cut() {
         let (g, events) = wrap(name, StartSurface::Icosphere);
         assert_eq!((g, events.len()), (0, 0), "{name}: {events:?}");
     }
+}
+
+#[test]
+fn a_neck_between_two_separate_spheres_pinches_into_two_components() {
+    let (p, t) = generate("two-spheres-apart-cloud").unwrap();
+    let target = Target::new(p, t).unwrap();
+    let mut ev = Evolver::new(&target, WrapSettings::default()).unwrap();
+    ev.run(|_| {}).unwrap();
+    let c = certify(&ev.positions(), &ev.triangles(), Some(&target));
+    assert!(c.valid && c.self_intersections == 0, "{c:?}");
+    assert_eq!((c.components, c.genus), (Some(2), Some(0)), "{c:?}");
+    let kinds: Vec<&str> = ev.surgery_events().iter().map(|e| e.kind).collect();
+    assert!(kinds.contains(&"pinch"), "{kinds:?}");
 }
 
 #[test]

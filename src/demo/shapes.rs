@@ -50,6 +50,10 @@ pub const SHAPES: &[(&str, &str)] = &[
         "two-spheres",
         "two disjoint closed spheres (r 0.5) with a gap of 1 % of the diagonal: one mesh, two components",
     ),
+    (
+        "two-spheres-apart-cloud",
+        "20 000 points on two spheres (r 0.5) 30 % of the diagonal apart: two components, genus 0",
+    ),
     ("thin-plate", "closed box 1 × 0.6 × 0.01 (a thin but real wall)"),
     ("thin-plate-cloud", "20 000 points sampled from thin-plate (no normals)"),
     (
@@ -88,6 +92,7 @@ pub fn generate(name: &str) -> Result<Shape, DemoError> {
         "sphere-cut" => Ok(cut_sphere(128, 48, 0.5)),
         "cube-hole" => Ok(cube_with_hole(0.25, 64, 16)),
         "two-spheres" => Ok(two_spheres(0.01)),
+        "two-spheres-apart-cloud" => cloud(two_spheres(0.3), 107),
         "thin-plate" => Ok(thin_plate()),
         "thin-plate-cloud" => cloud(thin_plate(), 106),
         "self-intersecting" => Ok(overlapping_spheres(0.5)),

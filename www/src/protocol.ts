@@ -220,11 +220,13 @@ export interface StepReport {
 /** One topology change (mirrors `flow::surgery::SurgeryEvent`). */
 export interface SurgeryEvent {
   step: number;
-  kind: 'handle';
+  kind: 'handle' | 'merge' | 'pinch' | 'drop';
   position: [number, number, number];
   radius: number;
   genus_before: number;
   genus_after: number;
+  components_before: number;
+  components_after: number;
 }
 
 /** What was read (mirrors `WrapSession.targetInfo`). */

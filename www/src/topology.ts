@@ -1,9 +1,24 @@
-// The surface's topology over time: genus per step and the surgery events (a handle opened) that
+// The surface's topology over time: genus per step and the surgery events (a handle opened, a neck cut) that
 // changed it, as marks on the time scrubber and a line under it. Scrubbing back shows the genus
 // of the frame on screen in the health badge; the end of the timeline shows the certificate again.
 import { byId } from './dom';
 import { showCertificate } from './health';
 import type { Certificate, StepReport, SurgeryEvent } from './protocol';
+
+/** One line per event, in words. */
+function describe(e: SurgeryEvent): string {
+  const parts = `components ${e.components_before} → ${e.components_after}`;
+  switch (e.kind) {
+    case 'handle':
+      return `step ${e.step} opened a handle (genus ${e.genus_before} → ${e.genus_after})`;
+    case 'merge':
+      return `step ${e.step} joined two parts (${parts})`;
+    case 'pinch':
+      return `step ${e.step} cut a neck in empty space (${parts})`;
+    case 'drop':
+      return `step ${e.step} dropped a part around nothing (${parts})`;
+  }
+}
 
 export class TopologyTimeline {
   private readonly genusAt = new Map<number, number>();
@@ -28,7 +43,7 @@ export class TopologyTimeline {
     }
     if (!this.events.length) return;
     this.list.dataset.events = String(this.events.length);
-    this.list.textContent = 'Surgery: ' + this.events.map((e) => `step ${e.step} opened a handle (genus ${e.genus_before} → ${e.genus_after})`).join('; ');
+    this.list.textContent = 'Surgery: ' + this.events.map(describe).join('; ');
   }
 
   /** Genus of the surface after `step` (the latest step at or before it). */

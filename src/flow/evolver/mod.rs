@@ -132,7 +132,8 @@ pub struct StepReport {
     pub distance_max: f64,
     /// Fraction of vertices that moved less than the stop threshold in this step.
     pub settled_fraction: f64,
-    /// Genus of the surface after the step (from its counts: it is closed and connected).
+    /// Genus of the surface after the step, summed over its components (from its counts: it is
+    /// closed, so E = 3F/2 and Σ genus = components − χ/2).
     pub genus: i64,
     /// The remesher's report, if it ran.
     pub remesh: Option<RemeshReport>,
@@ -473,7 +474,8 @@ impl Evolver {
             distance_mean: dmean / self.phi,
             distance_max: dmax / self.phi,
             settled_fraction: p.settled_fraction,
-            genus: (2 - self.mesh.n_vertices() as i64 + self.mesh.n_faces() as i64 / 2) / 2,
+            genus: self.mesh.count_components() as i64
+                - (self.mesh.n_vertices() as i64 - self.mesh.n_faces() as i64 / 2) / 2,
             remesh: p.remesh,
             fitted: p.fitted,
             contacts: p.contacts,

@@ -5,7 +5,7 @@
 use super::{Evolver, PhaseTimes};
 use crate::clock::now_ms;
 use crate::flow::surgery::detect::FacingQuery;
-use crate::flow::surgery::{events, open_handles, SurgeryEvent};
+use crate::flow::surgery::{drop_empty_components, events, open_handles, SurgeryEvent};
 use crate::metrics::intersections::count_self_intersections;
 use glam::DVec3;
 
@@ -13,7 +13,16 @@ impl Evolver {
     /// Operates when due and needed; the events of this step (empty when nothing happened).
     pub(super) fn surgery_if_due(&mut self, times: &mut PhaseTimes) -> Vec<SurgeryEvent> {
         let s = &self.settings.surgery;
-        if !s.enabled || self.done || self.step % s.check_every.max(1) != 0 {
+        if self.step % s.check_every.max(1) != 0 {
+            return Vec::new();
+        }
+        self.surgery_now(times)
+    }
+
+    /// Operates when needed (surgery on and the evolution not over).
+    fn surgery_now(&mut self, times: &mut PhaseTimes) -> Vec<SurgeryEvent> {
+        let s = &self.settings.surgery;
+        if !s.enabled || self.done {
             return Vec::new();
         }
         let t0 = now_ms();
@@ -45,7 +54,7 @@ impl Evolver {
             times.surgery += now_ms() - t0;
             return Vec::new();
         };
-        let out = events(&op, self.step, phi, |p| p / phi + center);
+        let mut out = events(&op, self.step, phi, |p| p / phi + center);
         let operated = op.mesh;
         self.mesh = operated.clone();
         // The tube's faces are as long as the loops' edges and as tall as the gap: remesh them,
@@ -56,6 +65,27 @@ impl Evolver {
             self.mesh = operated;
         }
         self.refresh_distances();
+        // A pinch may leave a bubble around nothing: drop it.
+        if let Some((kept, centroid)) =
+            drop_empty_components(&self.mesh, &self.distances, self.empty_distance)
+        {
+            let before = self.mesh.validate().map(|r| (r.genus, r.components));
+            let after = kept.validate().map(|r| (r.genus, r.components));
+            if let (Ok((g0, c0)), Ok((g1, c1))) = (before, after) {
+                self.mesh = kept;
+                self.refresh_distances();
+                out.push(SurgeryEvent {
+                    step: self.step,
+                    kind: "drop",
+                    position: (centroid / phi + center).to_array(),
+                    radius: 0.0,
+                    genus_before: g0,
+                    genus_after: g1,
+                    components_before: c0,
+                    components_after: c1,
+                });
+            }
+        }
         self.save_checkpoint();
         self.surgery_events.extend(out.iter().cloned());
         times.surgery += now_ms() - t0;

@@ -1,5 +1,7 @@
-//! Handle surgery: cut out two facing patches of a closed surface and glue their boundary loops
-//! with a tube (genus +1, or one component less when the patches lie on two components).
+//! Surgery on facing patches of a closed surface: two patches that face each other are cut out
+//! and their boundary loops glued with a tube (genus +1, or one component less when the patches
+//! lie on two components); a ring-shaped patch that faces itself (a neck pinching in empty
+//! space) is cut out and both its loops capped (one component more, or genus −1).
 //!
 //! The patches are the facing vertices found by [`super::detect::facing_pairs`], grouped into
 //! connected regions of the surface; a region is cut only when its faces form a disk (one simple
@@ -10,10 +12,21 @@
 use crate::mesh::HalfedgeMesh;
 use glam::DVec3;
 
-/// One tube glued between two patches.
+/// What an operation did to the surface.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cut {
+    /// Two patches replaced by a tube.
+    Tube,
+    /// A neck replaced by two caps.
+    Pinch,
+}
+
+/// One operation: a tube glued between two patches, or a neck cut and capped.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tube {
-    /// Centroid of the two loops (the hole the tube opens).
+    /// Which operation.
+    pub cut: Cut,
+    /// Centroid of the two loops (the hole the tube opens, or the neck cut).
     pub position: DVec3,
     /// Farthest loop vertex from `position`.
     pub radius: f64,
@@ -98,34 +111,34 @@ pub fn glue_facing_regions(
         ) else {
             continue;
         };
-        if !(spans(&la, a) && spans(&lb, b)) {
+        let (la, lb) = (&la[0], &lb[0]);
+        if !(spans(la, a) && spans(lb, b)) {
             continue;
         }
-        for f in 0..mesh.n_faces() as u32 {
-            if !mesh.is_deleted_face(f) {
-                let r = mesh.face_vertices(f).map(|v| region[v as usize]);
-                if r.iter().all(|&x| x == Some(a)) || r.iter().all(|&x| x == Some(b)) {
-                    removed[f as usize] = true;
-                }
-            }
+        remove_region(mesh, &region, &[a, b], &mut removed);
+        tubes_tris.extend(zip_loops(mesh, la, lb));
+        tubes.push(record(mesh, Cut::Tube, la, lb));
+    }
+    // Necks: a ring facing itself across its axis.
+    let mut positions = mesh.positions().to_vec();
+    for a in 0..n_regions as u32 {
+        if faces_of(a) != Some(a) || sizes[a as usize] < min_vertices {
+            continue;
         }
-        let c: DVec3 = la
-            .iter()
-            .chain(&lb)
-            .map(|&v| mesh.position(v))
-            .sum::<DVec3>()
-            / (la.len() + lb.len()) as f64;
-        tubes_tris.extend(zip_loops(mesh, &la, &lb));
-        let radius = la
-            .iter()
-            .chain(&lb)
-            .map(|&v| mesh.position(v).distance(c))
-            .fold(0.0, f64::max);
-        tubes.push(Tube {
-            position: c,
-            radius,
-            loop_vertices: [la.len(), lb.len()],
-        });
+        let Some(loops) = region_loops(mesh, &region, a, &removed, 0) else {
+            continue;
+        };
+        // No waiting here: the stumps of a neck cut at its thinnest part retract onto the data
+        // (or, around nothing, are dropped).
+        let [la, lb] = [&loops[0], &loops[1]];
+        remove_region(mesh, &region, &[a], &mut removed);
+        let centroid =
+            |lp: &[u32]| lp.iter().map(|&v| mesh.position(v)).sum::<DVec3>() / lp.len() as f64;
+        let (ca, cb) = (centroid(la), centroid(lb));
+        for (lp, away) in [(la, cb - ca), (lb, ca - cb)] {
+            tubes_tris.extend(cap(&mut positions, lp, away.normalize_or_zero()));
+        }
+        tubes.push(record(mesh, Cut::Pinch, la, lb));
     }
     if tubes.is_empty() {
         return None;
@@ -135,7 +148,7 @@ pub fn glue_facing_regions(
         .map(|f| mesh.face_vertices(f))
         .collect();
     tris.extend(tubes_tris);
-    let (positions, triangles) = compact(mesh.positions(), &tris);
+    let (positions, triangles) = compact(&positions, &tris);
     Some(Glued {
         positions,
         triangles,
@@ -172,14 +185,27 @@ fn regions(mesh: &HalfedgeMesh, partner: &[Option<u32>]) -> (Vec<Option<u32>>, V
 }
 
 /// The boundary loop of region `r`'s faces (those with all three vertices in `r`) when they
-/// form a disk: one simple loop and Euler characteristic 1. Vertices in the direction of the
-/// region's own halfedges. Faces already `removed` disqualify the region.
+/// form a disk.
 fn disk_loop(
     mesh: &HalfedgeMesh,
     region: &[Option<u32>],
     r: u32,
     removed: &[bool],
-) -> Option<Vec<u32>> {
+) -> Option<Vec<Vec<u32>>> {
+    region_loops(mesh, region, r, removed, 1)
+}
+
+/// The boundary loops of region `r`'s faces (those with all three vertices in `r`) when they
+/// form a connected surface of Euler characteristic `euler` — a disk (1: one loop) or an annulus
+/// (0: two loops) — with simple loops of at least three vertices, each in the direction of the
+/// region's own halfedges. Faces already `removed` disqualify the region.
+fn region_loops(
+    mesh: &HalfedgeMesh,
+    region: &[Option<u32>],
+    r: u32,
+    removed: &[bool],
+    euler: i64,
+) -> Option<Vec<Vec<u32>>> {
     let inside = |f: u32| {
         !mesh.is_deleted_face(f)
             && mesh
@@ -203,7 +229,7 @@ fn disk_loop(
             let o = HalfedgeMesh::opposite(h);
             if mesh.is_boundary_halfedge(o) || !inside(mesh.face(o)) {
                 if next_of.insert(mesh.from(h), mesh.to(h)).is_some() {
-                    return None; // the loop touches itself at a vertex
+                    return None; // a loop touches itself at a vertex
                 }
             } else {
                 interior_edges += 1;
@@ -215,21 +241,107 @@ fn disk_loop(
         }
     }
     let edges = interior_edges / 2 + next_of.len();
-    let euler = verts.len() as i64 - edges as i64 + faces.len() as i64;
-    if euler != 1 || next_of.len() < 3 {
+    if verts.len() as i64 - edges as i64 + faces.len() as i64 != euler {
         return None;
     }
-    let (&first, _) = next_of.iter().next()?;
-    let mut lp = vec![first];
-    let mut v = next_of[&first];
-    while v != first {
-        lp.push(v);
-        v = *next_of.get(&v)?;
-        if lp.len() > next_of.len() {
+    let mut loops = Vec::new();
+    let mut seen = std::collections::BTreeSet::new();
+    for &first in next_of.keys() {
+        if !seen.insert(first) {
+            continue;
+        }
+        let mut lp = vec![first];
+        let mut v = next_of[&first];
+        while v != first {
+            if !seen.insert(v) {
+                return None;
+            }
+            lp.push(v);
+            v = *next_of.get(&v)?;
+        }
+        if lp.len() < 3 {
             return None;
         }
+        loops.push(lp);
     }
-    (lp.len() == next_of.len()).then_some(lp)
+    // A connected region with χ = 2 − 2g − b: one loop for a disk, two for an annulus.
+    (loops.len() as i64 == 2 - euler && connected(mesh, &faces, &inside)).then_some(loops)
+}
+
+/// Whether `faces` are edge-connected through faces for which `inside` holds.
+fn connected(mesh: &HalfedgeMesh, faces: &[u32], inside: &impl Fn(u32) -> bool) -> bool {
+    let mut seen = std::collections::BTreeSet::from([faces[0]]);
+    let mut stack = vec![faces[0]];
+    while let Some(f) = stack.pop() {
+        let h0 = mesh.face_halfedge(f);
+        let mut h = h0;
+        loop {
+            let o = HalfedgeMesh::opposite(h);
+            if !mesh.is_boundary_halfedge(o) {
+                let g = mesh.face(o);
+                if inside(g) && seen.insert(g) {
+                    stack.push(g);
+                }
+            }
+            h = mesh.next(h);
+            if h == h0 {
+                break;
+            }
+        }
+    }
+    seen.len() == faces.len()
+}
+
+/// Marks the faces with all three vertices in one of `regions` as removed.
+fn remove_region(
+    mesh: &HalfedgeMesh,
+    region: &[Option<u32>],
+    regions: &[u32],
+    removed: &mut [bool],
+) {
+    for f in 0..mesh.n_faces() as u32 {
+        if !mesh.is_deleted_face(f) {
+            let r = mesh.face_vertices(f).map(|v| region[v as usize]);
+            if regions.iter().any(|&x| r.iter().all(|&y| y == Some(x))) {
+                removed[f as usize] = true;
+            }
+        }
+    }
+}
+
+/// The record of an operation on loops `a` and `b`: their centroid and the farthest loop vertex.
+fn record(mesh: &HalfedgeMesh, cut: Cut, a: &[u32], b: &[u32]) -> Tube {
+    let c: DVec3 =
+        a.iter().chain(b).map(|&v| mesh.position(v)).sum::<DVec3>() / (a.len() + b.len()) as f64;
+    let radius = a
+        .iter()
+        .chain(b)
+        .map(|&v| mesh.position(v).distance(c))
+        .fold(0.0, f64::max);
+    Tube {
+        cut,
+        position: c,
+        radius,
+        loop_vertices: [a.len(), b.len()],
+    }
+}
+
+/// Caps loop `lp` (in its region's halfedge direction) with a fan around a new vertex, appended
+/// to `positions`: the loop's centroid moved by half the loop's mean radius along `away` (away
+/// from the other stump), so the cap is a shallow cone that stays clear of the cut.
+fn cap(positions: &mut Vec<DVec3>, lp: &[u32], away: DVec3) -> Vec<[u32; 3]> {
+    let c = lp.iter().map(|&v| positions[v as usize]).sum::<DVec3>() / lp.len() as f64;
+    let r = lp
+        .iter()
+        .map(|&v| positions[v as usize].distance(c))
+        .sum::<f64>()
+        / lp.len() as f64;
+    let c = c + 0.5 * r * away;
+    let ci = positions.len() as u32;
+    positions.push(c);
+    (0..lp.len())
+        .map(|i| [lp[i], lp[(i + 1) % lp.len()], ci])
+        .collect()
 }
 
 /// The tube between loops `a` and `b` (each in its region's halfedge direction): `a` forwards,
@@ -262,7 +374,7 @@ fn zip_loops(mesh: &HalfedgeMesh, a: &[u32], b: &[u32]) -> Vec<[u32; 3]> {
 }
 
 /// Drops unreferenced vertices, keeping the order of the others.
-fn compact(positions: &[DVec3], tris: &[[u32; 3]]) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+pub(super) fn compact(positions: &[DVec3], tris: &[[u32; 3]]) -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let mut map = vec![u32::MAX; positions.len()];
     for t in tris {
         for &v in t {

@@ -1,5 +1,6 @@
-//! Collision detection for surgery: pairs of surface vertices that are close in space, face each
-//! other, and both lie far from the target. A genus-0 surface shrinking onto a handle grows two
+//! Collision detection for surgery: pairs of surface vertices that are close in space, lie back
+//! to back (a thin slab of the inside between them: normals opposed, each behind the other), and
+//! both lie far from the target. A genus-0 surface shrinking onto a handle grows two
 //! membranes across the handle's hole that approach each other in empty space; those are the
 //! pairs found here. Sheets meeting *at the data* (the two sides of one scan layer, a membrane
 //! sagging onto the inside of a scan) are never paired: their vertices are near the target.

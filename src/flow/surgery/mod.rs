@@ -12,7 +12,7 @@ pub mod detect;
 use crate::geometry::operators::normals::angle_weighted_normals;
 use crate::mesh::HalfedgeMesh;
 use crate::metrics::intersections::count_self_intersections;
-use bridge::{glue_facing_regions, Tube};
+use bridge::{glue_facing_regions, Cut, Tube};
 use detect::{facing_pairs, FacingQuery};
 use glam::DVec3;
 use serde::Serialize;
@@ -25,15 +25,20 @@ const RIM: f64 = 2.0;
 pub struct SurgeryEvent {
     /// The step after which it happened.
     pub step: u32,
-    /// What happened: `"handle"` (two membranes cut and joined by a tube: genus +1).
+    /// What happened: `"handle"` (two membranes cut and joined by a tube: genus +1), `"merge"`
+    /// (a tube between two components), `"pinch"` (a neck in empty space cut and both sides
+    /// capped), `"drop"` (a component enclosing no data removed).
     pub kind: &'static str,
     /// Where (centre of the tube), in the target's units.
     pub position: [f64; 3],
     /// Radius of the cut (farthest loop vertex from `position`), in the target's units.
     pub radius: f64,
-    /// Genus of the surface before and after.
+    /// Genus of the surface before and after (summed over components).
     pub genus_before: i64,
     pub genus_after: i64,
+    /// Connected components before and after.
+    pub components_before: usize,
+    pub components_after: usize,
 }
 
 /// A surface after successful surgery.
@@ -42,6 +47,8 @@ pub struct Operated {
     pub tubes: Vec<Tube>,
     pub genus_before: i64,
     pub genus_after: i64,
+    pub components_before: usize,
+    pub components_after: usize,
 }
 
 /// Membranes have settled when their count of paired vertices grew by less than this factor
@@ -56,9 +63,10 @@ pub struct Look {
     pub operated: Option<Operated>,
 }
 
-/// Looks for facing membranes in empty space and glues each facing pair of patches with a tube.
-/// The result is kept only when it is a closed, oriented manifold free of self-intersections
-/// whose genus rose by the number of tubes (else the surface stays as it was). `distances` are
+/// Looks for facing membranes in empty space: glues each facing pair of patches with a tube and
+/// cuts each neck that faces itself, capping both sides. The result is kept only when it is a
+/// closed, oriented manifold free of self-intersections whose Euler characteristic changed by
+/// −2 per tube and +2 per cut neck (else the surface stays as it was). `distances` are
 /// the vertices' distances to the target; `previous` is the last look's `paired`.
 pub fn open_handles(
     mesh: &HalfedgeMesh,
@@ -93,9 +101,12 @@ fn operate(
     let glued = glue_facing_regions(mesh, partner, distances, rim, settled, min_vertices)?;
     let out = HalfedgeMesh::from_triangles(glued.positions, &glued.triangles).ok()?;
     let after = out.validate().ok()?;
-    let expected = before.genus + glued.tubes.len() as i64;
-    let merged = before.components > after.components;
-    if !(after.genus == expected || merged) {
+    let change: i64 = glued
+        .tubes
+        .iter()
+        .map(|t| if t.cut == Cut::Tube { -2 } else { 2 })
+        .sum();
+    if after.euler_characteristic != before.euler_characteristic + change {
         return None;
     }
     if count_self_intersections(out.positions(), &out.triangles()) > 0 {
@@ -106,6 +117,8 @@ fn operate(
         tubes: glued.tubes,
         genus_before: before.genus,
         genus_after: after.genus,
+        components_before: before.components,
+        components_after: after.components,
     })
 }
 
@@ -121,13 +134,68 @@ pub fn events(
         .iter()
         .map(|t| SurgeryEvent {
             step,
-            kind: "handle",
+            kind: match t.cut {
+                Cut::Pinch => "pinch",
+                Cut::Tube if op.components_after < op.components_before => "merge",
+                Cut::Tube => "handle",
+            },
             position: to_target(t.position).to_array(),
             radius: t.radius / scale,
             genus_before: op.genus_before,
             genus_after: op.genus_after,
+            components_before: op.components_before,
+            components_after: op.components_after,
         })
         .collect()
+}
+
+/// Removes the components of a surface that enclose no data: every vertex farther than `empty`
+/// from the target (`distances` per vertex), as left behind when a neck pinched beside a bubble.
+/// Returns the rest and the centroid of what was dropped; `None` when every component touches
+/// the data (or none does: then nothing is certain and nothing is dropped).
+pub fn drop_empty_components(
+    mesh: &HalfedgeMesh,
+    distances: &[f64],
+    empty: f64,
+) -> Option<(HalfedgeMesh, DVec3)> {
+    let n = mesh.n_vertices();
+    let mut comp = vec![u32::MAX; n];
+    let mut near = Vec::new();
+    for s in 0..n as u32 {
+        if comp[s as usize] != u32::MAX || mesh.is_deleted_vertex(s) {
+            continue;
+        }
+        let id = near.len() as u32;
+        let mut touches = false;
+        let mut stack = vec![s];
+        comp[s as usize] = id;
+        while let Some(v) = stack.pop() {
+            touches |= distances[v as usize].abs() <= empty;
+            for u in mesh.neighbors(v) {
+                if comp[u as usize] == u32::MAX {
+                    comp[u as usize] = id;
+                    stack.push(u);
+                }
+            }
+        }
+        near.push(touches);
+    }
+    let dropped = near.iter().filter(|&&t| !t).count();
+    if dropped == 0 || dropped == near.len() {
+        return None;
+    }
+    let tris: Vec<[u32; 3]> = (0..mesh.n_faces() as u32)
+        .filter(|&f| !mesh.is_deleted_face(f))
+        .map(|f| mesh.face_vertices(f))
+        .filter(|t| near[comp[t[0] as usize] as usize])
+        .collect();
+    let gone: Vec<DVec3> = (0..n)
+        .filter(|&v| comp[v] != u32::MAX && !near[comp[v] as usize])
+        .map(|v| mesh.position(v as u32))
+        .collect();
+    let centroid = gone.iter().sum::<DVec3>() / gone.len().max(1) as f64;
+    let (p, t) = bridge::compact(mesh.positions(), &tris);
+    Some((HalfedgeMesh::from_triangles(p, &t).ok()?, centroid))
 }
 
 #[cfg(test)]
@@ -201,6 +269,47 @@ mod tests {
         assert!(first.paired > 0 && first.operated.is_none());
         let op = open_handles(&m, &deep, &q, 6, first.paired).operated;
         assert_eq!(op.map(|o| o.genus_after), Some(1));
+    }
+
+    fn far_query() -> FacingQuery {
+        FacingQuery {
+            empty: 0.15,
+            gap_ratio: 0.25,
+            opened: vec![],
+        }
+    }
+
+    #[test]
+    fn a_neck_in_empty_space_is_cut_and_capped() {
+        // A needle: its long middle faces itself across the axis, its tips do not.
+        let mut m = icosphere(3, 1.0, DVec3::ZERO).unwrap();
+        for p in m.positions_mut() {
+            *p *= DVec3::new(1.0, 0.04, 0.04);
+        }
+        let far = vec![1.0; m.n_vertices()];
+        let op = open_handles(&m, &far, &far_query(), 6, 1 << 20)
+            .operated
+            .expect("the neck is cut");
+        // Each ring cut adds a component (the icosphere's symmetry may give more than one ring).
+        assert_eq!(op.components_after, 1 + op.tubes.len());
+        assert_eq!(op.genus_after, 0);
+        assert!(events(&op, 1, 1.0, |p| p).iter().all(|e| e.kind == "pinch"));
+        let pairs = self_intersecting_pairs_brute_force(op.mesh.positions(), &op.mesh.triangles());
+        assert!(pairs.is_empty(), "{pairs:?}");
+        // Both stumps enclose nothing (all far from the data): nothing certain, nothing dropped;
+        // with one stump at the data, the other goes.
+        let d_far = vec![1.0; op.mesh.n_vertices()];
+        assert!(drop_empty_components(&op.mesh, &d_far, 0.15).is_none());
+        let d_left: Vec<f64> = op
+            .mesh
+            .positions()
+            .iter()
+            .map(|p| if p.x < 0.0 { 0.0 } else { 1.0 })
+            .collect();
+        let (kept, gone) = drop_empty_components(&op.mesh, &d_left, 0.15).unwrap();
+        // The right tip goes (the middle piece, if any, reaches the left half and stays).
+        assert_eq!(kept.validate().unwrap().components, op.components_after - 1);
+        assert!(gone.x > 0.5, "{gone:?}");
     }
 
     #[test]
