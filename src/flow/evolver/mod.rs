@@ -365,9 +365,13 @@ impl Evolver {
     /// is the requested step's.
     pub fn step(&mut self) -> Result<StepReport, EvolveError> {
         let wanted = self.step + 1;
+        // Surgery done in steps that were redone is still done: its events go with the report.
+        let mut events = Vec::new();
         loop {
-            let r = self.step_once()?;
+            let mut r = self.step_once()?;
+            events.append(&mut r.surgery);
             if self.step >= wanted || self.done {
+                r.surgery = events;
                 return Ok(r);
             }
         }

@@ -53,6 +53,7 @@ pub fn facing_pairs(
         return partner;
     }
     let pts: Vec<DVec3> = far.iter().map(|&v| mesh.position(v)).collect();
+    let part = components(mesh);
     // Vertices are spaced by their edges, which may be far longer than the gap between two
     // sheets: the gap is measured along the normal, and a partner may sit up to an edge away
     // sideways.
@@ -80,18 +81,49 @@ pub fn facing_pairs(
             let u = far[j];
             let (nu, du) = (normals[u as usize], distances[u as usize].abs());
             let w = c.point - p;
-            // Separation along the normals (u lies behind v and v behind u) and sideways.
+            // Separation along the normals and sideways. Back to back (u behind v and v behind
+            // u: a slab of the inside between them) on one surface; face to face (the outside
+            // between them) only across two components, which then merge.
             let (sv, su) = (-w.dot(nv), w.dot(nu));
             let side = (w + sv * nv).length();
+            let back_to_back = sv > 0.0 && su > 0.0;
+            let face_to_face = sv < 0.0 && su < 0.0 && part[u as usize] != part[v as usize];
             let facing = nv.dot(nu) < FACING_COS
-                && sv > 0.0
-                && su > 0.0
-                && sv.max(su) < q.gap_ratio * du.min(dv)
+                && (back_to_back || face_to_face)
+                && sv.abs().max(su.abs()) < q.gap_ratio * du.min(dv)
                 && side <= edges[i].max(edges[j]);
             (u != v && facing).then_some(u)
         });
     }
     partner
+}
+
+/// The connected component of every vertex (deterministic numbering).
+fn components(mesh: &HalfedgeMesh) -> Vec<u32> {
+    let n = mesh.n_vertices();
+    let mut part = vec![u32::MAX; n];
+    let mut id = 0;
+    let mut stack = Vec::new();
+    for s in 0..n as u32 {
+        if part[s as usize] != u32::MAX {
+            continue;
+        }
+        part[s as usize] = id;
+        stack.push(s);
+        while let Some(v) = stack.pop() {
+            if mesh.is_deleted_vertex(v) {
+                continue;
+            }
+            for u in mesh.neighbors(v) {
+                if part[u as usize] == u32::MAX {
+                    part[u as usize] = id;
+                    stack.push(u);
+                }
+            }
+        }
+        id += 1;
+    }
+    part
 }
 
 #[cfg(test)]

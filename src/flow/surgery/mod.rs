@@ -280,6 +280,27 @@ mod tests {
     }
 
     #[test]
+    fn two_spheres_approaching_in_empty_space_merge_through_a_tube() {
+        let a = icosphere(3, 1.0, DVec3::new(-1.01, 0.0, 0.0)).unwrap();
+        let b = icosphere(3, 1.0, DVec3::new(1.01, 0.0, 0.0)).unwrap();
+        let n = a.n_vertices() as u32;
+        let mut p = a.positions().to_vec();
+        p.extend_from_slice(b.positions());
+        let mut t = a.triangles();
+        t.extend(b.triangles().iter().map(|f| f.map(|v| v + n)));
+        let m = HalfedgeMesh::from_triangles(p, &t).unwrap();
+        let far = vec![1.0; m.n_vertices()];
+        let op = open_handles(&m, &far, &far_query(), 6, 1 << 20)
+            .operated
+            .expect("the spheres merge");
+        assert_eq!((op.components_before, op.components_after), (2, 1));
+        assert_eq!((op.genus_before, op.genus_after), (0, 0));
+        assert_eq!(events(&op, 1, 1.0, |p| p)[0].kind, "merge");
+        let pairs = self_intersecting_pairs_brute_force(op.mesh.positions(), &op.mesh.triangles());
+        assert!(pairs.is_empty(), "{pairs:?}");
+    }
+
+    #[test]
     fn a_neck_in_empty_space_is_cut_and_capped() {
         // A needle: its long middle faces itself across the axis, its tips do not.
         let mut m = icosphere(3, 1.0, DVec3::ZERO).unwrap();
