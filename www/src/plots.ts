@@ -77,7 +77,8 @@ export class LinePlot {
         height: opts.height ?? 170,
         title,
         scales: { x: { time: false }, y: opts.log ? { distr: 3 } : {} },
-        axes: [{ ...AXIS, label: opts.xLabel ?? 'step' }, { ...AXIS, size: 56 }],
+        // Three significant digits on x: uPlot's default rounds ticks 0.0005 apart to 0.001, 0.001, …
+        axes: [{ ...AXIS, label: opts.xLabel ?? 'step', values: (_u: uPlot, ticks: number[]) => ticks.map((t) => String(Number(t.toPrecision(3)))) }, { ...AXIS, size: 56 }],
         series: [{ label: opts.xLabel ?? 'step' }, ...labels.map((label, i) => ({ label, stroke: colours[i], width: 1.5 }))],
         legend: { live: false },
       },

@@ -70,6 +70,10 @@ function colours(values: Float32Array | null, fixed?: [number, number]): { color
 
 /** The colour maps the lesson offers (the catalog's `lessonColourMaps`), the first its default. */
 let lessonMaps: string[] = ['curvature'];
+/** The mesh lesson keeps each map's range from its first frame: the same colour means the same
+ * value all along, and a singularity forming (a thin part collapsing, where |H| explodes) shows
+ * as saturated red instead of stretching the legend until the rest is one colour. */
+const lessonRanges = new Map<string, [number, number]>();
 
 function sendMcfFrame(): void {
   if (!mcf) return;
@@ -78,7 +82,9 @@ function sendMcfFrame(): void {
   const stats = mcf.stats() as McfStats;
   // A wrap's map the lesson does not have (distance, …) shows its first one.
   const map = colour === 'none' || lessonMaps.includes(colour) ? colour : lessonMaps[0];
-  const { colors, range } = colours(map === 'none' ? null : mcf.scalar(map));
+  const values = map === 'none' ? null : mcf.scalar(map);
+  const { colors, range } = colours(values, mcf.lesson() === 'mesh' ? lessonRanges.get(map) : undefined);
+  if (values && mcf.lesson() === 'mesh' && !lessonRanges.has(map)) lessonRanges.set(map, range);
   const transfer: Transferable[] = [positions.buffer, normals.buffer];
   if (colors) transfer.push(colors.buffer);
   let indices: Uint32Array | undefined;
@@ -119,6 +125,7 @@ function startLesson(make: () => McfSession): void {
   mcf?.free();
   mcf = next;
   sentIndices = false;
+  lessonRanges.clear();
   post({ type: 'mcf-advice', advice: next.tauAdvice() as TauAdvice | MeshTauAdvice });
   sendMcfFrame();
 }

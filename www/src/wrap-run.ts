@@ -245,6 +245,7 @@ export class WrapRun {
 
   /** The scrubber shows the frame of `step` (null: the live end): the badge follows it. */
   scrubbed(step: number | null): void {
+    if (this.d.mode.current !== 'wrap') return; // the lesson's frames have no certificate
     const k = this.d.kept.result;
     this.d.readout.topology.show(this.d.health, step, k?.certificate ?? null, k?.stopReason ?? null);
   }
