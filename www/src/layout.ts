@@ -12,10 +12,12 @@ export function bindLayout(): void {
   };
 }
 
-/** Scrolls the 3-D view into sight when most of it is off screen (one column: a demo or file
- * was chosen in the panel below it). */
+/** Scrolls the 3-D view into sight when most of it is off screen or under the sticky header (one
+ * column: a demo or file was chosen in the panel below it). */
 export function revealView(): void {
   const r = byId('stage').getBoundingClientRect();
-  const visible = Math.min(r.bottom, window.innerHeight) - Math.max(r.top, 0);
-  if (visible < r.height / 2) window.scrollTo({ top: window.scrollY + r.top - byId('header').offsetHeight, behavior: 'instant' });
+  // The sticky header covers the top of the window.
+  const header = byId('header').offsetHeight;
+  const visible = Math.min(r.bottom, window.innerHeight) - Math.max(r.top, header);
+  if (visible < r.height / 2) window.scrollTo({ top: window.scrollY + r.top - header, behavior: 'instant' });
 }
