@@ -32,6 +32,10 @@ pub struct Tube {
     pub radius: f64,
     /// Vertices on the two loops.
     pub loop_vertices: [usize; 2],
+    /// The region it was made for (pass it to `skip` to leave that operation out).
+    pub region: u32,
+    /// Its new faces: indices into [`Glued::triangles`].
+    pub faces: std::ops::Range<usize>,
 }
 
 /// The surface after surgery (compacted: vertices of the cut patches removed).
@@ -61,6 +65,7 @@ pub fn glue_facing_regions(
     rim: f64,
     settled: bool,
     min_vertices: usize,
+    skip: &[u32],
 ) -> Option<Glued> {
     let (region, sizes) = regions(mesh, partner);
     let d = |v: &u32| distances[*v as usize].abs();
@@ -99,6 +104,9 @@ pub fn glue_facing_regions(
     let mut tubes = Vec::new();
     for a in 0..n_regions as u32 {
         let Some(b) = faces_of(a) else { continue };
+        if skip.contains(&a) {
+            continue;
+        }
         if b <= a || faces_of(b) != Some(a) {
             continue;
         }
@@ -116,13 +124,14 @@ pub fn glue_facing_regions(
             continue;
         }
         remove_region(mesh, &region, &[a, b], &mut removed);
+        let start = tubes_tris.len();
         tubes_tris.extend(zip_loops(mesh, la, lb));
-        tubes.push(record(mesh, Cut::Tube, la, lb));
+        tubes.push(record(mesh, Cut::Tube, la, lb, a, start..tubes_tris.len()));
     }
     // Necks: a ring facing itself across its axis.
     let mut positions = mesh.positions().to_vec();
     for a in 0..n_regions as u32 {
-        if faces_of(a) != Some(a) || sizes[a as usize] < min_vertices {
+        if faces_of(a) != Some(a) || sizes[a as usize] < min_vertices || skip.contains(&a) {
             continue;
         }
         let Some(loops) = region_loops(mesh, &region, a, &removed, 0) else {
@@ -135,10 +144,11 @@ pub fn glue_facing_regions(
         let centroid =
             |lp: &[u32]| lp.iter().map(|&v| mesh.position(v)).sum::<DVec3>() / lp.len() as f64;
         let (ca, cb) = (centroid(la), centroid(lb));
+        let start = tubes_tris.len();
         for (lp, away) in [(la, cb - ca), (lb, ca - cb)] {
             tubes_tris.extend(cap(&mut positions, lp, away.normalize_or_zero()));
         }
-        tubes.push(record(mesh, Cut::Pinch, la, lb));
+        tubes.push(record(mesh, Cut::Pinch, la, lb, a, start..tubes_tris.len()));
     }
     if tubes.is_empty() {
         return None;
@@ -147,6 +157,10 @@ pub fn glue_facing_regions(
         .filter(|&f| !mesh.is_deleted_face(f) && !removed[f as usize])
         .map(|f| mesh.face_vertices(f))
         .collect();
+    let kept = tris.len();
+    for t in &mut tubes {
+        t.faces = kept + t.faces.start..kept + t.faces.end;
+    }
     tris.extend(tubes_tris);
     let (positions, triangles) = compact(&positions, &tris);
     Some(Glued {
@@ -309,8 +323,16 @@ fn remove_region(
     }
 }
 
-/// The record of an operation on loops `a` and `b`: their centroid and the farthest loop vertex.
-fn record(mesh: &HalfedgeMesh, cut: Cut, a: &[u32], b: &[u32]) -> Tube {
+/// The record of an operation on loops `a` and `b` (their centroid and the farthest loop vertex)
+/// made for region `region`, with new faces `faces` (indices among the new faces for now).
+fn record(
+    mesh: &HalfedgeMesh,
+    cut: Cut,
+    a: &[u32],
+    b: &[u32],
+    region: u32,
+    faces: std::ops::Range<usize>,
+) -> Tube {
     let c: DVec3 =
         a.iter().chain(b).map(|&v| mesh.position(v)).sum::<DVec3>() / (a.len() + b.len()) as f64;
     let radius = a
@@ -323,6 +345,8 @@ fn record(mesh: &HalfedgeMesh, cut: Cut, a: &[u32], b: &[u32]) -> Tube {
         position: c,
         radius,
         loop_vertices: [a.len(), b.len()],
+        region,
+        faces,
     }
 }
 

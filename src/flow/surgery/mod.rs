@@ -11,7 +11,7 @@ pub mod detect;
 
 use crate::geometry::operators::normals::angle_weighted_normals;
 use crate::mesh::HalfedgeMesh;
-use crate::metrics::intersections::count_self_intersections;
+use crate::metrics::intersections::self_intersecting_pairs;
 use bridge::{glue_facing_regions, Cut, Tube};
 use detect::{facing_pairs, FacingQuery};
 use glam::DVec3;
@@ -87,7 +87,9 @@ pub fn open_handles(
     Look { paired, operated }
 }
 
-/// Cuts and glues; `None` when nothing qualified or the result failed a check.
+/// Cuts and glues; `None` when nothing qualified or the result failed a check. When some of the
+/// new faces cross others, the operations they belong to are left out and the rest tried once
+/// more (one bad tube must not hold back the other holes).
 fn operate(
     mesh: &HalfedgeMesh,
     partner: &[Option<u32>],
@@ -98,28 +100,47 @@ fn operate(
 ) -> Option<Operated> {
     let before = mesh.validate().ok()?;
     let rim = RIM * query.empty;
-    let glued = glue_facing_regions(mesh, partner, distances, rim, settled, min_vertices)?;
-    let out = HalfedgeMesh::from_triangles(glued.positions, &glued.triangles).ok()?;
-    let after = out.validate().ok()?;
-    let change: i64 = glued
-        .tubes
-        .iter()
-        .map(|t| if t.cut == Cut::Tube { -2 } else { 2 })
-        .sum();
-    if after.euler_characteristic != before.euler_characteristic + change {
-        return None;
+    let mut skip = Vec::new();
+    for _attempt in 0..2 {
+        let glued =
+            glue_facing_regions(mesh, partner, distances, rim, settled, min_vertices, &skip)?;
+        let out = HalfedgeMesh::from_triangles(glued.positions, &glued.triangles).ok()?;
+        let after = out.validate().ok()?;
+        let change: i64 = glued
+            .tubes
+            .iter()
+            .map(|t| if t.cut == Cut::Tube { -2 } else { 2 })
+            .sum();
+        if after.euler_characteristic != before.euler_characteristic + change {
+            return None;
+        }
+        let pairs = self_intersecting_pairs(out.positions(), &out.triangles());
+        if pairs.is_empty() {
+            return Some(Operated {
+                mesh: out,
+                tubes: glued.tubes,
+                genus_before: before.genus,
+                genus_after: after.genus,
+                components_before: before.components,
+                components_after: after.components,
+            });
+        }
+        let bad: Vec<u32> = glued
+            .tubes
+            .iter()
+            .filter(|t| {
+                let hit = |f: u32| t.faces.contains(&(f as usize));
+                pairs.iter().any(|&(f, g)| hit(f) || hit(g))
+            })
+            .map(|t| t.region)
+            .collect();
+        // Crossings among the old faces only, or every operation at fault: nothing to retry.
+        if bad.is_empty() || bad.len() == glued.tubes.len() {
+            return None;
+        }
+        skip.extend(bad);
     }
-    if count_self_intersections(out.positions(), &out.triangles()) > 0 {
-        return None;
-    }
-    Some(Operated {
-        mesh: out,
-        tubes: glued.tubes,
-        genus_before: before.genus,
-        genus_after: after.genus,
-        components_before: before.components,
-        components_after: after.components,
-    })
+    None
 }
 
 /// The event records of `op`, in the target's units: positions mapped by `to_target`, lengths
