@@ -26,7 +26,8 @@ fn code_and_hint(e: JsValue) -> (String, String) {
 fn catalog_lists_what_the_session_accepts() {
     let c: serde_json::Value = serde_json::from_str(&catalog()).unwrap();
     let bytes = lsw::wasm::demo_shape("genus2").unwrap().to_vec();
-    let mut s = WrapSession::new(&bytes, Some("genus2.ply".into()), r#"{"steps": 2}"#).unwrap();
+    let mut s =
+        WrapSession::new(&bytes, Some("genus2.ply".into()), r#"{"steps": 2}"#, None).unwrap();
     s.step(1).unwrap();
     let n = s.positions().length() / 3;
     for m in c["colourMaps"].as_array().unwrap() {
@@ -60,7 +61,9 @@ fn catalog_lists_what_the_session_accepts() {
 
 #[wasm_bindgen_test]
 fn core_errors_arrive_with_code_and_hint() {
-    let e = WrapSession::new(b"hello\n", None, "{}").err().unwrap();
+    let e = WrapSession::new(b"hello\n", None, "{}", None)
+        .err()
+        .unwrap();
     let (code, hint) = code_and_hint(e);
     assert_eq!(code, "bad-file");
     assert!(hint.contains("MetaImage"), "{hint}");
@@ -73,7 +76,7 @@ fn core_errors_arrive_with_code_and_hint() {
     let e = preset_settings("nope").unwrap_err();
     assert!(code_and_hint(e).1.contains("full-wrap"));
     let bytes = lsw::wasm::demo_shape("noisy-sphere").unwrap().to_vec();
-    let e = WrapSession::new(&bytes, None, r#"{"tau": "fast"}"#)
+    let e = WrapSession::new(&bytes, None, r#"{"tau": "fast"}"#, None)
         .err()
         .unwrap();
     assert_eq!(code_and_hint(e).0, "bad-parameter");

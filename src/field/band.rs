@@ -13,6 +13,7 @@
 use super::grid::Grid;
 use crate::geometry::primitives::closest_point_on_triangle;
 use crate::geometry::spatial::bvh::Bvh;
+use crate::progress::Progress;
 use glam::DVec3;
 
 /// From this many triangles on, the band is found node by node ([`triangles_band_by_nodes`])
@@ -42,16 +43,26 @@ fn node_range(grid: &Grid, axis: usize, lo: f64, hi: f64) -> Option<(usize, usiz
     (a <= b).then_some((a as usize, b as usize))
 }
 
+/// The progress phase of the band computations.
+pub const PHASE: &str = "distance field: near band";
+
 /// Exact band around a point cloud: all nodes with distance ≤ `width_cells·c` to the nearest
 /// point. `init` is the value of untouched nodes (∞ or the truncation distance).
-pub fn points_band(grid: &Grid, points: &[DVec3], width_cells: f64, init: f64) -> Band {
+pub fn points_band(
+    grid: &Grid,
+    points: &[DVec3],
+    width_cells: f64,
+    init: f64,
+    progress: &mut Progress,
+) -> Band {
     let r = width_cells * grid.cell;
     let r2 = r * r;
     let n = grid.node_count();
     let [nx, ny, _] = grid.dims;
     let mut d2 = vec![init * init; n];
     let mut dx2: Vec<f64> = Vec::new();
-    for &p in points {
+    for (i, &p) in points.iter().enumerate() {
+        progress.items(PHASE, i, points.len());
         let (Some((x0, x1)), Some((y0, y1)), Some((z0, z1))) = (
             node_range(grid, 0, p.x - r, p.x + r),
             node_range(grid, 1, p.y - r, p.y + r),
@@ -114,6 +125,7 @@ pub fn triangles_band(
     triangles: &[[u32; 3]],
     width_cells: f64,
     init: f64,
+    progress: &mut Progress,
 ) -> Band {
     let r = width_cells * grid.cell;
     let r2 = r * r;
@@ -125,6 +137,7 @@ pub fn triangles_band(
     let mut d1 = vec![init; n];
     let mut nearest = vec![u32::MAX; n];
     for (t, tri) in triangles.iter().enumerate() {
+        progress.items(PHASE, t, triangles.len());
         let [a, b, c] = tri.map(|v| points[v as usize]);
         let lo = a.min(b).min(c) - DVec3::splat(r);
         let hi = a.max(b).max(c) + DVec3::splat(r);
@@ -209,6 +222,7 @@ pub fn triangles_band_by_nodes(
     triangles: &[[u32; 3]],
     width_cells: f64,
     init: f64,
+    progress: &mut Progress,
 ) -> Band {
     let r = width_cells * grid.cell;
     let r2 = r * r;
@@ -247,6 +261,7 @@ pub fn triangles_band_by_nodes(
     let mut d2 = vec![init * init; n];
     let mut nearest = vec![u32::MAX; n];
     for (i, _) in marked.iter().enumerate().filter(|(_, &c)| c) {
+        progress.items(PHASE, i, n);
         let p = grid.position_of(i);
         let hit = bvh.nearest_within(p, r2, |t| {
             let [a, b, c] = triangles[t as usize].map(|v| points[v as usize]);
@@ -317,8 +332,9 @@ mod node_query_tests {
             ..Default::default()
         };
         let grid = Grid::for_bbox(&Aabb::from_points(&p), &settings).unwrap();
-        let a = triangles_band(&grid, &p, &t, 3.0, f64::INFINITY);
-        let b = triangles_band_by_nodes(&grid, &p, &t, 3.0, f64::INFINITY);
+        let none = &mut Progress::none();
+        let a = triangles_band(&grid, &p, &t, 3.0, f64::INFINITY, none);
+        let b = triangles_band_by_nodes(&grid, &p, &t, 3.0, f64::INFINITY, none);
         assert_eq!(a.frozen, b.frozen);
         let (na, nb) = (a.nearest_triangle.unwrap(), b.nearest_triangle.unwrap());
         let mut band = 0;

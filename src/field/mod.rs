@@ -30,6 +30,7 @@ pub use grid::Grid;
 pub use sign::Signedness;
 
 use crate::geometry::aabb::Aabb;
+use crate::progress::Progress;
 use crate::target::Target;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -203,6 +204,16 @@ pub struct DistanceField {
 impl DistanceField {
     /// Builds the field of `target` (point cloud or triangles) under `settings`.
     pub fn new(target: &Target, settings: &FieldSettings) -> Result<Self, FieldError> {
+        Self::new_with_progress(target, settings, &mut Progress::none())
+    }
+
+    /// [`DistanceField::new`], reporting the near band (the long part on big inputs) per item and
+    /// the sweep, sign and gradient as they finish.
+    pub fn new_with_progress(
+        target: &Target,
+        settings: &FieldSettings,
+        progress: &mut Progress,
+    ) -> Result<Self, FieldError> {
         let t0 = crate::clock::now_ms();
         settings.check()?;
         if target.points.is_empty() {
@@ -247,6 +258,7 @@ impl DistanceField {
                 &target.triangles,
                 settings.band_cells,
                 init,
+                progress,
             )
         } else if mesh {
             band::triangles_band(
@@ -255,9 +267,10 @@ impl DistanceField {
                 &target.triangles,
                 settings.band_cells,
                 init,
+                progress,
             )
         } else {
-            band::points_band(&grid, &target.points, settings.band_cells, init)
+            band::points_band(&grid, &target.points, settings.band_cells, init, progress)
         };
         let band::Band {
             mut values,
@@ -265,6 +278,7 @@ impl DistanceField {
             nearest_triangle,
         } = b;
         let t2 = crate::clock::now_ms();
+        progress.report("distance field: sweeps", 0.0);
         let sweep = fast_sweep::fast_sweep(
             &grid,
             &mut values,
@@ -286,6 +300,7 @@ impl DistanceField {
         };
         drop(nearest_triangle);
         let t4 = crate::clock::now_ms();
+        progress.report("distance field: sweeps", 1.0);
         let gradient = gradient::normalized_negative_gradient(&grid, &values);
         let t5 = crate::clock::now_ms();
         Ok(Self {

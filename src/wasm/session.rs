@@ -7,6 +7,7 @@ use super::errors::{ui_error, UiError};
 use super::{index_array, scalar_array, to_js, vec3_array};
 use crate::flow::{ColourMap, Evolver, StepReport, WrapSettings};
 use crate::io::Format;
+use crate::progress::Progress;
 use js_sys::{Float32Array, Uint32Array};
 use wasm_bindgen::prelude::*;
 
@@ -18,39 +19,63 @@ pub struct WrapSession {
     format: Format,
     /// The settings in force, as JSON (recorded in exported files).
     pub(super) settings_json: String,
+    /// Called as `progress(phase, fraction)` during the long phases (the final fit).
+    progress: Option<js_sys::Function>,
     last: Option<StepReport>,
 }
 
 impl WrapSession {
     /// The session for what was read (a file or a volume) under `settings_json`.
+    /// `progress(phase, fraction)` hears the field build and the start surface now, and the
+    /// final fit later.
     pub(crate) fn prepare(
         read: crate::io::ReadResult,
         settings_json: &str,
+        progress: Option<js_sys::Function>,
     ) -> Result<WrapSession, JsValue> {
         let settings = WrapSettings::from_json(settings_json).map_err(UiError::settings)?;
-        let evolver = Evolver::new(&read.target, settings.clone()).map_err(ui_error)?;
+        let evolver = with_progress(progress.as_ref(), |p| {
+            Evolver::new_with_progress(&read.target, settings.clone(), p)
+        })
+        .map_err(ui_error)?;
         Ok(WrapSession {
             evolver,
             target: read.target,
             format: read.format,
             settings_json: serde_json::to_string(&settings).unwrap_or_default(),
+            progress,
             last: None,
         })
     }
+}
+
+/// Runs `f` with a [`Progress`] that calls the JS function `js(phase, fraction)` (none: silent).
+fn with_progress<T>(js: Option<&js_sys::Function>, f: impl FnOnce(&mut Progress) -> T) -> T {
+    let Some(js) = js else {
+        return f(&mut Progress::none());
+    };
+    let mut sink = |phase: &str, fraction: f64| {
+        // A failing callback must not stop the wrap: its error is the page's to show.
+        let _ = js.call2(&JsValue::NULL, &phase.into(), &fraction.into());
+    };
+    f(&mut Progress::to(&mut sink))
 }
 
 #[wasm_bindgen]
 impl WrapSession {
     /// Reads `bytes` (format sniffed from content, `file_name` breaks ties) and prepares the
     /// wrap with `settings_json` (a `WrapSettings` JSON object; missing keys default).
+    /// `progress(phase, fraction)`, if given, hears the long phases: the distance field and the
+    /// start surface during construction, the final fit during `step`.
     #[wasm_bindgen(constructor)]
     pub fn new(
         bytes: &[u8],
         file_name: Option<String>,
         settings_json: &str,
+        progress: Option<js_sys::Function>,
     ) -> Result<WrapSession, JsValue> {
         let read = crate::io::read_bytes(bytes, file_name.as_deref()).map_err(ui_error)?;
-        WrapSession::prepare(read, settings_json)
+        WrapSession::prepare(read, settings_json, progress)
     }
 
     /// Runs up to `n` steps; returns true when the wrap is done.
@@ -59,7 +84,9 @@ impl WrapSession {
             if self.evolver.is_done() {
                 break;
             }
-            self.last = Some(self.evolver.step().map_err(ui_error)?);
+            let ev = &mut self.evolver;
+            let report = with_progress(self.progress.as_ref(), |p| ev.step_with_progress(p));
+            self.last = Some(report.map_err(ui_error)?);
         }
         Ok(self.evolver.is_done())
     }

@@ -95,7 +95,8 @@ impl VolumeView {
 #[wasm_bindgen]
 impl WrapSession {
     /// Like the constructor, for volume bytes: wraps the iso-surface at `iso` (Otsu's threshold
-    /// when undefined) of volume `frame`, inside darker than `iso` when `dark`.
+    /// when undefined) of volume `frame`, inside darker than `iso` when `dark`; `progress` as
+    /// in the constructor.
     #[wasm_bindgen(js_name = withVolume)]
     pub fn with_volume(
         bytes: &[u8],
@@ -104,11 +105,12 @@ impl WrapSession {
         iso: Option<f64>,
         frame: u32,
         dark: bool,
+        progress: Option<js_sys::Function>,
     ) -> Result<WrapSession, JsValue> {
         let read =
             crate::io::read_bytes_with(bytes, file_name.as_deref(), &options(iso, frame, dark))
                 .map_err(ui_error)?;
-        WrapSession::prepare(read, settings_json)
+        WrapSession::prepare(read, settings_json, progress)
     }
 }
 

@@ -110,6 +110,8 @@ function onWorkerMessage(msg: FromWorker): void {
       return onFrame(msg);
     case 'loading':
       return status.set('loading', msg.what);
+    case 'progress':
+      return status.progress(msg.phase, msg.fraction);
     case 'mcf-advice':
       return lesson.advice(msg.advice);
     case 'target':

@@ -343,6 +343,8 @@ export type FromWorker =
   | { type: 'ready'; presets: Record<string, Record<string, unknown>>; docs: Record<string, string>; enums: Record<string, string[]>; aliases: Record<string, string>; catalog: Catalog }
   | Frame
   | { type: 'loading'; what: string }
+  /** A long phase (distance field, start surface, final fit) is `fraction` (0–1) done. */
+  | { type: 'progress'; phase: string; fraction: number }
   /** The lesson's τ, judged before it runs (sent with every new lesson). */
   | { type: 'mcf-advice'; advice: TauAdvice | MeshTauAdvice }
   /** What was loaded. `lessonMesh`: '' when the mesh lesson can flow it, else why not. */

@@ -44,6 +44,15 @@ export class StatusLine {
     byId<HTMLButtonElement>('cancel').disabled = !(running || state === 'loading');
   }
 
+  /** A long phase of the core is `fraction` done: "distance field: near band 45 %" on the status
+   * line (data-progress carries the phase and percentage for scripts). The state stays. */
+  progress(phase: string, fraction: number): void {
+    const pct = Math.round(100 * fraction);
+    const base = this.state === 'loading' ? 'Preparing' : (this.line.textContent ?? '').split(' — ')[0];
+    this.line.textContent = `${base} — ${phase} ${pct} %`;
+    this.line.dataset.progress = `${phase} ${pct}`;
+  }
+
   /** Shows an error with its hint, or hides the box (null). */
   error(e: UiError | null): void {
     this.errorBox.hidden = !e;

@@ -355,9 +355,11 @@ async function startSession(autoplay: boolean, id: number): Promise<void> {
   await new Promise((r) => setTimeout(r, 0));
   if (id !== runId) return;
   if (volume) postVolume();
+  // The core reports its long phases (field build, start surface, final fit) as they run.
+  const progress = (phase: string, fraction: number) => post({ type: 'progress', phase, fraction });
   const session = volume
-    ? WrapSession.withVolume(source.bytes, source.name, JSON.stringify(wrapSettings), volume.iso ?? undefined, volume.frame, false)
-    : new WrapSession(source.bytes, source.name, JSON.stringify(wrapSettings));
+    ? WrapSession.withVolume(source.bytes, source.name, JSON.stringify(wrapSettings), volume.iso ?? undefined, volume.frame, false, progress)
+    : new WrapSession(source.bytes, source.name, JSON.stringify(wrapSettings), progress);
   wrap = session;
   const tp = session.targetPositions();
   const ti = session.targetIndices();

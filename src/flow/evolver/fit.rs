@@ -4,6 +4,10 @@
 
 use super::{Evolver, PhaseTimes};
 use crate::clock::now_ms;
+use crate::progress::Progress;
+
+/// The progress phase of the final fit.
+pub const FIT_PHASE: &str = "final fit";
 use crate::flow::guard::resolve_contacts;
 use crate::flow::snap::{snap_to_target, SnapParams};
 use crate::geometry::operators::normals::angle_weighted_normals;
@@ -12,12 +16,16 @@ use crate::remesh::adaptive::{remesh, RemeshSettings};
 
 impl Evolver {
     /// The final fit when the evolution has just ended; vertices moved.
-    pub(super) fn fit_if_done(&mut self, times: &mut PhaseTimes) -> Option<usize> {
+    pub(super) fn fit_if_done(
+        &mut self,
+        times: &mut PhaseTimes,
+        progress: &mut Progress,
+    ) -> Option<usize> {
         if !self.done {
             return None;
         }
         let t0 = now_ms();
-        let fitted = self.final_fit();
+        let fitted = self.final_fit(progress);
         times.fit = now_ms() - t0;
         fitted
     }
@@ -25,7 +33,7 @@ impl Evolver {
     /// Moves the settled surface onto the target (see [`crate::flow::snap`]); returns vertices moved.
     /// Each pass's moves go through the contact guard, and a remesh that would leave
     /// intersecting faces is undone.
-    fn final_fit(&mut self) -> Option<usize> {
+    fn final_fit(&mut self, progress: &mut Progress) -> Option<usize> {
         let target = self.fit_target.as_ref()?;
         let c = self.field.cell_size();
         let params = SnapParams {
@@ -45,15 +53,22 @@ impl Evolver {
             ..RemeshSettings::with_sizes(self.sizes)
         };
         let (contact, remeshing) = (self.settings.guard.contact, self.settings.remesh.enabled);
-        for _ in 0..self.settings.fit.passes {
+        let passes = self.settings.fit.passes.max(1) as f64;
+        // Each pass: moves (half of it), remesh, check.
+        let mut at =
+            |pass: u32, part: f64| progress.report(FIT_PHASE, (pass as f64 + part) / passes);
+        for pass in 0..self.settings.fit.passes {
+            at(pass, 0.0);
             // The surface here is certified; keep it to redo the pass with the guard if needed.
             let clean = contact.then(|| self.mesh.clone());
             let normals = angle_weighted_normals(&self.mesh);
             moved = snap_to_target(&mut self.mesh, &normals, target, &params);
+            at(pass, 0.5);
             // Even out the triangles the moves distorted, staying on the fitted surface.
             if remeshing {
                 let _ = remesh(&mut self.mesh, &rs);
             }
+            at(pass, 0.75);
             let Some(clean) = clean else { continue };
             if count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) == 0 {
                 continue;
@@ -72,6 +87,7 @@ impl Evolver {
                 }
             }
         }
+        at(self.settings.fit.passes, 0.0);
         if self.mesh.validate().is_err() {
             self.mesh = backup;
             return Some(0);

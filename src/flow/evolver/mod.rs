@@ -30,12 +30,16 @@ use crate::clock::now_ms;
 use crate::field::{DistanceField, FieldError};
 use crate::geometry::icosphere::IcosphereError;
 use crate::mesh::{HalfedgeMesh, MeshBuildError};
+use crate::progress::Progress;
 use crate::remesh::adaptive::{RemeshError, RemeshReport};
 use crate::remesh::sizing::EdgeSizes;
 use crate::target::Target;
 use contact::Contact;
 use glam::DVec3;
 use serde::Serialize;
+
+/// The progress phase of the start surface.
+pub const START_PHASE: &str = "start surface";
 
 /// Why a wrap could not start or continue.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -222,13 +226,24 @@ struct StepParts<'a> {
 impl Evolver {
     /// Builds the distance field and the start surface, scaled into the stabilised frame.
     pub fn new(target: &Target, settings: WrapSettings) -> Result<Self, EvolveError> {
+        Self::new_with_progress(target, settings, &mut Progress::none())
+    }
+
+    /// [`Evolver::new`], reporting the field build and the start surface to `progress`.
+    pub fn new_with_progress(
+        target: &Target,
+        settings: WrapSettings,
+        progress: &mut Progress,
+    ) -> Result<Self, EvolveError> {
         settings.check()?;
         target.check_wrappable()?;
-        let field = DistanceField::new(target, &settings.field)?;
+        let field = DistanceField::new_with_progress(target, &settings.field, progress)?;
         let settings = settings.resolved_for(field.is_signed());
         let center = target.bbox.center();
         let c = field.cell_size();
+        progress.report(START_PHASE, 0.0);
         let start = build_start(target, &field, &settings)?;
+        progress.report(START_PHASE, 1.0);
         let (mesh, phi, sizes) = (start.mesh, start.phi, start.sizes);
         let limits = divergence_limits(target, &mesh, phi, center, &settings);
         let field = field.scaled(center, phi);
@@ -364,11 +379,19 @@ impl Evolver {
     /// the steps from there checking each one, resolving contacts locally; the report returned
     /// is the requested step's.
     pub fn step(&mut self) -> Result<StepReport, EvolveError> {
+        self.step_with_progress(&mut Progress::none())
+    }
+
+    /// [`Evolver::step`], reporting the final fit (the last step's long part) to `progress`.
+    pub fn step_with_progress(
+        &mut self,
+        progress: &mut Progress,
+    ) -> Result<StepReport, EvolveError> {
         let wanted = self.step + 1;
         // Surgery done in steps that were redone is still done: its events go with the report.
         let mut events = Vec::new();
         loop {
-            let mut r = self.step_once()?;
+            let mut r = self.step_once(progress)?;
             events.append(&mut r.surgery);
             if self.step >= wanted || self.done {
                 r.surgery = events;
@@ -403,7 +426,7 @@ impl Evolver {
     }
 
     /// One pass through the phases, each in its own file with its own timing entry.
-    fn step_once(&mut self) -> Result<StepReport, EvolveError> {
+    fn step_once(&mut self, progress: &mut Progress) -> Result<StepReport, EvolveError> {
         let t_start = now_ms();
         let mut times = PhaseTimes::default();
         let forces = self.forces(&mut times);
@@ -447,7 +470,7 @@ impl Evolver {
         }
         self.schedule();
         self.done = ends;
-        parts.fitted = self.fit_if_done(&mut times);
+        parts.fitted = self.fit_if_done(&mut times, progress);
         parts.remesh = remesh;
         self.refresh_distances();
         parts.surgery = self.surgery_if_due(&mut times);

@@ -238,6 +238,24 @@ test('sphere → torus: surgery opens the handle (marked on the timeline), the b
   await page.close();
 });
 
+test('progress: the field build, the start surface and the final fit show a phase and a percentage on the status line, each reaching 100 %', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  await page.evaluate(() => {
+    window.__progress = [];
+    const el = document.querySelector('[data-testid=status]');
+    new MutationObserver(() => el.dataset.progress && window.__progress.push(el.dataset.progress)).observe(el, { attributes: true, childList: true, characterData: true, subtree: true });
+  });
+  await page.click('[data-demo=bunny-points]');
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 300000 });
+  const seen = [...new Set(await page.evaluate(() => window.__progress))];
+  for (const phase of ['distance field: near band', 'start surface', 'final fit']) {
+    assert(seen.includes(`${phase} 100`), `no "${phase} 100" in ${JSON.stringify(seen)}`);
+  }
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+  console.log(`   ${seen.length} distinct progress states: ${seen.join(', ')}`);
+  await page.close();
+});
+
 test('exported binary PLY, STL, OBJ and GLB drop back in and load as meshes', async (browser, url) => {
   const { page, errors } = await openApp(browser, url);
   await page.click('[data-demo=noisy-sphere]');
