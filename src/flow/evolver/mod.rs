@@ -8,8 +8,8 @@
 //! A step is a sequence of named phases, one file each with its own [`PhaseTimes`] entry:
 //! [`forces`] (sample the field: ε, η, tangential) → [`solve`] (assemble and solve) →
 //! [`advance`] (move, divergence guard) → [`remeshing`] → [`contact`] (contact guard) →
-//! [`schedule`] (sizes, τ, stop rule) → [`fit`] (final fit, last step). A new phase is one file
-//! and one line in `Evolver::step_once`.
+//! [`schedule`] (sizes, τ, stop rule) → [`fit`] (final fit, last step) → [`surgery`] (topology,
+//! every few steps). A new phase is one file and one line in `Evolver::step_once`.
 
 mod advance;
 mod contact;

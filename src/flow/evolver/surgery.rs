@@ -1,4 +1,4 @@
-//! Phase 7 of a step, *surgery*: every `surgery.check_every` steps, membranes that meet far
+//! Phase 8 of a step, *surgery*: every `surgery.check_every` steps, membranes that meet far
 //! from the data are cut and joined by a tube ([`crate::flow::surgery`]), the seam is remeshed,
 //! and the operated surface becomes the certified state (roll-backs never undo a surgery).
 
