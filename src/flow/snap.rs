@@ -50,18 +50,26 @@ impl SnapTarget {
     }
 }
 
-/// Moves vertices along `normals` onto the target; returns how many moved.
+/// Moves vertices along `normals` onto the target; returns how many moved. `progress(f)` hears
+/// the fraction of the vertices whose move is computed (every 1024th vertex and the last): on a
+/// dense scan this is the long part of the final fit.
 pub fn snap_to_target(
     mesh: &mut HalfedgeMesh,
     normals: &[DVec3],
     target: &SnapTarget,
     params: &SnapParams,
+    progress: &mut dyn FnMut(f64),
 ) -> usize {
+    let n_vertices = mesh.n_vertices();
     let moves: Vec<Option<DVec3>> = mesh
         .positions()
         .iter()
         .zip(normals)
-        .map(|(&p, &n)| {
+        .enumerate()
+        .map(|(i, (&p, &n))| {
+            if i % 1024 == 0 || i + 1 == n_vertices {
+                progress((i + 1) as f64 / n_vertices.max(1) as f64);
+            }
             let t = match target {
                 SnapTarget::Points(grid) => plane_offset(grid, p, n, params)?,
                 SnapTarget::Triangles(bvh) => {
@@ -269,7 +277,15 @@ mod tests {
             min_points: 6,
             max_points: 64,
         };
-        let moved = snap_to_target(&mut mesh, &normals, &SnapTarget::Points(grid), &params);
+        let mut heard = Vec::new();
+        let moved = snap_to_target(
+            &mut mesh,
+            &normals,
+            &SnapTarget::Points(grid),
+            &params,
+            &mut |f| heard.push(f),
+        );
+        assert!(heard.windows(2).all(|w| w[0] < w[1]) && heard.last() == Some(&1.0));
         assert_eq!(moved, mesh.n_vertices());
         let worst = mesh
             .positions()
@@ -291,7 +307,8 @@ mod tests {
                 &mut far,
                 &normals,
                 &SnapTarget::Points(PointGrid::new(&pts, 0.1)),
-                &params
+                &params,
+                &mut |_| {}
             ),
             0
         );

@@ -62,8 +62,9 @@ impl Evolver {
             // The surface here is certified; keep it to redo the pass with the guard if needed.
             let clean = contact.then(|| self.mesh.clone());
             let normals = angle_weighted_normals(&self.mesh);
-            moved = snap_to_target(&mut self.mesh, &normals, target, &params);
-            at(pass, 0.5);
+            moved = snap_to_target(&mut self.mesh, &normals, target, &params, &mut |f| {
+                at(pass, 0.5 * f)
+            });
             // Even out the triangles the moves distorted, staying on the fitted surface.
             if remeshing {
                 let _ = remesh(&mut self.mesh, &rs);
@@ -77,7 +78,8 @@ impl Evolver {
             // then a remesh that is undone if it intersects.
             let before = clean.positions().to_vec();
             self.mesh = clean;
-            moved = snap_to_target(&mut self.mesh, &normals, target, &params);
+            // (Silent: the pass's progress has already gone past the moves.)
+            moved = snap_to_target(&mut self.mesh, &normals, target, &params, &mut |_| {});
             resolve_contacts(&mut self.mesh, &before, &self.settings.guard);
             if remeshing {
                 let unremeshed = self.mesh.clone();
