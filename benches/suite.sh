@@ -8,7 +8,8 @@
 #   OUT_DIR   where the inputs (OUT_DIR/NAME.ply|obj), results, stats and logs go
 #   PRESET    presets to run (default: full-wrap isosurface)
 # Environment: SUITE_TIMEOUT (s per wrap, default 120), SUITE_SLOW_TIMEOUT (s for inputs known to
-# run for minutes, default 60), SUITE_ONLY (a regex: only inputs whose name matches).
+# run for minutes, default 60), SUITE_ONLY (a regex: only inputs whose name matches), SUITE_ARGS
+# (extra `lsw wrap` arguments, e.g. "--set remesh.trigger=\"quality_band\"").
 # Needs: bash, jq, GNU coreutils `timeout`, GNU `/usr/bin/time`.
 #
 # Columns: kind (points|mesh), target genus (expected), result genus and components (from the
@@ -30,6 +31,7 @@ PRESETS=("$@")
 TIMEOUT=${SUITE_TIMEOUT:-120}
 SLOW_TIMEOUT=${SUITE_SLOW_TIMEOUT:-60}
 ONLY=${SUITE_ONLY:-.}
+read -r -a EXTRA <<<"${SUITE_ARGS:-}"
 for tool in jq timeout /usr/bin/time; do
     command -v "$tool" >/dev/null || { echo "suite.sh: $tool is required" >&2; exit 2; }
 done
@@ -99,7 +101,7 @@ for preset in "${PRESETS[@]}"; do
         refused=""
         # time outside timeout: wait4 on timeout reports the wrap's peak RSS as well.
         /usr/bin/time -v -o "$dir/$name.time" timeout -k 5 "$limit" \
-            "$LSW" wrap "$in" -o "$res" --preset "$preset" --stats "$dir/$name.json" "${KEEP[@]}" \
+            "$LSW" wrap "$in" -o "$res" --preset "$preset" --stats "$dir/$name.json" "${KEEP[@]}" "${EXTRA[@]}" \
             >"$dir/$name.wrap.json" 2>"$dir/$name.log"
         rc=$?
         wall=$(awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, t, ":"); s = 0; for (i = 1; i <= n; i++) s = s * 60 + t[i]; printf "%.1f", s}' "$dir/$name.time")

@@ -18,6 +18,7 @@ pub mod geometry;
 pub mod io;
 pub mod mesh;
 pub mod metrics;
+pub mod parallel;
 pub mod progress;
 pub mod remesh;
 pub mod solve;

@@ -57,46 +57,92 @@ pub fn points_band(
 ) -> Band {
     let r = width_cells * grid.cell;
     let r2 = r * r;
-    let n = grid.node_count();
-    let [nx, ny, _] = grid.dims;
-    let mut d2 = vec![init * init; n];
-    let mut dx2: Vec<f64> = Vec::new();
-    for (i, &p) in points.iter().enumerate() {
-        progress.items(PHASE, i, points.len());
-        let (Some((x0, x1)), Some((y0, y1)), Some((z0, z1))) = (
-            node_range(grid, 0, p.x - r, p.x + r),
-            node_range(grid, 1, p.y - r, p.y + r),
-            node_range(grid, 2, p.z - r, p.z + r),
-        ) else {
-            continue;
-        };
-        dx2.clear();
-        dx2.extend((x0..=x1).map(|ix| {
-            let d = grid.origin.x + grid.cell * ix as f64 - p.x;
-            d * d
-        }));
-        for iz in z0..=z1 {
-            let dz = grid.origin.z + grid.cell * iz as f64 - p.z;
-            let dz2 = dz * dz;
-            for iy in y0..=y1 {
-                let dy = grid.origin.y + grid.cell * iy as f64 - p.y;
-                let dyz = dy * dy + dz2;
-                if dyz > r2 {
-                    continue;
-                }
-                let row = x0 + nx * (iy + ny * iz);
-                let out = &mut d2[row..=row + (x1 - x0)];
-                for (v, &a) in out.iter_mut().zip(&dx2) {
-                    let s = a + dyz;
-                    if s < *v {
-                        *v = s;
+    let [nx, ny, nz] = grid.dims;
+    let plane = nx * ny;
+    // Each point splats onto the nodes of its cube; every node keeps the minimum, which does not
+    // depend on the order. The grid is cut into slabs of z-planes, each slab filled from the
+    // points that reach it (bucketed by a counting sort), so that the slabs are independent:
+    // in parallel natively, and progress is reported between groups of slabs.
+    let reach: Vec<Option<[usize; 6]>> = points
+        .iter()
+        .map(|p| {
+            let (x, y, z) = (
+                node_range(grid, 0, p.x - r, p.x + r)?,
+                node_range(grid, 1, p.y - r, p.y + r)?,
+                node_range(grid, 2, p.z - r, p.z + r)?,
+            );
+            Some([x.0, x.1, y.0, y.1, z.0, z.1])
+        })
+        .collect();
+    let slabs = nz.div_ceil(SLAB_PLANES);
+    let mut start = vec![0u32; slabs + 1];
+    for b in reach.iter().flatten() {
+        for s in b[4] / SLAB_PLANES..=b[5] / SLAB_PLANES {
+            start[s + 1] += 1;
+        }
+    }
+    for s in 0..slabs {
+        start[s + 1] += start[s];
+    }
+    let mut fill = start.clone();
+    let mut members = vec![0u32; start[slabs] as usize];
+    for (i, b) in reach.iter().enumerate() {
+        let Some(b) = b else { continue };
+        for s in b[4] / SLAB_PLANES..=b[5] / SLAB_PLANES {
+            members[fill[s] as usize] = i as u32;
+            fill[s] += 1;
+        }
+    }
+    let mut d2 = vec![init * init; plane * nz];
+    let total = slabs.max(1);
+    crate::parallel::for_each_chunk_mut(
+        &mut d2,
+        plane * SLAB_PLANES,
+        SLABS_PER_REPORT,
+        |s, slab| {
+            let z_first = s * SLAB_PLANES;
+            let mut dx2: Vec<f64> = Vec::new();
+            for &i in &members[start[s] as usize..start[s + 1] as usize] {
+                let (p, b) = (points[i as usize], reach[i as usize].expect("bucketed"));
+                let (x0, x1) = (b[0], b[1]);
+                dx2.clear();
+                dx2.extend((x0..=x1).map(|ix| {
+                    let d = grid.origin.x + grid.cell * ix as f64 - p.x;
+                    d * d
+                }));
+                let z_last = z_first + slab.len() / plane - 1;
+                for iz in b[4].max(z_first)..=b[5].min(z_last) {
+                    let dz = grid.origin.z + grid.cell * iz as f64 - p.z;
+                    let dz2 = dz * dz;
+                    for iy in b[2]..=b[3] {
+                        let dy = grid.origin.y + grid.cell * iy as f64 - p.y;
+                        let dyz = dy * dy + dz2;
+                        if dyz > r2 {
+                            continue;
+                        }
+                        let row = x0 + nx * (iy + ny * (iz - z_first));
+                        let out = &mut slab[row..=row + (x1 - x0)];
+                        for (v, &a) in out.iter_mut().zip(&dx2) {
+                            let s = a + dyz;
+                            if s < *v {
+                                *v = s;
+                            }
+                        }
                     }
                 }
             }
-        }
-    }
+        },
+        &mut |done| progress.report(PHASE, done as f64 / total as f64),
+    );
     finish(d2, r2, init)
 }
+
+/// z-planes per slab of [`points_band`]: small enough for many slabs per thread, large enough
+/// that a point's cube (2k + 1 planes) rarely spans more than two.
+const SLAB_PLANES: usize = 8;
+
+/// Slabs between two progress reports of [`points_band`].
+const SLABS_PER_REPORT: usize = 8;
 
 /// Square roots, band flags, truncation.
 fn finish(mut d2: Vec<f64>, r2: f64, init: f64) -> Band {

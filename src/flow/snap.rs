@@ -8,12 +8,12 @@
 //! (too few points, plane nearly parallel to the normal, a move longer than the limit — e.g.
 //! where the surface bridges a hole in a scan) stay where they are.
 
+use crate::geometry::eigen3::smallest_eigenvector;
 use crate::geometry::spatial::bvh::TriangleBvh;
 use crate::geometry::spatial::point_grid::{Near, PointGrid};
 use crate::mesh::HalfedgeMesh;
 use crate::target::Target;
-use glam::DVec3;
-use nalgebra::{Matrix3, SymmetricEigen};
+use glam::{DMat3, DVec3};
 
 /// Settings of the final fit, in the stabilised frame's units (the evolver converts cells).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -50,9 +50,12 @@ impl SnapTarget {
     }
 }
 
+/// Vertices per progress report of the moves (and per parallel batch natively).
+const PROGRESS_CHUNK: usize = 4096;
+
 /// Moves vertices along `normals` onto the target; returns how many moved. `progress(f)` hears
-/// the fraction of the vertices whose move is computed (every 1024th vertex and the last): on a
-/// dense scan this is the long part of the final fit.
+/// the fraction of the vertices whose move is computed (every [`PROGRESS_CHUNK`] vertices and
+/// the last): on a dense scan this is the long part of the final fit.
 pub fn snap_to_target(
     mesh: &mut HalfedgeMesh,
     normals: &[DVec3],
@@ -61,15 +64,12 @@ pub fn snap_to_target(
     progress: &mut dyn FnMut(f64),
 ) -> usize {
     let n_vertices = mesh.n_vertices();
-    let moves: Vec<Option<DVec3>> = mesh
-        .positions()
-        .iter()
-        .zip(normals)
-        .enumerate()
-        .map(|(i, (&p, &n))| {
-            if i % 1024 == 0 || i + 1 == n_vertices {
-                progress((i + 1) as f64 / n_vertices.max(1) as f64);
-            }
+    let positions = mesh.positions();
+    let moves: Vec<Option<DVec3>> = crate::parallel::map_chunked(
+        n_vertices,
+        PROGRESS_CHUNK,
+        |i| {
+            let (p, n) = (positions[i], normals[i]);
             let t = match target {
                 SnapTarget::Points(grid) => plane_offset(grid, p, n, params)?,
                 SnapTarget::Triangles(bvh) => {
@@ -85,8 +85,9 @@ pub fn snap_to_target(
                 }
             };
             (t.abs() <= params.max_move).then_some(p + t * n)
-        })
-        .collect();
+        },
+        &mut |done| progress(done as f64 / n_vertices as f64),
+    );
     let old = mesh.positions().to_vec();
     let mut accept: Vec<bool> = moves.iter().map(|m| m.is_some()).collect();
     // Undo moves that would fold a face (turn its normal by more than 60°): the fit must not
@@ -183,23 +184,12 @@ fn plane_offset_of(
         return None;
     }
     c /= wsum;
-    let mut cov = Matrix3::zeros();
+    let mut cov = DMat3::ZERO;
     for (q, w) in &near {
         let d = *q - c;
-        let v = nalgebra::Vector3::new(d.x, d.y, d.z);
-        cov += *w * v * v.transpose();
+        cov += DMat3::from_cols(d * (w * d.x), d * (w * d.y), d * (w * d.z));
     }
-    let eig = SymmetricEigen::new(cov);
-    let (imin, _) = eig
-        .eigenvalues
-        .iter()
-        .enumerate()
-        .fold(
-            (0, f64::INFINITY),
-            |a, (i, &v)| if v < a.1 { (i, v) } else { a },
-        );
-    let m = eig.eigenvectors.column(imin);
-    let m = DVec3::new(m[0], m[1], m[2]);
+    let m = smallest_eigenvector(cov, n)?;
     let cos = m.dot(n);
     if cos.abs() < 0.5 {
         return None;

@@ -105,10 +105,10 @@ pub fn certify(
         Some(t) if finite && !positions.is_empty() => {
             let d: Vec<f64> = if t.triangles.is_empty() {
                 let bvh = PointBvh::new(&t.points);
-                positions.iter().map(|&p| bvh.distance(p)).collect()
+                crate::parallel::map(positions.len(), |i| bvh.distance(positions[i]))
             } else {
                 let bvh = TriangleBvh::new(&t.points, &t.triangles);
-                positions.iter().map(|&p| bvh.distance(p)).collect()
+                crate::parallel::map(positions.len(), |i| bvh.distance(positions[i]))
             };
             (
                 Some(d.iter().copied().fold(f64::INFINITY, f64::min)),

@@ -177,16 +177,24 @@ fn suspect_fans(positions: &[DVec3], triangles: &[[u32; 3]]) -> Vec<bool> {
 /// [`self_intersecting_pairs_brute_force`], fast: pairs that share no vertex come from the BVH,
 /// pairs that do are tested only around vertices whose fan may fold ([`suspect_fans`]).
 pub fn self_intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
-    let mut out = Vec::new();
+    // Candidates first (the tree walk is sequential), then the exact tests, which are
+    // independent (in parallel natively).
+    let mut candidates = Vec::new();
     for_each_overlapping_pair(positions, triangles, |i, j| {
         let (fi, fj) = (triangles[i], triangles[j]);
-        if fi.iter().any(|v| fj.contains(v)) {
-            return;
-        }
-        if pair_intersects(positions, triangles, i, j) {
-            out.push((i as u32, j as u32));
+        if !fi.iter().any(|v| fj.contains(v)) {
+            candidates.push((i as u32, j as u32));
         }
     });
+    let hit = crate::parallel::map(candidates.len(), |k| {
+        let (i, j) = candidates[k];
+        pair_intersects(positions, triangles, i as usize, j as usize)
+    });
+    let mut out: Vec<(u32, u32)> = candidates
+        .into_iter()
+        .zip(hit)
+        .filter_map(|(pair, hit)| hit.then_some(pair))
+        .collect();
     let suspect = suspect_fans(positions, triangles);
     if suspect.iter().any(|&s| s) {
         let mut fans: Vec<Vec<usize>> = vec![Vec::new(); positions.len()];

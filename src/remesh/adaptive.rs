@@ -703,28 +703,28 @@ fn tangential_smoothing(mesh: &mut HalfedgeMesh, w: &mut Work) -> bool {
     w.active.resize(nv, true);
     let mut at_rest = false;
     for pass in 0..w.s.smoothing_iterations {
-        w.upd.clear();
-        w.upd.resize(nv, DVec3::ZERO);
+        // Jacobi: every update reads the old positions only, so the vertices are independent.
+        let (m, wr) = (&*mesh, &*w);
+        let pos = m.positions();
+        w.upd = crate::parallel::map(nv, |v| {
+            if wr.locked[v] || !wr.active[v] {
+                return DVec3::ZERO;
+            }
+            if wr.vfeat[v] {
+                return feature_update(m, wr, v as u32);
+            }
+            let ring = &wr.ring[wr.ring_off[v] as usize..wr.ring_off[v + 1] as usize];
+            let x = pos[v];
+            let (target, n) = smoothing_target(pos, &wr.h, x, wr.h[v], ring);
+            let u = target - x;
+            u - n * n.dot(u)
+        });
         w.moved.clear();
         w.moved.resize(nv, false);
         let mut any_moved = false;
-        let pos = mesh.positions();
         for v in 0..nv {
-            if w.locked[v] || !w.active[v] {
-                continue;
-            }
-            let u = if w.vfeat[v] {
-                feature_update(mesh, w, v as u32)
-            } else {
-                let ring = &w.ring[w.ring_off[v] as usize..w.ring_off[v + 1] as usize];
-                let x = pos[v];
-                let (target, n) = smoothing_target(pos, &w.h, x, w.h[v], ring);
-                let u = target - x;
-                u - n * n.dot(u)
-            };
-            w.upd[v] = u;
             let lim = tol * w.h[v];
-            if u.length_squared() > lim * lim {
+            if w.upd[v].length_squared() > lim * lim {
                 w.moved[v] = true;
                 any_moved = true;
             }
@@ -752,11 +752,12 @@ fn tangential_smoothing(mesh: &mut HalfedgeMesh, w: &mut Work) -> bool {
 /// Projects every unlocked, non-feature vertex onto the reference surface and takes its sizing.
 fn project_all(mesh: &mut HalfedgeMesh, w: &mut Work) {
     let Some(r) = &w.reference else { return };
-    for v in 0..mesh.n_vertices() {
-        if w.locked[v] || w.vfeat[v] {
-            continue;
-        }
-        let (q, hq) = r.project(mesh.positions()[v]);
+    let (pos, locked, vfeat) = (mesh.positions(), &w.locked, &w.vfeat);
+    let projected = crate::parallel::map(mesh.n_vertices(), |v| {
+        (!(locked[v] || vfeat[v])).then(|| r.project(pos[v]))
+    });
+    for (v, pr) in projected.into_iter().enumerate() {
+        let Some((q, hq)) = pr else { continue };
         mesh.positions_mut()[v] = q;
         if hq.is_finite() {
             w.h[v] = hq;

@@ -2,7 +2,7 @@
 //! d = d₀, moves onto the target along its normals (plane fits to the cloud or closest points on
 //! the mesh, [`crate::flow::snap`]), each pass through the contact guard.
 
-use super::{Evolver, PhaseTimes};
+use super::{round_as_written, Evolver, PhaseTimes};
 use crate::clock::now_ms;
 use crate::progress::Progress;
 
@@ -69,6 +69,7 @@ impl Evolver {
             if remeshing {
                 let _ = remesh(&mut self.mesh, &rs);
             }
+            round_as_written(&mut self.mesh, self.phi, self.center);
             at(pass, 0.75);
             let Some(clean) = clean else { continue };
             if count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) == 0 {
@@ -84,10 +85,12 @@ impl Evolver {
             if remeshing {
                 let unremeshed = self.mesh.clone();
                 let _ = remesh(&mut self.mesh, &rs);
+                round_as_written(&mut self.mesh, self.phi, self.center);
                 if count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) > 0 {
                     self.mesh = unremeshed;
                 }
             }
+            round_as_written(&mut self.mesh, self.phi, self.center);
         }
         at(self.settings.fit.passes, 0.0);
         if self.mesh.validate().is_err() {

@@ -209,6 +209,21 @@ struct Checkpoint {
     sizes_changed: bool,
 }
 
+/// `p` (stabilised frame, scale `phi` about `center`) as written: in the target's units,
+/// rounded to f32.
+fn written(p: DVec3, phi: f64, center: DVec3) -> DVec3 {
+    (p / phi + center).as_vec3().as_dvec3()
+}
+
+/// Moves every vertex of `mesh` onto its written position mapped back into the stabilised frame,
+/// so that a check of the mesh is a check of the file: rounding to f32 can make two faces that
+/// nearly touch cross.
+fn round_as_written(mesh: &mut HalfedgeMesh, phi: f64, center: DVec3) {
+    for p in mesh.positions_mut() {
+        *p = (written(*p, phi, center) - center) * phi;
+    }
+}
+
 /// What the phases of one step report, gathered for [`StepReport`].
 struct StepParts<'a> {
     tau: f64,
@@ -336,13 +351,19 @@ impl Evolver {
         &self.mesh
     }
 
-    /// Vertex positions in the target's units.
+    /// Vertex positions in the target's units, rounded to f32 as every output format stores
+    /// them: what is certified, hashed and shown is exactly what is written.
     pub fn positions(&self) -> Vec<DVec3> {
         self.mesh
             .positions()
             .iter()
-            .map(|&p| p / self.phi + self.center)
+            .map(|&p| self.written(p))
             .collect()
+    }
+
+    /// `p` (stabilised frame) as written: in the target's units, rounded to f32.
+    fn written(&self, p: DVec3) -> DVec3 {
+        written(p, self.phi, self.center)
     }
 
     /// Triangles (counter-clockwise, outward).

@@ -44,15 +44,19 @@ impl Evolver {
         Ok(report)
     }
 
+    fn quality_left_band(&self) -> bool {
+        crate::remesh::trigger::needs_remesh(&self.mesh, self.settings.remesh.max_kappa)
+    }
+
     fn needs_remesh(&self) -> bool {
         match self.settings.remesh.trigger {
             RemeshTrigger::Always => true,
-            RemeshTrigger::QualityBand => {
+            RemeshTrigger::QualityBand => self.sizes_changed || self.quality_left_band(),
+            RemeshTrigger::Auto => {
+                // The step number, not a counter: a rolled-back step replays the same decision.
                 self.sizes_changed
-                    || crate::remesh::trigger::needs_remesh(
-                        &self.mesh,
-                        self.settings.remesh.max_kappa,
-                    )
+                    || self.step % self.settings.remesh.every.max(1) == 0
+                    || self.quality_left_band()
             }
         }
     }

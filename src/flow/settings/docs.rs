@@ -176,7 +176,7 @@ mod tests {
                 .unwrap()
         };
         assert_eq!(get("start.surface"), ["auto", "icosphere", "isosurface"]);
-        assert_eq!(get("remesh.trigger"), ["always", "quality_band"]);
+        assert_eq!(get("remesh.trigger"), ["always", "quality_band", "auto"]);
         assert_eq!(
             get("remesh.features.detector"),
             ["off", "mean_curvature", "dihedral_angle", "both"]

@@ -124,11 +124,19 @@ impl PointGrid {
         let c0 = self.cell_of(p).map(|c| c as isize);
         let max_ring = (radius / self.cell).ceil() as isize + 1;
         let dims = self.dims.map(|d| d as isize);
+        // How far p lies inside its own cell: every cell of ring r is then at least
+        // (r − 1) cells plus this much away, which usually spares the last ring. 0 when p lies
+        // outside the grid and its cell was clamped.
+        let lo = self.origin + DVec3::new(c0[0] as f64, c0[1] as f64, c0[2] as f64) * self.cell;
+        let inside = (p - lo)
+            .min(lo + DVec3::splat(self.cell) - p)
+            .min_element()
+            .max(0.0);
         for ring in 0..=max_ring {
             if ring > 0 {
                 // Every cell of this ring is at least (ring − 1) cells from p (also when p lies
                 // outside the grid and its cell was clamped).
-                let lb = (ring - 1) as f64 * self.cell;
+                let lb = (ring - 1) as f64 * self.cell + inside;
                 if lb * lb > bound {
                     break;
                 }

@@ -1,0 +1,131 @@
+//! Data-parallel loops, in one place: natively on rayon's thread pool, in wasm (one thread)
+//! sequentially. Every loop maps indices to values that are collected in index order and
+//! combined by the caller in that order, so the result does not depend on the number of threads
+//! (a shared link must reproduce a result bit for bit).
+
+/// `f(i)` for `i` in `0..n`, in index order, computed in chunks of `chunk` indices (each chunk
+/// spread over the threads); `done(k)` hears after each chunk how many are done, so a long loop
+/// can report progress on the caller's thread.
+pub fn map_chunked<T, F>(n: usize, chunk: usize, f: F, done: &mut dyn FnMut(usize)) -> Vec<T>
+where
+    T: Send,
+    F: Fn(usize) -> T + Sync + Send,
+{
+    let chunk = chunk.max(1);
+    let mut out = Vec::with_capacity(n);
+    let mut start = 0;
+    while start < n {
+        let end = (start + chunk).min(n);
+        extend_range(&mut out, start..end, &f);
+        done(end);
+        start = end;
+    }
+    out
+}
+
+/// `f(i)` for `i` in `0..n`, in index order.
+pub fn map<T, F>(n: usize, f: F) -> Vec<T>
+where
+    T: Send,
+    F: Fn(usize) -> T + Sync + Send,
+{
+    let mut out = Vec::with_capacity(n);
+    extend_range(&mut out, 0..n, &f);
+    out
+}
+
+/// `f(k, chunk)` for the consecutive chunks of `chunk_len` items of `data` (the last may be
+/// shorter), `group` chunks at a time (each group spread over the threads); `done(k)` hears after
+/// each group how many chunks are done. For loops that scatter into disjoint parts of one array.
+pub fn for_each_chunk_mut<T, F>(
+    data: &mut [T],
+    chunk_len: usize,
+    group: usize,
+    f: F,
+    done: &mut dyn FnMut(usize),
+) where
+    T: Send,
+    F: Fn(usize, &mut [T]) + Sync + Send,
+{
+    let chunk_len = chunk_len.max(1);
+    let mut first = 0;
+    for part in data.chunks_mut(chunk_len * group.max(1)) {
+        let n = part.len().div_ceil(chunk_len);
+        for_each_in_group(part, chunk_len, first, &f);
+        first += n;
+        done(first);
+    }
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+fn for_each_in_group<T: Send, F: Fn(usize, &mut [T]) + Sync + Send>(
+    part: &mut [T],
+    chunk_len: usize,
+    first: usize,
+    f: &F,
+) {
+    use rayon::prelude::*;
+    part.par_chunks_mut(chunk_len)
+        .enumerate()
+        .for_each(|(k, c)| f(first + k, c));
+}
+
+#[cfg(target_arch = "wasm32")]
+fn for_each_in_group<T: Send, F: Fn(usize, &mut [T]) + Sync + Send>(
+    part: &mut [T],
+    chunk_len: usize,
+    first: usize,
+    f: &F,
+) {
+    for (k, c) in part.chunks_mut(chunk_len).enumerate() {
+        f(first + k, c);
+    }
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+fn extend_range<T: Send, F: Fn(usize) -> T + Sync + Send>(
+    out: &mut Vec<T>,
+    range: std::ops::Range<usize>,
+    f: &F,
+) {
+    use rayon::prelude::*;
+    // Below a few hundred items the pool's hand-off costs more than it saves.
+    if range.len() < 512 {
+        out.extend(range.map(f));
+    } else {
+        out.par_extend(range.into_par_iter().map(f));
+    }
+}
+
+#[cfg(target_arch = "wasm32")]
+fn extend_range<T: Send, F: Fn(usize) -> T + Sync + Send>(
+    out: &mut Vec<T>,
+    range: std::ops::Range<usize>,
+    f: &F,
+) {
+    out.extend(range.map(f));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keeps_index_order_and_reports_each_chunk() {
+        let mut seen = vec![];
+        let v = map_chunked(5000, 1024, |i| i * i, &mut |k| seen.push(k));
+        assert_eq!(v, (0..5000).map(|i| i * i).collect::<Vec<_>>());
+        assert_eq!(seen, vec![1024, 2048, 3072, 4096, 5000]);
+        assert_eq!(map(3, |i| i + 1), vec![1, 2, 3]);
+        assert!(map_chunked(0, 8, |i| i, &mut |_| panic!("no chunk")).is_empty());
+    }
+
+    #[test]
+    fn chunks_are_numbered_in_order_and_cover_the_data() {
+        let mut data = vec![0usize; 10];
+        let mut seen = vec![];
+        for_each_chunk_mut(&mut data, 3, 2, |k, c| c.fill(k + 1), &mut |k| seen.push(k));
+        assert_eq!(data, [1, 1, 1, 2, 2, 2, 3, 3, 3, 4]);
+        assert_eq!(seen, vec![2, 4]);
+    }
+}
