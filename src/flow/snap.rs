@@ -141,7 +141,7 @@ pub fn snap_to_target(
 /// fin) and would pull the fit into the middle of it.
 fn plane_offset(grid: &PointGrid, p: DVec3, n: DVec3, params: &SnapParams) -> Option<f64> {
     let mut nearest = Vec::with_capacity(params.max_points);
-    grid.nearest_within(p, params.radius, params.max_points, &mut nearest);
+    grid.nearest_within_unordered(p, params.radius, params.max_points, &mut nearest);
     plane_offset_of(
         nearest.iter().map(|&Near { point, .. }| point),
         p,

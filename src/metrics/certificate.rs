@@ -4,7 +4,8 @@
 //! single intersecting face pair; a result that is not valid is never presented as done.
 
 use super::intersections::count_self_intersections;
-use crate::geometry::spatial::bvh::{PointBvh, TriangleBvh};
+use crate::geometry::spatial::bvh::TriangleBvh;
+use crate::geometry::spatial::point_grid::PointGrid;
 use crate::mesh::{edge_counts, HalfedgeMesh, MeshBuildError, ValidationError};
 use crate::target::Target;
 use glam::DVec3;
@@ -41,6 +42,9 @@ pub struct Certificate {
     /// The first broken property in words, or `None` when valid.
     pub problem: Option<String>,
 }
+
+/// Cells of the cloud's grid along its bounding-box diagonal (refined where dense).
+const CLOUD_GRID_DIVISIONS: f64 = 200.0;
 
 /// Certifies `(positions, triangles)`; with `target`, also measures vertex → target distances.
 pub fn certify(
@@ -104,8 +108,11 @@ pub fn certify(
     let (distance_min, distance_max) = match target {
         Some(t) if finite && !positions.is_empty() => {
             let d: Vec<f64> = if t.triangles.is_empty() {
-                let bvh = PointBvh::new(&t.points);
-                crate::parallel::map(positions.len(), |i| bvh.distance(positions[i]))
+                // A counting-sort grid builds in a fraction of a tree's time on millions of points.
+                let grid = PointGrid::new(&t.points, t.bbox.diagonal() / CLOUD_GRID_DIVISIONS);
+                crate::parallel::map(positions.len(), |i| {
+                    grid.nearest(positions[i]).map_or(f64::INFINITY, |n| n.d2.sqrt())
+                })
             } else {
                 let bvh = TriangleBvh::new(&t.points, &t.triangles);
                 crate::parallel::map(positions.len(), |i| bvh.distance(positions[i]))

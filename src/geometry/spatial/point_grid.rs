@@ -89,24 +89,46 @@ impl PointGrid {
         (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0]
     }
 
-    /// The range of `points` in cell `c`.
-    fn bucket(&self, c: [usize; 3]) -> std::ops::Range<usize> {
-        let k = self.key(c);
-        self.start[k] as usize..self.start[k + 1] as usize
-    }
-
-    /// Appends the points of cell `c` within `sqrt(bound)` of `p`.
-    fn scan(&self, c: [isize; 3], p: DVec3, bound: f64, out: &mut Vec<Near>) {
-        for j in self.bucket(c.map(|v| v as usize)) {
+    /// Appends the points of the cells `x0..=x1` of row (`y`, `z`) within `sqrt(bound)` of `p`, as
+    /// [`Candidate`]s.
+    #[allow(clippy::too_many_arguments)]
+    fn scan_row(
+        &self,
+        x0: isize,
+        x1: isize,
+        y: isize,
+        z: isize,
+        p: DVec3,
+        bound: f64,
+        out: &mut Vec<Candidate>,
+    ) {
+        let first = self.key([x0, y, z].map(|v| v as usize));
+        let last = self.key([x1, y, z].map(|v| v as usize));
+        for j in self.start[first] as usize..self.start[last + 1] as usize {
             let d2 = (self.points[j] - p).length_squared();
             if d2 <= bound {
-                out.push(Near {
-                    d2,
-                    index: self.order[j],
-                    point: self.points[j],
-                });
+                // A non-negative f64's bits order like the f64: integer keys select fast.
+                out.push((d2.to_bits(), self.order[j], j as u32));
             }
         }
+    }
+
+    /// Distance along `axis` from `p` to the slab of cells with index `c` on that axis (0 when
+    /// p lies in it).
+    #[inline]
+    fn axis_gap(&self, p: DVec3, axis: usize, c: isize) -> f64 {
+        let lo = self.origin[axis] + c as f64 * self.cell;
+        (lo - p[axis]).max(p[axis] - (lo + self.cell)).max(0.0)
+    }
+
+    /// Cell indices on `axis` (unclamped) of the cells meeting `[a, b]`.
+    #[inline]
+    fn cell_span(&self, axis: usize, a: f64, b: f64) -> (isize, isize) {
+        let o = self.origin[axis];
+        (
+            ((a - o) / self.cell).floor() as isize,
+            ((b - o) / self.cell).floor() as isize,
+        )
     }
 
     /// The at most `k` points nearest to `p` within `radius`, as [`Near`] in increasing order of
@@ -114,10 +136,35 @@ impl PointGrid {
     /// grid). Opens the cells in rings around `p`'s cell and stops once no unopened cell can be
     /// nearer than the k-th point found.
     pub fn nearest_within(&self, p: DVec3, radius: f64, k: usize, out: &mut Vec<Near>) {
-        out.clear();
+        self.k_nearest_within(p, radius, k, out);
+        out.sort_unstable_by(Near::order);
+    }
+
+    /// The nearest point to `p` (ties: the smaller input index); `None` without points. The
+    /// radius that surely holds one: p's distance to the grid's box plus the box's diagonal.
+    pub fn nearest(&self, p: DVec3) -> Option<Near> {
+        let size = DVec3::new(self.dims[0] as f64, self.dims[1] as f64, self.dims[2] as f64)
+            * self.cell;
+        let outside = (self.origin - p).max(p - (self.origin + size)).max(DVec3::ZERO);
+        let mut out = Vec::with_capacity(1);
+        self.k_nearest_within(p, outside.length() + size.length(), 1, &mut out);
+        out.pop()
+    }
+
+    /// The same points as [`Self::nearest_within`], in an order fixed by the points and the grid
+    /// (not by distance): for callers that only sum over them (a plane fit), which then need no
+    /// sort and still get the same bits on every run.
+    pub fn nearest_within_unordered(&self, p: DVec3, radius: f64, k: usize, out: &mut Vec<Near>) {
+        self.k_nearest_within(p, radius, k, out);
+    }
+
+    fn k_nearest_within(&self, p: DVec3, radius: f64, k: usize, result: &mut Vec<Near>) {
+        result.clear();
         if k == 0 || self.points.is_empty() {
             return;
         }
+        let mut out: Vec<Candidate> = Vec::with_capacity(2 * k.min(1024));
+        let out = &mut out;
         let r2 = radius * radius;
         // The k-th nearest so far bounds what is worth keeping.
         let mut bound = r2;
@@ -144,18 +191,34 @@ impl PointGrid {
             let lo = c0.map(|c| (c - ring).max(0));
             let hi = [0, 1, 2].map(|a| (c0[a] + ring).min(dims[a] - 1));
             for z in lo[2]..=hi[2] {
+                let dz = self.axis_gap(p, 2, z);
+                if dz * dz > bound {
+                    continue;
+                }
                 for y in lo[1]..=hi[1] {
+                    let dy = self.axis_gap(p, 1, y);
+                    let dyz2 = dy * dy + dz * dz;
+                    if dyz2 > bound {
+                        continue; // No cell of this row can hold a point within the bound.
+                    }
                     // Rows inside the ring's shell only touch it at their two ends.
                     let inner = (z - c0[2]).abs() < ring && (y - c0[1]).abs() < ring;
+                    let (x0, x1) = (c0[0] - ring, c0[0] + ring);
                     if inner {
-                        for x in [c0[0] - ring, c0[0] + ring] {
-                            if x >= 0 && x < dims[0] {
-                                self.scan([x, y, z], p, bound, out);
+                        for x in [x0, x1] {
+                            let dx = self.axis_gap(p, 0, x);
+                            if x >= 0 && x < dims[0] && dx * dx + dyz2 <= bound {
+                                self.scan_row(x, x, y, z, p, bound, out);
                             }
                         }
                     } else {
-                        for x in lo[0]..=hi[0] {
-                            self.scan([x, y, z], p, bound, out);
+                        // The row's cells are consecutive in the bucket order: one scan of the
+                        // x-range that the bound leaves, not a lookup per cell.
+                        let reach = (bound - dyz2).max(0.0).sqrt();
+                        let (a, b) = self.cell_span(0, p.x - reach, p.x + reach);
+                        let (a, b) = (a.max(lo[0]), b.min(hi[0]));
+                        if a <= b {
+                            self.scan_row(a, b, y, z, p, bound, out);
                         }
                     }
                 }
@@ -163,15 +226,23 @@ impl PointGrid {
             // Keep the k best of what was found (a linear-time selection per ring).
             if out.len() >= k {
                 if out.len() > k {
-                    out.select_nth_unstable_by(k - 1, Near::order);
+                    out.select_nth_unstable(k - 1);
                     out.truncate(k);
                 }
-                bound = out.iter().map(|n| n.d2).fold(0.0, f64::max);
+                bound = f64::from_bits(out.iter().map(|c| c.0).max().unwrap_or(0));
             }
         }
-        out.sort_unstable_by(Near::order);
+        result.extend(out.iter().map(|&(d2, index, j)| Near {
+            d2: f64::from_bits(d2),
+            index,
+            point: self.points[j as usize],
+        }));
     }
 }
+
+/// A point met by a query: (squared distance's bits, input index, position in the grid's order).
+/// Ordered as a tuple: nearer first, then the smaller input index, like [`Near::order`].
+type Candidate = (u64, u32, u32);
 
 /// A point found by [`PointGrid::nearest_within`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -187,7 +258,11 @@ pub struct Near {
 impl Near {
     /// Nearer first; as near, the smaller input index first.
     fn order(a: &Near, b: &Near) -> std::cmp::Ordering {
-        a.d2.total_cmp(&b.d2).then(a.index.cmp(&b.index))
+        a.key().cmp(&b.key())
+    }
+
+    fn key(&self) -> (u64, u32) {
+        (self.d2.to_bits(), self.index)
     }
 }
 
@@ -229,7 +304,18 @@ mod tests {
             for (radius, k) in [(0.1, 16), (0.1, 1000), (0.3, 64), (0.02, 8)] {
                 grid.nearest_within(p, radius, k, &mut out);
                 assert_eq!(out, brute(&pts, p, radius, k), "p {p}, r {radius}, k {k}");
+                // The unordered query finds the same points.
+                grid.nearest_within_unordered(p, radius, k, &mut out);
+                out.sort_unstable_by(Near::order);
+                assert_eq!(out, brute(&pts, p, radius, k), "unordered: p {p}, r {radius}, k {k}");
             }
+        }
+        // The nearest point, against a scan, from inside and far outside the grid.
+        for q in 0..200 {
+            let p = DVec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 6.0 - DVec3::splat(3.0);
+            let p = if q % 4 == 0 { p * 10.0 } else { p };
+            let want = brute(&pts, p, f64::INFINITY, 1);
+            assert_eq!(grid.nearest(p), want.first().copied(), "nearest to {p}");
         }
         // A sparse cloud keeps cells of the radius.
         let sparse = crate::geometry::sphere::fibonacci_sphere(100);
