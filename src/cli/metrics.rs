@@ -18,6 +18,9 @@
 //!   `distance_min`, `distance_max` (vertex → target, with `--target`), `problem`} (see
 //!   [`crate::metrics::certificate`]), `certificate_ms`
 //! * with `--histograms`: `histograms` (see [`metrics_json_with`])
+//! * `--error-map FILE` / `--target-error-map FILE` (with `--target`) write the mesh / the target
+//!   with per-vertex scalars `error` and `error_percent` (distance to the other, the JSON's
+//!   `distances` point by point), to find where the remaining error sits.
 //! * with `--target`: `target` {`file`, `kind`, `points`, `faces`, `bbox_diagonal`, `volume`,
 //!   `volume_ratio`} (volumes only for mesh targets) and `distances` {`absolute`,
 //!   `percent_of_target_diagonal`}, each {`mesh_to_target`, `target_to_mesh`: `count, mean, rms,
@@ -48,6 +51,15 @@ pub struct MetricsArgs {
     /// Also print histograms (κ, 2·r_in/r_circ, smallest angle; distances with --target).
     #[arg(long)]
     pub histograms: bool,
+    /// With --target: write the mesh with each vertex's distance to the target as per-vertex
+    /// scalars `error` (target units) and `error_percent` (% of the target's diagonal), where the
+    /// result misses the target (.ply or .vtk keep the scalars; ParaView colours by them).
+    #[arg(long, requires = "target")]
+    pub error_map: Option<PathBuf>,
+    /// With --target: write the target (its mesh, or its points) with each point's distance to
+    /// the mesh as the same scalars: where the mesh fails to reach the target.
+    #[arg(long, requires = "target")]
+    pub target_error_map: Option<PathBuf>,
 }
 
 /// Runs `lsw metrics`.
@@ -69,7 +81,42 @@ pub fn run(a: &MetricsArgs) -> Result<String, String> {
         target.as_ref().map(|(n, t)| (n.as_str(), t)),
         a.histograms,
     );
+    if let (Some((_, tg)), true) = (
+        &target,
+        a.error_map.is_some() || a.target_error_map.is_some(),
+    ) {
+        write_error_maps(a, &mesh.target, tg)?;
+    }
     serde_json::to_string_pretty(&v).map_err(|e| e.to_string())
+}
+
+/// Writes `--error-map` (mesh vertices → target) and `--target-error-map` (target points →
+/// mesh), each with the scalars `error` and `error_percent`.
+fn write_error_maps(a: &MetricsArgs, mesh: &Target, target: &Target) -> Result<(), String> {
+    let (there, back) = two_sided_distance_values(
+        &mesh.points,
+        &mesh.triangles,
+        &target.points,
+        &target.triangles,
+    );
+    let diagonal = target.bbox.diagonal().max(f64::MIN_POSITIVE);
+    let write = |path: &PathBuf, shape: &Target, d: &[f64]| {
+        let percent: Vec<f64> = d.iter().map(|x| 100.0 * x / diagonal).collect();
+        let scalars = [("error", d), ("error_percent", percent.as_slice())];
+        let input = crate::io::WriteInput {
+            scalars: &scalars,
+            ..crate::io::WriteInput::new(&shape.points, &shape.triangles)
+        };
+        crate::io::write_path(path, &input)
+            .map_err(|e| format!("{}: {}", path.display(), super::explained(e)))
+    };
+    if let Some(path) = &a.error_map {
+        write(path, mesh, &there)?;
+    }
+    if let Some(path) = &a.target_error_map {
+        write(path, target, &back)?;
+    }
+    Ok(())
 }
 
 /// The JSON of `lsw metrics` for a mesh and an optional `(file name, target)`.

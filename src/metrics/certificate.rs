@@ -111,7 +111,8 @@ pub fn certify(
                 // A counting-sort grid builds in a fraction of a tree's time on millions of points.
                 let grid = PointGrid::new(&t.points, t.bbox.diagonal() / CLOUD_GRID_DIVISIONS);
                 crate::parallel::map(positions.len(), |i| {
-                    grid.nearest(positions[i]).map_or(f64::INFINITY, |n| n.d2.sqrt())
+                    grid.nearest(positions[i])
+                        .map_or(f64::INFINITY, |n| n.d2.sqrt())
                 })
             } else {
                 let bvh = TriangleBvh::new(&t.points, &t.triangles);

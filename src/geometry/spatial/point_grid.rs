@@ -143,9 +143,14 @@ impl PointGrid {
     /// The nearest point to `p` (ties: the smaller input index); `None` without points. The
     /// radius that surely holds one: p's distance to the grid's box plus the box's diagonal.
     pub fn nearest(&self, p: DVec3) -> Option<Near> {
-        let size = DVec3::new(self.dims[0] as f64, self.dims[1] as f64, self.dims[2] as f64)
-            * self.cell;
-        let outside = (self.origin - p).max(p - (self.origin + size)).max(DVec3::ZERO);
+        let size = DVec3::new(
+            self.dims[0] as f64,
+            self.dims[1] as f64,
+            self.dims[2] as f64,
+        ) * self.cell;
+        let outside = (self.origin - p)
+            .max(p - (self.origin + size))
+            .max(DVec3::ZERO);
         let mut out = Vec::with_capacity(1);
         self.k_nearest_within(p, outside.length() + size.length(), 1, &mut out);
         out.pop()
@@ -307,12 +312,17 @@ mod tests {
                 // The unordered query finds the same points.
                 grid.nearest_within_unordered(p, radius, k, &mut out);
                 out.sort_unstable_by(Near::order);
-                assert_eq!(out, brute(&pts, p, radius, k), "unordered: p {p}, r {radius}, k {k}");
+                assert_eq!(
+                    out,
+                    brute(&pts, p, radius, k),
+                    "unordered: p {p}, r {radius}, k {k}"
+                );
             }
         }
         // The nearest point, against a scan, from inside and far outside the grid.
         for q in 0..200 {
-            let p = DVec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 6.0 - DVec3::splat(3.0);
+            let p =
+                DVec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 6.0 - DVec3::splat(3.0);
             let p = if q % 4 == 0 { p * 10.0 } else { p };
             let want = brute(&pts, p, f64::INFINITY, 1);
             assert_eq!(grid.nearest(p), want.first().copied(), "nearest to {p}");
