@@ -26,12 +26,14 @@ pub fn smallest_eigenvector(a: DMat3, guess: DVec3) -> Option<DVec3> {
         if !(scale > 0.0 && scale.is_finite()) {
             return None;
         }
-        m = m * (1.0 / scale);
+        m *= 1.0 / scale;
         m = m * m;
     }
     let v = m * guess;
     let len = v.length();
-    if !(len > 1e-12 * m.to_cols_array().iter().fold(0.0f64, |s, x| s.max(x.abs()))) {
+    let floor = 1e-12 * m.to_cols_array().iter().fold(0.0f64, |s, x| s.max(x.abs()));
+    // Also refuses NaN.
+    if len.is_nan() || len <= floor {
         return None;
     }
     let v = v / len;
