@@ -1,0 +1,63 @@
+// A timed run in headless Chromium (issue 16's browser figures; not a test): drops FILE on the
+// built app with the default settings, waits for done, and prints one JSON line with drop → done
+// (the app's own clock), the certificate and the peak resident memory of the page's renderer
+// process (the tab: page, computation worker and render worker), sampled every 100 ms from /proc.
+// Usage: bash .ci/build && node tests/e2e/bench.mjs FILE [RUNS=1]
+import { readFileSync, readdirSync } from 'node:fs';
+import { basename } from 'node:path';
+import { setInterval, clearInterval } from 'node:timers';
+import { chromium } from 'playwright-core';
+import { dist, dropFile } from './harness.mjs';
+import { serve } from './server.mjs';
+
+const file = process.argv[2];
+const runs = Number(process.argv[3] ?? 1);
+if (!file) {
+  console.error('usage: node tests/e2e/bench.mjs FILE [RUNS]');
+  process.exit(2);
+}
+
+/** Resident memory (bytes) of every Chromium renderer process, by pid. */
+function rendererRss() {
+  const out = new Map();
+  for (const pid of readdirSync('/proc').filter((d) => /^\d+$/.test(d))) {
+    try {
+      const cmd = readFileSync(`/proc/${pid}/cmdline`, 'utf8');
+      if (!cmd.includes('chromium') || !cmd.includes('--type=renderer')) continue;
+      const rss = /VmRSS:\s+(\d+) kB/.exec(readFileSync(`/proc/${pid}/status`, 'utf8'));
+      if (rss) out.set(pid, Number(rss[1]) * 1024);
+    } catch {
+      // The process ended between the listing and the read.
+    }
+  }
+  return out;
+}
+
+const bytes = readFileSync(file);
+const server = await serve(dist, {});
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+  headless: true,
+  args: ['--disable-gpu', '--enable-unsafe-swiftshader', '--no-first-run'],
+});
+for (let run = 1; run <= runs; run++) {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  await page.goto(server.url);
+  await page.waitForSelector('[data-testid=status][data-state=idle]', { timeout: 30000 });
+  let peak = 0;
+  const sampler = setInterval(() => {
+    for (const rss of rendererRss().values()) peak = Math.max(peak, rss);
+  }, 100);
+  await dropFile(page, basename(file), bytes);
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 600000 });
+  clearInterval(sampler);
+  const ms = await page.evaluate(() => window.__lsw.dropToDoneMs());
+  const status = await page.textContent('[data-testid=status]');
+  console.log(JSON.stringify({
+    file: basename(file), run, dropToDoneMs: Math.round(ms), peakRendererMB: Math.round(peak / 2 ** 20),
+    status: status.trim().slice(0, 120), date: new Date().toISOString(),
+  }));
+  await page.close();
+}
+await browser.close();
+await server.close();
