@@ -47,13 +47,8 @@ mod tests {
     /// A random rotation of diag(λ) must give back the axis of the smallest λ.
     #[test]
     fn finds_the_smallest_axis_of_rotated_diagonal_matrices() {
-        let mut seed = 7u64;
-        let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::demo::Rng::new(7);
+        let mut rnd = || rng.uniform();
         for case in 0..500 {
             let axis = DVec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5).normalize();
             let angle = 6.0 * rnd();

@@ -82,6 +82,7 @@ impl Evolver {
             // (Silent: the pass's progress has already gone past the moves.)
             moved = snap_to_target(&mut self.mesh, &normals, target, &params, &mut |_| {});
             resolve_contacts(&mut self.mesh, &before, &self.settings.guard);
+            round_as_written(&mut self.mesh, self.phi, self.center);
             if remeshing {
                 let unremeshed = self.mesh.clone();
                 let _ = remesh(&mut self.mesh, &rs);
@@ -90,7 +91,6 @@ impl Evolver {
                     self.mesh = unremeshed;
                 }
             }
-            round_as_written(&mut self.mesh, self.phi, self.center);
         }
         at(self.settings.fit.passes, 0.0);
         if self.mesh.validate().is_err() {

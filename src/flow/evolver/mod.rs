@@ -357,13 +357,8 @@ impl Evolver {
         self.mesh
             .positions()
             .iter()
-            .map(|&p| self.written(p))
+            .map(|&p| written(p, self.phi, self.center))
             .collect()
-    }
-
-    /// `p` (stabilised frame) as written: in the target's units, rounded to f32.
-    fn written(&self, p: DVec3) -> DVec3 {
-        written(p, self.phi, self.center)
     }
 
     /// Triangles (counter-clockwise, outward).
