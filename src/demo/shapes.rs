@@ -66,6 +66,11 @@ pub const SHAPES: &[(&str, &str)] = &[
         "dumbbell",
         "two spheres (r 0.35) joined by a thin neck (r 0.06): closed, genus 0",
     ),
+    ("cube", "exact unit cube, each face a 16 × 16 grid: 12 sharp 90° edges and 8 corners"),
+    (
+        "cad-part",
+        "an L-shaped block with a 45° chamfer (1 × 1 × 0.4): convex 90° and 135° edges, a concave edge",
+    ),
 ];
 
 /// Number of points of the sampled clouds (`torus-gN-cloud`, `thin-plate-cloud`).
@@ -106,6 +111,8 @@ pub fn generate(name: &str) -> Result<Shape, DemoError> {
         )),
         "coplanar-cloud" => Ok((plane_cloud(500, 13), vec![])),
         "dumbbell" => Ok(dumbbell(0.35, 0.06, 0.6)),
+        "cube" => Ok(grid_box(DVec3::ONE, [16, 16, 16])),
+        "cad-part" => Ok(cad_part()),
         other => Err(DemoError::UnknownShape(other.to_string())),
     }
 }
@@ -378,6 +385,67 @@ pub fn thin_plate() -> Shape {
     grid_box(DVec3::new(1.0, 0.6, 0.01), [50, 30, 1])
 }
 
+/// The CAD test part: the L-shaped outline (0,0) (1,0) (1,0.35) (0.85,0.5) (0.5,0.5) (0.5,1)
+/// (0,1) — a 45° chamfer at one outer corner, one concave corner — extruded 0.4 along z and
+/// centred. Its edges are 90° and 135° convex creases and one 90° concave crease.
+pub fn cad_part() -> Shape {
+    let outline = [
+        (0.0, 0.0),
+        (1.0, 0.0),
+        (1.0, 0.35),
+        (0.85, 0.5),
+        (0.5, 0.5),
+        (0.5, 1.0),
+        (0.0, 1.0),
+    ]
+    .map(|(x, y)| (x - 0.5, y - 0.5));
+    // The outline is star-shaped from this point of the corner square (on no edge's line).
+    extruded_polygon(&outline, (-0.27, -0.23), 0.4, 0.05)
+}
+
+/// A prism: the counter-clockwise, star-shaped `outline` (in the plane z = 0) extruded to
+/// `height` and centred in z. Walls are grids of at most `step` along the outline and up; the
+/// two caps are fans from `star` (a point that sees the whole outline) to the wall's boundary
+/// vertices, so the mesh is welded and closed. Outward oriented.
+pub fn extruded_polygon(outline: &[(f64, f64)], star: (f64, f64), height: f64, step: f64) -> Shape {
+    let layers = (height / step).ceil().max(1.0) as usize;
+    // The outline, subdivided: points along each edge, the edge's start included.
+    let mut ring: Vec<(f64, f64)> = Vec::new();
+    for (i, &(x0, y0)) in outline.iter().enumerate() {
+        let (x1, y1) = outline[(i + 1) % outline.len()];
+        let k = (((x1 - x0).hypot(y1 - y0)) / step).ceil().max(1.0) as usize;
+        for j in 0..k {
+            let t = j as f64 / k as f64;
+            ring.push((x0 + t * (x1 - x0), y0 + t * (y1 - y0)));
+        }
+    }
+    let n = ring.len();
+    let mut p = Vec::with_capacity(n * (layers + 1) + 2);
+    for l in 0..=layers {
+        let z = height * (l as f64 / layers as f64 - 0.5);
+        p.extend(ring.iter().map(|&(x, y)| DVec3::new(x, y, z)));
+    }
+    let at = |l: usize, i: usize| (l * n + i % n) as u32;
+    let mut t = Vec::new();
+    for l in 0..layers {
+        for i in 0..n {
+            let quad = [at(l, i), at(l, i + 1), at(l + 1, i + 1), at(l + 1, i)];
+            let edge = p[quad[1] as usize] - p[quad[0] as usize];
+            let out = DVec3::new(edge.y, -edge.x, 0.0);
+            push_oriented(&mut t, &p, [quad[0], quad[1], quad[2]], out);
+            push_oriented(&mut t, &p, [quad[0], quad[2], quad[3]], out);
+        }
+    }
+    for (l, out) in [(0, DVec3::NEG_Z), (layers, DVec3::Z)] {
+        let centre = p.len() as u32;
+        p.push(DVec3::new(star.0, star.1, p[at(l, 0) as usize].z));
+        for i in 0..n {
+            push_oriented(&mut t, &p, [centre, at(l, i), at(l, i + 1)], out);
+        }
+    }
+    (p, t)
+}
+
 /// `n` points uniform in the square `[−0.5, 0.5]²` of the plane `z = 0`.
 pub fn plane_cloud(n: usize, seed: u64) -> Vec<DVec3> {
     let mut rng = Rng::new(seed);
@@ -590,6 +658,19 @@ mod tests {
             .filter(|q| (**q - b).length() < 0.5)
             .count();
         assert!(inside > 0 && inside < half, "{inside} of {half}");
+    }
+
+    #[test]
+    fn cad_shapes_are_closed_genus_zero_with_the_promised_volume() {
+        for (name, volume) in [
+            ("cube", 1.0),
+            ("cad-part", (0.75 - 0.5 * 0.15 * 0.15) * 0.4),
+        ] {
+            let ((p, t), rep) = closed(name);
+            assert_eq!((rep.genus, rep.components), (0, 1), "{name}");
+            let mesh = HalfedgeMesh::from_triangles(p, &t).unwrap();
+            assert!((mesh.signed_volume() - volume).abs() < 1e-12, "{name}");
+        }
     }
 
     #[test]

@@ -2,6 +2,7 @@
 
 pub mod colour;
 pub mod controls;
+pub mod crease_fit;
 pub mod detail;
 pub mod evolver;
 pub mod guard;

@@ -2,6 +2,7 @@
 
 pub mod aabb;
 pub mod angle;
+pub mod creases;
 pub mod eigen3;
 pub mod icosphere;
 pub mod marching_cubes;

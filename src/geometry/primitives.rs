@@ -123,9 +123,14 @@ fn closest_on_edges(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> (DVec3, DVec3, Tr
     best
 }
 
+/// The point of segment `[s, e]` closest to `p`.
+pub fn closest_point_on_segment(p: DVec3, s: DVec3, e: DVec3) -> DVec3 {
+    s + segment_parameter(p, s, e) * (e - s)
+}
+
 /// The parameter `t ∈ [0, 1]` of the point of segment `[s, e]` closest to `p` (0 for a
 /// zero-length segment).
-fn segment_parameter(p: DVec3, s: DVec3, e: DVec3) -> f64 {
+pub fn segment_parameter(p: DVec3, s: DVec3, e: DVec3) -> f64 {
     let d = e - s;
     let l2 = d.length_squared();
     if l2 <= 0.0 {

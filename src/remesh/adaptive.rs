@@ -267,7 +267,8 @@ fn remesh_impl(
             .outgoing(v)
             .filter(|&h| features.edges[(h >> 1) as usize])
             .count();
-        locked[v as usize] = boundary || (features.vertices[v as usize] && nfe != 2);
+        let pinned = features.pinned.get(v as usize).copied().unwrap_or(false);
+        locked[v as usize] = boundary || pinned || (features.vertices[v as usize] && nfe != 2);
     }
     report.feature_vertices = features.n_vertices();
     report.feature_edges = features.n_edges();

@@ -79,6 +79,9 @@ pub struct Features {
     pub vertices: Vec<bool>,
     /// Feature edges (only the dihedral detector sets them).
     pub edges: Vec<bool>,
+    /// Vertices the remesher must not move whatever their feature edges (the target's corners,
+    /// placed by the final fit). Empty: none.
+    pub pinned: Vec<bool>,
 }
 
 impl Features {
@@ -87,6 +90,7 @@ impl Features {
         Self {
             vertices: vec![false; mesh.n_vertices()],
             edges: vec![false; mesh.n_edges()],
+            pinned: Vec::new(),
         }
     }
     /// Number of feature vertices.

@@ -8,11 +8,15 @@ use crate::progress::Progress;
 
 /// The progress phase of the final fit.
 pub const FIT_PHASE: &str = "final fit";
+use crate::flow::crease_fit::snap_to_creases;
 use crate::flow::guard::resolve_contacts;
 use crate::flow::snap::{snap_to_target, SnapParams};
+use crate::geometry::creases::Creases;
 use crate::geometry::operators::normals::angle_weighted_normals;
-use crate::metrics::intersections::count_self_intersections;
-use crate::remesh::adaptive::{remesh, RemeshSettings};
+use crate::mesh::HalfedgeMesh;
+use crate::metrics::intersections::{count_self_intersections, self_intersecting_pairs};
+use crate::remesh::adaptive::{remesh, remesh_with_features, RemeshSettings};
+use crate::remesh::features::Features;
 
 impl Evolver {
     /// The final fit when the evolution has just ended; vertices moved.
@@ -57,22 +61,47 @@ impl Evolver {
         // Each pass: moves (half of it), remesh, check.
         let mut at =
             |pass: u32, part: f64| progress.report(FIT_PHASE, (pass as f64 + part) / passes);
+        let mut creases_placed = false;
         for pass in 0..self.settings.fit.passes {
             at(pass, 0.0);
             // The surface here is certified; keep it to redo the pass with the guard if needed.
             let clean = contact.then(|| self.mesh.clone());
+            let start_of_pass = self.creases.is_some().then(|| self.mesh.clone());
             let normals = angle_weighted_normals(&self.mesh);
             moved = snap_to_target(&mut self.mesh, &normals, target, &params, &mut |f| {
                 at(pass, 0.5 * f)
             });
+            // Sharp creases: vertices onto them, edges along them, kept by the remesh.
+            let features = match &self.creases {
+                None => None,
+                Some(c) => match snap_creases_checked(&mut self.mesh, c, params.max_move) {
+                    Some(f) => {
+                        creases_placed = true;
+                        Some(f)
+                    }
+                    // An earlier pass placed the creases: keep its surface rather than round
+                    // them off again.
+                    None if creases_placed => {
+                        if let Some(m) = start_of_pass {
+                            self.mesh = m;
+                        }
+                        break;
+                    }
+                    None => None,
+                },
+            };
             // Even out the triangles the moves distorted, staying on the fitted surface.
             if remeshing {
-                let _ = remesh(&mut self.mesh, &rs);
+                let _ = match &features {
+                    Some(f) => remesh_with_features(&mut self.mesh, &rs, f),
+                    None => remesh(&mut self.mesh, &rs),
+                };
             }
             round_as_written(&mut self.mesh, self.phi, self.center);
             at(pass, 0.75);
             let Some(clean) = clean else { continue };
-            if count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) == 0 {
+            let si = count_self_intersections(self.mesh.positions(), &self.mesh.triangles());
+            if si == 0 {
                 continue;
             }
             // Redo the pass: the same moves, then put back those that make faces intersect,
@@ -100,3 +129,37 @@ impl Evolver {
         Some(moved)
     }
 }
+
+/// [`snap_to_creases`] kept intersection-free: a try that makes faces intersect is undone and
+/// redone without the vertices of those faces and their neighbours, a few times at most; then
+/// the mesh is as it came and the answer is None.
+fn snap_creases_checked(
+    mesh: &mut HalfedgeMesh,
+    creases: &Creases,
+    reach: f64,
+) -> Option<Features> {
+    mesh.garbage_collect();
+    let before = mesh.clone();
+    let mut banned = vec![false; before.n_vertices()];
+    for _ in 0..CREASE_TRIES {
+        let (features, _) = snap_to_creases(mesh, creases, reach, &banned);
+        let tris = mesh.triangles();
+        let pairs = self_intersecting_pairs(mesh.positions(), &tris);
+        if pairs.is_empty() {
+            return Some(features);
+        }
+        for (f, g) in pairs {
+            for v in tris[f as usize].into_iter().chain(tris[g as usize]) {
+                banned[v as usize] = true;
+                for u in before.neighbors(v) {
+                    banned[u as usize] = true;
+                }
+            }
+        }
+        *mesh = before.clone();
+    }
+    None
+}
+
+/// Tries of the crease snap per fit pass (see [`snap_creases_checked`]).
+const CREASE_TRIES: usize = 3;

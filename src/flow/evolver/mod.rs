@@ -28,6 +28,7 @@ use super::start::build_start;
 use super::surgery::SurgeryEvent;
 use crate::clock::now_ms;
 use crate::field::{DistanceField, FieldError};
+use crate::geometry::creases::{detect_creases, Creases};
 use crate::geometry::icosphere::IcosphereError;
 use crate::mesh::{HalfedgeMesh, MeshBuildError};
 use crate::progress::Progress;
@@ -178,6 +179,9 @@ pub struct Evolver {
     gradients: Vec<DVec3>,
     /// The target for the final fit (stabilised frame).
     fit_target: Option<SnapTarget>,
+    /// The mesh target's sharp creases for the final fit (stabilised frame); None for clouds
+    /// or with `fit.crease_angle_deg` = 0.
+    creases: Option<Creases>,
     /// The schedule changed the target edge lengths since the last remesh.
     sizes_changed: bool,
     /// The start surface actually built.
@@ -264,6 +268,17 @@ impl Evolver {
         let field = field.scaled(center, phi);
         let fit_target = (settings.fit.enabled && settings.flow.use_target)
             .then(|| SnapTarget::new(target, center, phi, settings.fit.radius_cells * c * phi));
+        let creases = (fit_target.is_some()
+            && settings.fit.crease_angle_deg > 0.0
+            && !target.triangles.is_empty())
+        .then(|| {
+            let pts: Vec<DVec3> = target.points.iter().map(|&p| phi * (p - center)).collect();
+            detect_creases(
+                &pts,
+                &target.triangles,
+                settings.fit.crease_angle_deg.to_radians(),
+            )
+        });
         let d0 = settings.flow.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
         let empty_distance = phi * empty_distance(target, c, &settings);
         let mut ev = Evolver {
@@ -282,6 +297,7 @@ impl Evolver {
             distances: vec![],
             gradients: vec![],
             fit_target,
+            creases,
             sizes_changed: true,
             start: start.kind,
             limits,

@@ -190,6 +190,11 @@ pub struct FitSettings {
     /// points. Range ≥ 6; default 256 (on 1 M points sampled from spot, 64 left the target → mesh
     /// p95 at 0.93 % of the diagonal against 0.56 % with every point in the radius; 256: 0.56 %).
     pub max_points: usize,
+    /// Sharp creases of a mesh target: edges whose faces turn by more than this many degrees
+    /// are kept sharp — the fit puts wrap vertices on the target's corners and crease lines and
+    /// aligns wrap edges with them (see `flow::crease_fit`). 0 turns it off; clouds have none.
+    /// Range 0–180; default 40.
+    pub crease_angle_deg: f64,
 }
 
 impl Default for FitSettings {
@@ -200,6 +205,7 @@ impl Default for FitSettings {
             max_move_cells: 2.5,
             passes: 2,
             max_points: 256,
+            crease_angle_deg: 40.0,
         }
     }
 }

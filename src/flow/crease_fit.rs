@@ -1,0 +1,224 @@
+//! Final fit, sharp features: the wrap's vertices are put onto the target's corners and crease
+//! lines ([`crate::geometry::creases`]) and its edges are aligned with them, so that the
+//! remesh that follows keeps them sharp (feature edges are split along themselves and never
+//! flipped, their vertices slide only along them, corners are pinned).
+//!
+//! Without this, a surface that settled at the offset d₀ and was then projected onto the faces
+//! keeps a bevel about a cell wide along every crease and cuts every corner: on a cube that
+//! is the whole Hausdorff error.
+//!
+//! Order: corners first (each takes its nearest wrap vertex), then crease vertices (nearest
+//! first, one per half edge length along a line, so two never land on one point), then flips
+//! that join two crease vertices which the triangulation left unconnected. A move or flip that
+//! would turn a face over is not made; the fit's intersection check covers the rest.
+
+use crate::geometry::creases::Creases;
+use crate::geometry::operators::normals::angle_weighted_normals;
+use crate::mesh::HalfedgeMesh;
+use crate::remesh::features::Features;
+use glam::DVec3;
+use std::collections::HashMap;
+
+/// Wrap vertices placed on a corner or crease line and edges marked along them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CreaseReport {
+    /// Vertices moved onto a target corner.
+    pub corners: usize,
+    /// Vertices on a crease line (corners excluded).
+    pub crease_vertices: usize,
+    /// Edges along a crease line.
+    pub crease_edges: usize,
+    /// Flips that joined two crease vertices.
+    pub flips: usize,
+}
+
+/// A vertex may land on a corner or crease this far away, in its mean edge lengths.
+const REACH: f64 = 0.5;
+/// An edge lies along a crease when its midpoint is within this fraction of its length of one.
+const ALONG: f64 = 0.1;
+
+/// Snaps `mesh` onto `creases` (see the module doc); returns the wrap's features, indexed like
+/// the mesh (which is garbage-collected first), for `remesh_with_features`.
+///
+/// `reach` is how far a vertex may move onto a corner or crease line (beyond half its edge
+/// length): the settled surface rounds a ridge by about d₀ and bridges a valley (curvature
+/// flow holds it back there), so on fine meshes its nearest vertices lie cells away.
+///
+/// Vertices with `banned[v]` (indexed after garbage collection; shorter means none) are left
+/// alone and take part in no flip: the caller bans those near an intersection the last try made.
+pub fn snap_to_creases(
+    mesh: &mut HalfedgeMesh,
+    creases: &Creases,
+    reach: f64,
+    banned: &[bool],
+) -> (Features, CreaseReport) {
+    mesh.garbage_collect();
+    let mut features = Features::none(mesh);
+    features.pinned = vec![false; mesh.n_vertices()];
+    let mut report = CreaseReport::default();
+    if creases.is_empty() || mesh.n_faces() == 0 {
+        return (features, report);
+    }
+    let nv = mesh.n_vertices();
+    let free = |v: u32| !banned.get(v as usize).copied().unwrap_or(false);
+    let spacing: Vec<f64> = (0..nv as u32)
+        .map(|v| {
+            let p = mesh.position(v);
+            let (s, n) = mesh.neighbors(v).fold((0.0, 0), |(s, n), u| {
+                (s + (mesh.position(u) - p).length(), n + 1)
+            });
+            if n == 0 {
+                0.0
+            } else {
+                s / n as f64
+            }
+        })
+        .collect();
+    let normals = angle_weighted_normals(mesh);
+
+    // 1. Corners: each takes its nearest wrap vertex within reach.
+    let mut owner: Vec<Option<(f64, u32)>> = vec![None; creases.corners.len()];
+    for v in (0..nv as u32).filter(|&v| free(v)) {
+        let p = mesh.position(v);
+        if let Some((c, d)) = creases.nearest_corner(p) {
+            let best = &mut owner[c as usize];
+            let limit = (REACH * 1.5 * spacing[v as usize]).max(reach);
+            if d <= limit && best.is_none_or(|(bd, _)| d < bd) {
+                *best = Some((d, v));
+            }
+        }
+    }
+    for (c, o) in owner.iter().enumerate() {
+        if let Some((_, v)) = *o {
+            if try_move(mesh, &normals, v, creases.corners[c]) {
+                features.vertices[v as usize] = true;
+                features.pinned[v as usize] = true;
+                report.corners += 1;
+            }
+        }
+    }
+
+    // 2. Crease vertices, nearest first; a vertex is skipped when a crease vertex already sits
+    //    within half its edge length of its landing point, so the line gets one vertex per
+    //    edge length, from the row of vertices nearest to it.
+    // A vertex facing an edge that already lies on a crease (an earlier pass put it there)
+    // stays: it would land on that edge.
+    let on_line: Vec<bool> = (0..nv as u32)
+        .map(|v| {
+            let tol = 1e-9 * spacing[v as usize];
+            creases.closest_edge_point(mesh.position(v), tol).is_some()
+        })
+        .collect();
+    let faces_lined_edge = |v: u32| {
+        mesh.outgoing(v).any(|h| {
+            !mesh.is_boundary_halfedge(h)
+                && on_line[mesh.to(h) as usize]
+                && on_line[mesh.to(mesh.next(h)) as usize]
+        })
+    };
+    let mut candidates: Vec<(f64, u32, DVec3)> = (0..nv as u32)
+        .filter(|&v| !features.vertices[v as usize] && free(v))
+        .filter(|&v| on_line[v as usize] || !faces_lined_edge(v))
+        .filter_map(|v| {
+            let p = mesh.position(v);
+            let hit = creases.closest_edge_point(p, (REACH * spacing[v as usize]).max(reach))?;
+            Some((hit.distance, v, hit.point))
+        })
+        .collect();
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let cell = candidates
+        .iter()
+        .map(|&(_, v, _)| REACH * spacing[v as usize])
+        .fold(0.0, f64::max);
+    let key = |q: DVec3| (q / cell).floor().to_array().map(|x| x as i64);
+    let mut placed: HashMap<[i64; 3], Vec<DVec3>> = HashMap::new();
+    for v in (0..nv as u32).filter(|&v| features.vertices[v as usize]) {
+        let p = mesh.position(v);
+        placed.entry(key(p)).or_default().push(p);
+    }
+    for (_, v, q) in candidates {
+        let r = REACH * spacing[v as usize];
+        let k = key(q);
+        let crowded = (-1..=1).any(|i| {
+            (-1..=1).any(|j| {
+                (-1..=1).any(|l| {
+                    placed
+                        .get(&[k[0] + i, k[1] + j, k[2] + l])
+                        .is_some_and(|ps| ps.iter().any(|&p| (p - q).length() < r))
+                })
+            })
+        });
+        if !crowded && try_move(mesh, &normals, v, q) {
+            features.vertices[v as usize] = true;
+            placed.entry(k).or_default().push(q);
+            report.crease_vertices += 1;
+        }
+    }
+
+    // 3. Flips that join two crease vertices across a quad, then mark the edges along creases.
+    let along = |mesh: &HalfedgeMesh, a: u32, b: u32| {
+        let (pa, pb) = (mesh.position(a), mesh.position(b));
+        creases
+            .closest_edge_point(0.5 * (pa + pb), ALONG * (pa - pb).length())
+            .is_some()
+    };
+    for e in 0..mesh.n_edges() as u32 {
+        if !mesh.is_flip_ok(e) {
+            continue;
+        }
+        let (h0, h1) = (2 * e, 2 * e + 1);
+        let (a, b) = (mesh.to(h1), mesh.to(h0));
+        let (c, d) = (mesh.to(mesh.next(h0)), mesh.to(mesh.next(h1)));
+        if ![a, b, c, d].into_iter().all(free) {
+            continue;
+        }
+        let on = |v: u32| features.vertices[v as usize];
+        if (on(a) && on(b) && along(mesh, a, b)) || !(on(c) && on(d)) || !along(mesh, c, d) {
+            continue;
+        }
+        // After the flip: (c, a, d) on a's side and (d, b, c) on b's side of the crease.
+        let [pa, pb, pc, pd] = [a, b, c, d].map(|v| mesh.position(v));
+        let (na, nb) = ((pa - pc).cross(pd - pc), (pb - pd).cross(pc - pd));
+        let tiny = 1e-6 * (pc - pd).length_squared();
+        if na.length() <= tiny
+            || nb.length() <= tiny
+            || na.dot(normals[a as usize]) <= 0.0
+            || nb.dot(normals[b as usize]) <= 0.0
+        {
+            continue;
+        }
+        mesh.flip_edge(e);
+        report.flips += 1;
+    }
+    for e in 0..mesh.n_edges() as u32 {
+        let (a, b) = (mesh.to(2 * e + 1), mesh.to(2 * e));
+        if features.vertices[a as usize] && features.vertices[b as usize] && along(mesh, a, b) {
+            features.edges[e as usize] = true;
+            report.crease_edges += 1;
+        }
+    }
+    (features, report)
+}
+
+/// Moves `v` to `q` unless that turns one of its faces over (or makes it degenerate).
+fn try_move(mesh: &mut HalfedgeMesh, normals: &[DVec3], v: u32, q: DVec3) -> bool {
+    let old = mesh.position(v);
+    let n = normals[v as usize];
+    let faces_ok = mesh.outgoing(v).all(|h| {
+        if mesh.is_boundary_halfedge(h) {
+            return true;
+        }
+        let (a, b) = (
+            mesh.position(mesh.to(h)),
+            mesh.position(mesh.to(mesh.next(h))),
+        );
+        let before = (a - old).cross(b - old);
+        let after = (a - q).cross(b - q);
+        let tiny = 1e-6 * (a - b).length_squared();
+        after.length() > tiny && after.dot(before) > 0.0 && after.dot(n) > 0.0
+    });
+    if faces_ok {
+        mesh.positions_mut()[v as usize] = q;
+    }
+    faces_ok
+}

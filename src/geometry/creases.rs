@@ -1,0 +1,262 @@
+//! Sharp creases of a triangle-mesh target: the edges whose two faces turn by more than an
+//! angle, and the corners where crease lines meet, turn or end. The final fit snaps the wrap
+//! onto them (so a cube stays a cube) and the metrics measure how well a wrap reproduces their
+//! dihedral angles. Only edges with exactly two consistently oriented, non-degenerate faces can
+//! be creases: a boundary or non-manifold edge says nothing about the surface's turn.
+
+use super::primitives::closest_point_on_segment;
+use super::spatial::bvh::{Bvh, PointBvh};
+use glam::DVec3;
+use std::collections::HashMap;
+
+/// One crease edge of the target.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crease {
+    /// End points.
+    pub ends: [DVec3; 2],
+    /// Unit normals of the two faces.
+    pub normals: [DVec3; 2],
+    /// Unit directions in each face's plane, perpendicular to the edge, into the face.
+    pub inward: [DVec3; 2],
+    /// Each face's height over the edge (how far `inward` stays on the face).
+    pub heights: [f64; 2],
+    /// The angle between the face normals (radians): 0 flat, π/2 a cube's edge.
+    pub turn: f64,
+    /// Convex (a ridge) rather than concave (a valley).
+    pub convex: bool,
+}
+
+/// The creases and corners of a target, with search structures.
+pub struct Creases {
+    /// Crease edges.
+    pub edges: Vec<Crease>,
+    /// Corners: target vertices with one or more than two crease edges, or two that turn by
+    /// more than the crease angle.
+    pub corners: Vec<DVec3>,
+    edge_bvh: Bvh,
+    corner_bvh: PointBvh,
+}
+
+/// A point on the crease lines.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CreaseHit {
+    /// The closest point.
+    pub point: DVec3,
+    /// Its distance from the query.
+    pub distance: f64,
+    /// The crease edge it lies on.
+    pub edge: u32,
+}
+
+/// The creases of the mesh `(points, triangles)` turning by more than `min_turn` radians.
+/// Coincident points are welded first (STL files repeat every vertex per face).
+pub fn detect_creases(points: &[DVec3], triangles: &[[u32; 3]], min_turn: f64) -> Creases {
+    // Weld by exact position, so that unwelded inputs share their edges.
+    let mut first: HashMap<[u64; 3], u32> = HashMap::new();
+    let weld: Vec<u32> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            *first
+                .entry(p.to_array().map(f64::to_bits))
+                .or_insert(i as u32)
+        })
+        .collect();
+    // Unit normals; None for faces too thin to have one.
+    let normals: Vec<Option<DVec3>> = triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| points[v as usize]);
+            let n = (b - a).cross(c - a);
+            let longest = (b - a)
+                .length_squared()
+                .max((c - b).length_squared())
+                .max((a - c).length_squared());
+            (n.length() > 1e-6 * longest && n.is_finite()).then(|| n.normalize())
+        })
+        .collect();
+    // Half-edges (from, to, face), sorted so that the two sides of an edge are neighbours.
+    let mut half: Vec<(u32, u32, u32, u32)> = Vec::with_capacity(3 * triangles.len());
+    for (f, t) in triangles.iter().enumerate() {
+        let w = t.map(|v| weld[v as usize]);
+        for k in 0..3 {
+            let (a, b) = (w[k], w[(k + 1) % 3]);
+            if a != b {
+                half.push((a.min(b), a.max(b), f as u32, (a < b) as u32));
+            }
+        }
+    }
+    half.sort_unstable();
+    let mut edges = Vec::new();
+    let mut incident: HashMap<u32, Vec<u32>> = HashMap::new();
+    let mut i = 0;
+    while i < half.len() {
+        let mut j = i + 1;
+        while j < half.len() && (half[j].0, half[j].1) == (half[i].0, half[i].1) {
+            j += 1;
+        }
+        // Exactly two faces that traverse the edge in opposite directions.
+        if j - i == 2 && half[i].3 != half[i + 1].3 {
+            let (fa, fb) = (half[i].2 as usize, half[i + 1].2 as usize);
+            if let (Some(na), Some(nb)) = (normals[fa], normals[fb]) {
+                let turn = na.dot(nb).clamp(-1.0, 1.0).acos();
+                if turn > min_turn {
+                    let (a, b) = (points[half[i].0 as usize], points[half[i].1 as usize]);
+                    let far = |f: usize| {
+                        let t = triangles[f];
+                        t.iter()
+                            .map(|&v| points[v as usize])
+                            .max_by(|p, q| {
+                                let (dp, dq) = ((*p - a).cross(b - a), (*q - a).cross(b - a));
+                                dp.length_squared().total_cmp(&dq.length_squared())
+                            })
+                            .unwrap_or(a)
+                    };
+                    let side = |f: usize| {
+                        let q = far(f);
+                        let foot = closest_point_on_segment(q, a, b);
+                        let d = q - foot;
+                        // The edge's line, not the segment: the apex may project past an end.
+                        let e = (b - a).normalize_or_zero();
+                        let d = d - d.dot(e) * e;
+                        (d.normalize_or_zero(), d.length())
+                    };
+                    let ((ia, ha), (ib, hb)) = (side(fa), side(fb));
+                    edges.push(Crease {
+                        ends: [a, b],
+                        normals: [na, nb],
+                        inward: [ia, ib],
+                        heights: [ha, hb],
+                        turn,
+                        // A ridge: the other face falls away below this face's plane.
+                        convex: (far(fb) - a).dot(na) < 0.0,
+                    });
+                    for v in [half[i].0, half[i].1] {
+                        incident.entry(v).or_default().push(edges.len() as u32 - 1);
+                    }
+                }
+            }
+        }
+        i = j;
+    }
+    let mut corner_ids: Vec<u32> = incident
+        .iter()
+        .filter(|(&v, es)| {
+            if es.len() != 2 {
+                return true;
+            }
+            let p = points[v as usize];
+            let dir = |e: u32| {
+                let [a, b] = edges[e as usize].ends;
+                (if a == p { b - a } else { a - b }).normalize_or_zero()
+            };
+            // Two crease edges through v: a corner unless they continue one line.
+            (-dir(es[0])).dot(dir(es[1])).clamp(-1.0, 1.0).acos() > min_turn
+        })
+        .map(|(&v, _)| v)
+        .collect();
+    corner_ids.sort_unstable();
+    let corners: Vec<DVec3> = corner_ids.iter().map(|&v| points[v as usize]).collect();
+    let (mins, maxs): (Vec<DVec3>, Vec<DVec3>) = edges
+        .iter()
+        .map(|c| (c.ends[0].min(c.ends[1]), c.ends[0].max(c.ends[1])))
+        .unzip();
+    Creases {
+        edge_bvh: Bvh::new(&mins, &maxs),
+        corner_bvh: PointBvh::new(&corners),
+        edges,
+        corners,
+    }
+}
+
+impl Creases {
+    /// No creases at all.
+    pub fn is_empty(&self) -> bool {
+        self.edges.is_empty()
+    }
+
+    /// The closest point on the crease lines within `max_distance` of `p`.
+    pub fn closest_edge_point(&self, p: DVec3, max_distance: f64) -> Option<CreaseHit> {
+        let (edge, d2) = self
+            .edge_bvh
+            .nearest_within(p, max_distance * max_distance, |e| {
+                let [a, b] = self.edges[e as usize].ends;
+                (closest_point_on_segment(p, a, b) - p).length_squared()
+            })?;
+        let [a, b] = self.edges[edge as usize].ends;
+        Some(CreaseHit {
+            point: closest_point_on_segment(p, a, b),
+            distance: d2.sqrt(),
+            edge,
+        })
+    }
+
+    /// The nearest corner to `p`: (index, distance).
+    pub fn nearest_corner(&self, p: DVec3) -> Option<(u32, f64)> {
+        self.corner_bvh.nearest(p).map(|(i, d2)| (i, d2.sqrt()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::demo::shapes::{cad_part, grid_box};
+    use std::f64::consts::FRAC_PI_2;
+
+    #[test]
+    fn a_cube_has_twelve_right_angled_convex_edges_and_eight_corners() {
+        let (p, t) = grid_box(DVec3::ONE, [4, 4, 4]);
+        let c = detect_creases(&p, &t, 40f64.to_radians());
+        assert_eq!(c.edges.len(), 12 * 4);
+        assert!(c
+            .edges
+            .iter()
+            .all(|e| (e.turn - FRAC_PI_2).abs() < 1e-9 && e.convex));
+        assert_eq!(c.corners.len(), 8);
+        assert!(c.corners.iter().all(|q| q.abs() == DVec3::splat(0.5)));
+        // Inward directions lie in their faces (perpendicular to the normal) and to the edge.
+        for e in &c.edges {
+            for k in 0..2 {
+                assert!(e.inward[k].dot(e.normals[k]).abs() < 1e-12);
+                assert!(e.inward[k].dot(e.ends[1] - e.ends[0]).abs() < 1e-12);
+                assert!((e.heights[k] - 0.25).abs() < 1e-12);
+            }
+        }
+        let hit = c
+            .closest_edge_point(DVec3::new(0.45, 0.47, 0.1), 0.1)
+            .unwrap();
+        assert!((hit.point - DVec3::new(0.5, 0.5, 0.1)).length() < 1e-12);
+        assert!(c.closest_edge_point(DVec3::ZERO, 0.3).is_none());
+        // Unwelded (every face with its own vertices, as in STL): the same creases.
+        let soup: Vec<DVec3> = t.iter().flat_map(|f| f.map(|v| p[v as usize])).collect();
+        let tris: Vec<[u32; 3]> = (0..t.len() as u32)
+            .map(|f| [3 * f, 3 * f + 1, 3 * f + 2])
+            .collect();
+        let c2 = detect_creases(&soup, &tris, 40f64.to_radians());
+        assert_eq!((c2.edges.len(), c2.corners.len()), (48, 8));
+    }
+
+    #[test]
+    fn the_cad_part_has_its_chamfer_and_one_concave_edge() {
+        let (p, t) = cad_part();
+        let c = detect_creases(&p, &t, 40f64.to_radians());
+        let concave: Vec<&Crease> = c.edges.iter().filter(|e| !e.convex).collect();
+        // The concave edge is the vertical one at the inner corner (0, 0) after centring.
+        assert!(!concave.is_empty());
+        assert!(concave
+            .iter()
+            .all(
+                |e| (e.ends[0].truncate() - glam::DVec2::new(0.0, 0.0)).length() < 1e-12
+                    && (e.turn - FRAC_PI_2).abs() < 1e-9
+            ));
+        let chamfer = c
+            .edges
+            .iter()
+            .filter(|e| (e.turn - FRAC_PI_2 / 2.0).abs() < 1e-9);
+        assert!(chamfer.count() >= 2);
+        // 7 outline corners × 2 caps.
+        assert_eq!(c.corners.len(), 14);
+        // No crease inside the flat caps (the fans) or along the flat walls.
+        assert!(c.edges.iter().all(|e| e.turn > 0.7));
+    }
+}
