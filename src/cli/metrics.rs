@@ -26,10 +26,16 @@
 //!   `percent_of_target_diagonal`}, each {`mesh_to_target`, `target_to_mesh`: `count, mean, rms,
 //!   p95, max`; `hausdorff`}. Mesh vertices are measured to the target's triangles (or nearest
 //!   point for a cloud); target points to the mesh's triangles.
+//! * with a mesh `--target`: `creases` (`null` when it has none) {`edges`, `within_tolerance`,
+//!   `mean_error_deg`, `max_error_deg`, `worst_at`}: the target's crease edges (faces turning by
+//!   more than 40°) and how far the mesh's dihedral angle beside each is from the target's
+//!   (see [`crate::metrics::creases`]; within tolerance = within 10°).
 
+use crate::geometry::creases::detect_creases;
 use crate::io::read_path;
 use crate::mesh::{HalfedgeMesh, ValidationError};
 use crate::metrics::certificate::certify;
+use crate::metrics::creases::{crease_fidelity, CREASE_ANGLE_DEG, CREASE_OFFSET};
 use crate::metrics::distance::{two_sided_distance_values, DistanceStats, TwoSidedDistances};
 use crate::metrics::histogram::Histogram;
 use crate::metrics::quality::{covolume_stats, face_quality, quality_stats};
@@ -230,6 +236,11 @@ pub fn metrics_json_with(
                 "volume_ratio": tvol.map(|tv| volume / tv),
             }),
         );
+        let creases = (tg.kind() == TargetKind::Mesh).then(|| {
+            let c = detect_creases(&tg.points, &tg.triangles, CREASE_ANGLE_DEG.to_radians());
+            crease_fidelity(p, t, &c, CREASE_OFFSET * diag)
+        });
+        o.insert("creases".into(), json!(creases.flatten()));
         o.insert(
             "distances".into(),
             json!({

@@ -176,8 +176,27 @@ pub fn snap_to_creases(
         if (on(a) && on(b) && along(mesh, a, b)) || !(on(c) && on(d)) || !along(mesh, c, d) {
             continue;
         }
+        // A crease vertex already joined along its line on both sides needs no more edges
+        // along it: a third would skip over a neighbour and overlap its faces.
+        let joined = |v: u32| {
+            mesh.neighbors(v)
+                .filter(|&u| on(u) && along(mesh, v, u))
+                .count()
+        };
+        let full = |v: u32| !features.pinned[v as usize] && joined(v) >= 2;
+        if full(c) || full(d) {
+            continue;
+        }
         // After the flip: (c, a, d) on a's side and (d, b, c) on b's side of the crease.
         let [pa, pb, pc, pd] = [a, b, c, d].map(|v| mesh.position(v));
+        // The quad unfolded (seen along the mean normal of a and b) must be convex: the new
+        // edge crosses the old one. On a curved crease a bent quad would fold over.
+        let up = normals[a as usize] + normals[b as usize];
+        let turn = |u: DVec3, v: DVec3, w: DVec3| (v - u).cross(w - u).dot(up);
+        if turn(pc, pd, pa) * turn(pc, pd, pb) >= 0.0 || turn(pa, pb, pc) * turn(pa, pb, pd) >= 0.0
+        {
+            continue;
+        }
         let (na, nb) = ((pa - pc).cross(pd - pc), (pb - pd).cross(pc - pd));
         let tiny = 1e-6 * (pc - pd).length_squared();
         if na.length() <= tiny

@@ -5,11 +5,13 @@
 //! * [`distance`] — exact two-sided mesh ↔ target distances (mean, RMS, p95, Hausdorff).
 //! * [`intersections`] — count of intersecting non-adjacent face pairs.
 //! * [`volume`] — enclosed volume.
+//! * [`creases`] — how well a mesh keeps a target's sharp creases (dihedral angles).
 //! * [`histogram`] — fixed-bin histograms.
 //!
 //! The BVH they use lives in [`crate::geometry::spatial::bvh`].
 
 pub mod certificate;
+pub mod creases;
 pub mod distance;
 pub mod histogram;
 pub mod intersections;

@@ -75,10 +75,7 @@ impl Evolver {
             let features = match &self.creases {
                 None => None,
                 Some(c) => match snap_creases_checked(&mut self.mesh, c, params.max_move) {
-                    Some(f) => {
-                        creases_placed = true;
-                        Some(f)
-                    }
+                    Some(f) => Some(f),
                     // An earlier pass placed the creases: keep its surface rather than round
                     // them off again.
                     None if creases_placed => {
@@ -102,7 +99,13 @@ impl Evolver {
             let Some(clean) = clean else { continue };
             let si = count_self_intersections(self.mesh.positions(), &self.mesh.triangles());
             if si == 0 {
+                creases_placed |= features.is_some();
                 continue;
+            }
+            // An earlier pass placed the creases and passed this check: keep its surface.
+            if let (true, Some(m)) = (creases_placed, start_of_pass) {
+                self.mesh = m;
+                break;
             }
             // Redo the pass: the same moves, then put back those that make faces intersect,
             // then a remesh that is undone if it intersects.
