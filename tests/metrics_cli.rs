@@ -119,3 +119,62 @@ fn error_maps_hold_each_points_distance() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `creases` (issue 15): a cube measured against itself reproduces all 12·4 crease edges; a
+/// cloud target has no creases (`null`).
+#[test]
+fn creases_are_measured_for_mesh_targets_only() {
+    let (p, t) = lsw::demo::shapes::grid_box(DVec3::ONE, [4, 4, 4]);
+    let cube = Target::new(p.clone(), t.clone()).unwrap();
+    let v = metrics_json_of(&p, &t, Some(&cube)).unwrap();
+    let c = &v["creases"];
+    assert_eq!(c["edges"], 48);
+    assert_eq!(c["within_tolerance"], 48);
+    assert!(c["max_error_deg"].as_f64().unwrap() < 1e-6);
+    let cloud = Target::new(p.clone(), Vec::new()).unwrap();
+    let v = metrics_json_of(&p, &t, Some(&cloud)).unwrap();
+    assert!(v["creases"].is_null());
+}
+
+/// `lsw wrap --stats` carries the error budget (issue 15, item 4): its classes, and the class
+/// holding the Hausdorff distance, which is the largest of the classes' maxima.
+#[test]
+fn wrap_stats_carry_the_error_budget() {
+    use clap::Parser;
+    let dir = std::env::temp_dir().join(format!("lsw-budget-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (input, out, stats) = (dir.join("cube.obj"), dir.join("w.ply"), dir.join("s.json"));
+    let (p, t) = lsw::demo::shapes::grid_box(DVec3::ONE, [4, 4, 4]);
+    write_path(&input, &WriteInput::new(&p, &t)).unwrap();
+    let cli = lsw::cli::Cli::try_parse_from([
+        "lsw",
+        "wrap",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--stats",
+        stats.to_str().unwrap(),
+        "--set",
+        "field.cells_per_min_dimension=16",
+    ])
+    .unwrap();
+    lsw::cli::run(cli).unwrap();
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    let b = &s["error_budget"];
+    let mut largest = (String::new(), 0.0f64);
+    for k in ["features", "sizing", "not_reached", "vertices_off"] {
+        for f in ["count", "mean", "max", "mean_percent", "max_percent"] {
+            assert!(b[k][f].is_number(), "{k}.{f}");
+        }
+        let m = b[k]["max_percent"].as_f64().unwrap();
+        if m > largest.1 {
+            largest = (k.to_string(), m);
+        }
+    }
+    assert_eq!(b["hausdorff_from"], largest.0.as_str());
+    assert!((b["hausdorff_percent"].as_f64().unwrap() - largest.1).abs() < 1e-12);
+    // The cube's 98 target vertices: its 8 corners and the edge vertices are features.
+    assert!(b["features"]["count"].as_u64().unwrap() >= 8);
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -3,6 +3,7 @@
 use crate::flow::{Evolver, Preset, StepReport, WrapSettings};
 use crate::io::{read_path_with, write_path, WriteInput};
 use crate::metrics::certificate::certify;
+use crate::metrics::error_budget::error_budget;
 use serde_json::{json, Value};
 use std::path::PathBuf;
 
@@ -26,7 +27,9 @@ pub struct WrapArgs {
     /// field.cells_per_min_dimension=60). Repeatable.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// Write per-step statistics (JSON) to this file.
+    /// Write per-step statistics (JSON) to this file: settings, start, stop_reason, certificate,
+    /// error_budget (where the remaining distance to the target comes from: features, sizing,
+    /// not_reached, vertices_off, hausdorff_from; see `metrics::error_budget`), steps.
     #[arg(long)]
     pub stats: Option<PathBuf>,
     /// Start surface: auto (default: the exterior isosurface for closed meshes, an icosphere for
@@ -137,6 +140,13 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
             "start": ev.start_surface(),
             "stop_reason": ev.stop_reason(),
             "certificate": certificate,
+            "error_budget": error_budget(
+                &positions,
+                &triangles,
+                &read.target,
+                ev.field().cell_size() / ev.scale(),
+                settings.fit.crease_angle_deg,
+            ),
             "steps": reports,
         }))
         .expect("JSON");

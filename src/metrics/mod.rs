@@ -5,6 +5,7 @@
 //! * [`distance`] — exact two-sided mesh ↔ target distances (mean, RMS, p95, Hausdorff).
 //! * [`intersections`] — count of intersecting non-adjacent face pairs.
 //! * [`volume`] — enclosed volume.
+//! * [`error_budget`] — where a wrap's remaining error comes from (features, sizing, not reached).
 //! * [`creases`] — how well a mesh keeps a target's sharp creases (dihedral angles).
 //! * [`histogram`] — fixed-bin histograms.
 //!
@@ -13,6 +14,7 @@
 pub mod certificate;
 pub mod creases;
 pub mod distance;
+pub mod error_budget;
 pub mod histogram;
 pub mod intersections;
 pub mod quality;
