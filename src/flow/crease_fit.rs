@@ -100,9 +100,8 @@ pub fn snap_to_creases(
 
     // 2. Crease vertices, nearest first; a vertex is skipped when a crease vertex already sits
     //    within half its edge length of its landing point, so the line gets one vertex per
-    //    edge length, from the row of vertices nearest to it.
-    // A vertex facing an edge that already lies on a crease (an earlier pass put it there)
-    // stays: it would land on that edge.
+    //    edge length, from the row of vertices nearest to it. A vertex facing an edge that
+    //    already lies on a crease (an earlier pass put it there) stays: it would land on it.
     let on_line: Vec<bool> = (0..nv as u32)
         .map(|v| {
             let tol = 1e-9 * spacing[v as usize];
@@ -129,7 +128,7 @@ pub fn snap_to_creases(
     let cell = candidates
         .iter()
         .map(|&(_, v, _)| REACH * spacing[v as usize])
-        .fold(0.0, f64::max);
+        .fold(f64::MIN_POSITIVE, f64::max);
     let key = |q: DVec3| (q / cell).floor().to_array().map(|x| x as i64);
     let mut placed: HashMap<[i64; 3], Vec<DVec3>> = HashMap::new();
     for v in (0..nv as u32).filter(|&v| features.vertices[v as usize]) {
