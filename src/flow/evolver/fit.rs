@@ -87,6 +87,9 @@ impl Evolver {
                     None => None,
                 },
             };
+            // The crease snap left this surface intersection-free: if the remesh breaks that,
+            // keep the surface without the remesh rather than lose the creases.
+            let snapped = (features.is_some() && remeshing).then(|| self.mesh.clone());
             // Even out the triangles the moves distorted, staying on the fitted surface.
             if remeshing {
                 let _ = match &features {
@@ -97,10 +100,19 @@ impl Evolver {
             round_as_written(&mut self.mesh, self.phi, self.center);
             at(pass, 0.75);
             let Some(clean) = clean else { continue };
-            let si = count_self_intersections(self.mesh.positions(), &self.mesh.triangles());
-            if si == 0 {
+            let intersects =
+                |m: &HalfedgeMesh| count_self_intersections(m.positions(), &m.triangles()) > 0;
+            if !intersects(&self.mesh) {
                 creases_placed |= features.is_some();
                 continue;
+            }
+            if let Some(mut m) = snapped {
+                round_as_written(&mut m, self.phi, self.center);
+                if !intersects(&m) {
+                    self.mesh = m;
+                    creases_placed = true;
+                    continue;
+                }
             }
             // An earlier pass placed the creases and passed this check: keep its surface.
             if let (true, Some(m)) = (creases_placed, start_of_pass) {
