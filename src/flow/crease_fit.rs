@@ -61,19 +61,7 @@ pub fn snap_to_creases(
     }
     let nv = mesh.n_vertices();
     let free = |v: u32| !banned.get(v as usize).copied().unwrap_or(false);
-    let spacing: Vec<f64> = (0..nv as u32)
-        .map(|v| {
-            let p = mesh.position(v);
-            let (s, n) = mesh.neighbors(v).fold((0.0, 0), |(s, n), u| {
-                (s + (mesh.position(u) - p).length(), n + 1)
-            });
-            if n == 0 {
-                0.0
-            } else {
-                s / n as f64
-            }
-        })
-        .collect();
+    let spacing: Vec<f64> = (0..nv as u32).map(|v| mesh.mean_edge_length(v)).collect();
     let normals = angle_weighted_normals(mesh);
 
     // 1. Corners: each takes its nearest wrap vertex within reach.

@@ -300,6 +300,21 @@ impl HalfedgeMesh {
         self.outgoing(v).count()
     }
 
+    /// Mean length of the edges at `v` (0 for an isolated vertex): the local mesh scale.
+    pub fn mean_edge_length(&self, v: u32) -> f64 {
+        let p = self.position(v);
+        let (mut sum, mut n) = (0.0, 0usize);
+        for u in self.neighbors(v) {
+            sum += (self.position(u) - p).length();
+            n += 1;
+        }
+        if n == 0 {
+            0.0
+        } else {
+            sum / n as f64
+        }
+    }
+
     /// Indexed triangles, one per face, in face order.
     pub fn triangles(&self) -> Vec<[u32; 3]> {
         (0..self.n_faces() as u32)

@@ -85,12 +85,12 @@ impl TwoSidedDistances {
 
 /// Exact distance from every point in `points` to the triangle set.
 pub fn distances_to_triangles(points: &[DVec3], tris: &TriangleBvh) -> Vec<f64> {
-    points.iter().map(|&p| tris.distance(p)).collect()
+    crate::parallel::map(points.len(), |i| tris.distance(points[i]))
 }
 
 /// Distance from every point in `points` to its nearest point of a cloud.
 pub fn distances_to_points(points: &[DVec3], cloud: &PointBvh) -> Vec<f64> {
-    points.iter().map(|&p| cloud.distance(p)).collect()
+    crate::parallel::map(points.len(), |i| cloud.distance(points[i]))
 }
 
 /// Two-sided distances between the mesh `(positions, triangles)` and a target given by its

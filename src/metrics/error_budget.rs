@@ -18,6 +18,7 @@
 
 use crate::geometry::creases::detect_creases;
 use crate::geometry::spatial::bvh::{PointBvh, TriangleBvh};
+use crate::metrics::distance::{distances_to_points, distances_to_triangles};
 use crate::target::Target;
 use glam::DVec3;
 use serde::Serialize;
@@ -60,14 +61,12 @@ pub fn error_budget(
     let is_mesh = !target.triangles.is_empty();
     // Wrap vertices → target.
     let off: Vec<f64> = if is_mesh {
-        let bvh = TriangleBvh::new(&target.points, &target.triangles);
-        crate::parallel::map(positions.len(), |i| bvh.distance(positions[i]))
+        distances_to_triangles(
+            positions,
+            &TriangleBvh::new(&target.points, &target.triangles),
+        )
     } else {
-        let bvh = PointBvh::new(&target.points);
-        crate::parallel::map(positions.len(), |i| {
-            bvh.nearest(positions[i])
-                .map_or(f64::INFINITY, |(_, d2)| d2.sqrt())
-        })
+        distances_to_points(positions, &PointBvh::new(&target.points))
     };
     let on_tol = if is_mesh { 0.01 * cell } else { 0.25 * cell };
     let creases = (is_mesh && crease_angle_deg > 0.0).then(|| {

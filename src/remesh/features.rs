@@ -105,16 +105,7 @@ impl Features {
 
 /// The mean-curvature angle `γ = l̄·(κ_min + κ_max)` of vertex `v` (radians, convex > 0).
 pub fn mean_curvature_angle(mesh: &HalfedgeMesh, curv: &Curvatures, v: u32) -> f64 {
-    let p = mesh.position(v);
-    let (mut sum, mut n) = (0.0, 0usize);
-    for u in mesh.neighbors(v) {
-        sum += (mesh.position(u) - p).length();
-        n += 1;
-    }
-    if n == 0 {
-        return 0.0;
-    }
-    (sum / n as f64) * (curv.kmin[v as usize] + curv.kmax[v as usize])
+    mesh.mean_edge_length(v) * (curv.kmin[v as usize] + curv.kmax[v as usize])
 }
 
 /// Runs the configured detector on `mesh` (garbage-free), given its curvatures.
