@@ -150,3 +150,39 @@ fn browser_subset_is_valid() {
         assert_valid(name, &c);
     }
 }
+
+/// A small, noisy scan (the head phantom at 20 voxels, noise as strong as the tissue contrast):
+/// its Otsu isosurface is full of bubbles and tunnels, so the exterior isosurface start leaks and
+/// intersects itself. `auto` must then start from the icosphere and give a valid wrap (it used to
+/// stop with "the isosurface start is not usable"); an explicit isosurface start is refused by
+/// name.
+#[test]
+fn auto_start_falls_back_to_the_icosphere_on_a_noisy_volume() {
+    use lsw::demo::phantom::phantom_volume;
+    use lsw::demo::Rng;
+    use lsw::flow::EvolveError;
+    use lsw::io::volume::Inside;
+    let mut vol = phantom_volume(20);
+    let mut rng = Rng::new(7);
+    for v in &mut vol.values {
+        *v += (160.0 * (rng.uniform() - 0.5)) as f32;
+    }
+    let iso = vol.otsu().unwrap();
+    let target = Target::from_volume(&vol, iso, Inside::Bright).unwrap();
+    let mut settings = WrapSettings::default();
+    settings.start.surface = StartSurface::Isosurface;
+    let refused = Evolver::new(&target, settings.clone()).err();
+    assert!(
+        matches!(refused, Some(EvolveError::StartIntersects { .. })),
+        "the isosurface start should leak here: {refused:?}"
+    );
+    settings.start.surface = StartSurface::Auto;
+    settings.remesh.min_edge_multiplier = 0.3;
+    settings.field.cells_per_min_dimension = 24;
+    let mut ev = Evolver::new(&target, settings).unwrap();
+    assert_eq!(ev.start_surface(), StartSurface::Icosphere);
+    ev.run(|_| {}).unwrap();
+    let c = certify(&ev.positions(), &ev.triangles(), Some(&target));
+    println!("noisy phantom: {} vertices, {c:?}", ev.positions().len());
+    assert_valid("noisy phantom", &c);
+}

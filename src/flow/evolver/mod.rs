@@ -257,11 +257,22 @@ impl Evolver {
         settings.check()?;
         target.check_wrappable()?;
         let field = DistanceField::new_with_progress(target, &settings.field, progress)?;
-        let settings = settings.resolved_for(field.is_signed());
+        let requested = settings.clone();
+        let mut settings = settings.resolved_for(field.is_signed());
         let center = target.bbox.center();
         let c = field.cell_size();
         progress.report(START_PHASE, 0.0);
-        let start = build_start(target, &field, &settings)?;
+        let start = match build_start(target, &field, &settings) {
+            // `auto` promises a start that works: where the exterior leaked into gaps of the
+            // target (noisy volumes, sparse clouds) the icosphere, which cannot leak, takes over.
+            Err(EvolveError::StartIntersects { .. })
+                if requested.start.surface == StartSurface::Auto =>
+            {
+                settings = requested.resolved_for(false);
+                build_start(target, &field, &settings)?
+            }
+            other => other?,
+        };
         progress.report(START_PHASE, 1.0);
         let (mesh, phi, sizes) = (start.mesh, start.phi, start.sizes);
         let limits = divergence_limits(target, &mesh, phi, center, &settings);

@@ -11,8 +11,9 @@ use serde::{Deserialize, Serialize};
 pub enum StartSurface {
     /// Chosen per target (measured, see the README): the exterior isosurface for targets with a
     /// signed field (closed meshes: it keeps their genus), the icosphere for point clouds and
-    /// open meshes (it spans scan holes). Settings still at their full-wrap defaults follow the
-    /// chosen start's own defaults ([`super::WrapSettings::resolved_for`]).
+    /// open meshes (it spans scan holes); the icosphere also where the isosurface start leaked
+    /// through gaps and intersects itself (noisy volumes). Settings still at their full-wrap
+    /// defaults follow the chosen start's own defaults ([`super::WrapSettings::resolved_for`]).
     Auto,
     /// An icosphere around the target's bounding box (genus 0 results).
     Icosphere,
