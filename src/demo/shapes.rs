@@ -71,6 +71,18 @@ pub const SHAPES: &[(&str, &str)] = &[
         "cad-part",
         "an L-shaped block with a 45° chamfer (1 × 1 × 0.4): convex 90° and 135° edges, a concave edge",
     ),
+    (
+        "fish",
+        "sculpted cartoon fish: thin tail and dorsal fins (1.4 % of the diagonal) blended into the body, eye sockets",
+    ),
+    (
+        "creature",
+        "sculpted four-legged creature: legs, thin ears, a thin tail, eye sockets; closed, genus 0",
+    ),
+    (
+        "bust",
+        "sculpted bust: nose, deep eye sockets, a mouth slit 0.7 % of the diagonal wide, cupped thin ears",
+    ),
 ];
 
 /// Number of points of the sampled clouds (`torus-gN-cloud`, `thin-plate-cloud`).
@@ -113,6 +125,9 @@ pub fn generate(name: &str) -> Result<Shape, DemoError> {
         "dumbbell" => Ok(dumbbell(0.35, 0.06, 0.6)),
         "cube" => Ok(grid_box(DVec3::ONE, [16, 16, 16])),
         "cad-part" => Ok(cad_part()),
+        "fish" => Ok(super::sculpted::fish()),
+        "creature" => Ok(super::sculpted::creature()),
+        "bust" => Ok(super::sculpted::bust()),
         other => Err(DemoError::UnknownShape(other.to_string())),
     }
 }
@@ -455,7 +470,7 @@ pub fn plane_cloud(n: usize, seed: u64) -> Vec<DVec3> {
 }
 
 /// Polynomial smooth minimum of `a` and `b` with blend width `k` (Quílez).
-fn smooth_min(a: f64, b: f64, k: f64) -> f64 {
+pub(crate) fn smooth_min(a: f64, b: f64, k: f64) -> f64 {
     let h = (k - (a - b).abs()).max(0.0) / k;
     a.min(b) - h * h * k * 0.25
 }

@@ -4,6 +4,7 @@ pub mod colour;
 pub mod controls;
 pub mod crease_fit;
 pub mod detail;
+pub mod error_sizing;
 pub mod evolver;
 pub mod guard;
 pub mod mcf;

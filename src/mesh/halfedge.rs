@@ -359,6 +359,10 @@ impl HalfedgeMesh {
             None => self.vertex_scalars.push((name.to_owned(), vec![value; n])),
         }
     }
+    /// Drops a named per-vertex scalar layer (nothing if absent).
+    pub fn remove_vertex_scalar_layer(&mut self, name: &str) {
+        self.vertex_scalars.retain(|(k, _)| k != name);
+    }
     /// A named per-vertex scalar layer, if present.
     pub fn vertex_scalars(&self, name: &str) -> Option<&[f64]> {
         self.vertex_scalars

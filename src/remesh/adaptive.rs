@@ -170,7 +170,7 @@ pub fn remesh(
     mesh: &mut HalfedgeMesh,
     settings: &RemeshSettings,
 ) -> Result<RemeshReport, RemeshError> {
-    remesh_impl(mesh, settings, None)
+    remesh_impl(mesh, settings, None, None)
 }
 
 /// Remeshes with caller-supplied features (indexed like `mesh`); `settings.features` is ignored.
@@ -179,7 +179,20 @@ pub fn remesh_with_features(
     settings: &RemeshSettings,
     features: &Features,
 ) -> Result<RemeshReport, RemeshError> {
-    remesh_impl(mesh, settings, Some(features))
+    remesh_impl(mesh, settings, Some(features), None)
+}
+
+/// Remeshes with caller-supplied features (or those of `settings.features` when None) and a
+/// per-vertex cap on the target edge length (indexed like `mesh`): the sizing field is the
+/// smaller of the curvature sizing and the cap, so a caller that knows where the surface misses
+/// its target (see `flow::error_sizing`) can ask for shorter edges there.
+pub fn remesh_capped(
+    mesh: &mut HalfedgeMesh,
+    settings: &RemeshSettings,
+    features: Option<&Features>,
+    caps: &[f64],
+) -> Result<RemeshReport, RemeshError> {
+    remesh_impl(mesh, settings, features, Some(caps))
 }
 
 /// The surface at the start of the call, for back-projection.
@@ -233,6 +246,7 @@ fn remesh_impl(
     mesh: &mut HalfedgeMesh,
     s: &RemeshSettings,
     given: Option<&Features>,
+    caps: Option<&[f64]>,
 ) -> Result<RemeshReport, RemeshError> {
     let (lmin, lmax, eps) = (s.min_edge_length, s.max_edge_length, s.approx_error);
     let ok = |x: f64| x > 0.0 && x.is_finite();
@@ -277,7 +291,12 @@ fn remesh_impl(
     // Sizing: curvatures with one smoothing pass that skips features.
     let fixed: Vec<bool> = (0..nv).map(|v| locked[v] || features.vertices[v]).collect();
     let curv = principal_curvatures(mesh, Some(&fixed), 1);
-    let h = curvature_sizing(mesh, &curv, &s.sizes(), &fixed);
+    let mut h = curvature_sizing(mesh, &curv, &s.sizes(), &fixed);
+    if let Some(caps) = caps {
+        for (h, &c) in h.iter_mut().zip(caps) {
+            *h = h.min(c);
+        }
+    }
 
     let reference = s.use_projection.then(|| Reference {
         triangles: mesh.triangles(),

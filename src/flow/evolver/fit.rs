@@ -9,13 +9,14 @@ use crate::progress::Progress;
 /// The progress phase of the final fit.
 pub const FIT_PHASE: &str = "final fit";
 use crate::flow::crease_fit::snap_to_creases;
+use crate::flow::error_sizing::error_caps;
 use crate::flow::guard::resolve_contacts;
-use crate::flow::snap::{snap_to_target, SnapParams};
+use crate::flow::snap::{snap_to_target, SnapParams, SnapTarget};
 use crate::geometry::creases::Creases;
 use crate::geometry::operators::normals::angle_weighted_normals;
 use crate::mesh::HalfedgeMesh;
 use crate::metrics::intersections::{count_self_intersections, self_intersecting_pairs};
-use crate::remesh::adaptive::{remesh, remesh_with_features, RemeshSettings};
+use crate::remesh::adaptive::{remesh, remesh_capped, remesh_with_features, RemeshSettings};
 use crate::remesh::features::Features;
 
 impl Evolver {
@@ -57,12 +58,34 @@ impl Evolver {
             ..RemeshSettings::with_sizes(self.sizes)
         };
         let (contact, remeshing) = (self.settings.guard.contact, self.settings.remesh.enabled);
-        let passes = self.settings.fit.passes.max(1) as f64;
+        // Error-adaptive sizing (mesh targets): extra passes while some edge still misses.
+        let refine_tol = self.settings.fit.refine_error_cells * c;
+        let refine = match target {
+            SnapTarget::Triangles(bvh) if remeshing && refine_tol > 0.0 => Some(bvh.positions()),
+            _ => None,
+        };
+        // Target samples still to check: all at first, then the previous pass's misses.
+        let mut check: Vec<u32> = match refine {
+            Some(samples) => (0..samples.len() as u32).collect(),
+            None => vec![],
+        };
+        let passes = self.settings.fit.passes;
+        let most = passes
+            + if refine.is_some() {
+                self.settings.fit.refine_passes
+            } else {
+                0
+            };
         // Each pass: moves (half of it), remesh, check.
-        let mut at =
-            |pass: u32, part: f64| progress.report(FIT_PHASE, (pass as f64 + part) / passes);
+        let mut at = |pass: u32, part: f64| {
+            progress.report(FIT_PHASE, (pass as f64 + part) / most.max(1) as f64)
+        };
         let mut creases_placed = false;
-        for pass in 0..self.settings.fit.passes {
+        let mut missed = true;
+        for pass in 0..most {
+            if pass >= passes && !missed {
+                break;
+            }
             at(pass, 0.0);
             // The surface here is certified; keep it to redo the pass with the guard if needed.
             let clean = contact.then(|| self.mesh.clone());
@@ -71,16 +94,25 @@ impl Evolver {
             moved = snap_to_target(&mut self.mesh, &normals, target, &params, &mut |f| {
                 at(pass, 0.5 * f)
             });
-            // Sharp creases: vertices onto them, edges along them, kept by the remesh.
+            // Sharp creases: vertices onto them, edges along them, kept by the remesh. Their
+            // snap is checked for intersections, so first undo the moves above that made any
+            // (or every crease try would be blamed for them).
+            if let (Some(clean), Some(_)) = (&clean, &self.creases) {
+                resolve_contacts(&mut self.mesh, clean.positions(), &self.settings.guard);
+            }
             let features = match &self.creases {
                 None => None,
                 Some(c) => match snap_creases_checked(&mut self.mesh, c, params.max_move) {
                     Some(f) => Some(f),
-                    // An earlier pass placed the creases: keep its surface rather than round
-                    // them off again.
+                    // An earlier pass placed the creases: keep this pass's moves without a
+                    // remesh (they leave vertices on a crease where they are), or else the
+                    // earlier surface, rather than round the creases off again.
                     None if creases_placed => {
-                        if let Some(m) = start_of_pass {
-                            self.mesh = m;
+                        round_as_written(&mut self.mesh, self.phi, self.center);
+                        if contact && has_intersections(&self.mesh) {
+                            if let Some(m) = start_of_pass {
+                                self.mesh = m;
+                            }
                         }
                         break;
                     }
@@ -90,18 +122,41 @@ impl Evolver {
             // The crease snap left this surface intersection-free: if the remesh breaks that,
             // keep the surface without the remesh rather than lose the creases.
             let snapped = (features.is_some() && remeshing).then(|| self.mesh.clone());
-            // Even out the triangles the moves distorted, staying on the fitted surface.
+            // Even out the triangles the moves distorted, staying on the fitted surface; with
+            // shorter edges where it still misses the target.
+            // The caps live in a vertex layer, so the edits carry them to later passes and the
+            // curvature sizing does not coarsen a refined region again. (No new caps in the
+            // last pass: the next pass's moves must put the new vertices on the target.)
+            let caps = refine.map(|samples| {
+                self.mesh.garbage_collect();
+                let floor = self.sizes.min_edge_length;
+                let new = (pass + 1 < most)
+                    .then(|| error_caps(&self.mesh, samples, &check, refine_tol, floor))
+                    .flatten();
+                missed = new.is_some();
+                if self.mesh.vertex_scalars(CAP_LAYER).is_none() {
+                    self.mesh.set_vertex_scalar_layer(CAP_LAYER, NO_CAP);
+                }
+                let layer = self.mesh.vertex_scalars_mut(CAP_LAYER).unwrap_or_default();
+                if let Some((new, misses)) = new {
+                    for (l, c) in layer.iter_mut().zip(new) {
+                        *l = l.min(c);
+                    }
+                    check = misses;
+                }
+                layer.to_vec()
+            });
             if remeshing {
-                let _ = match &features {
-                    Some(f) => remesh_with_features(&mut self.mesh, &rs, f),
-                    None => remesh(&mut self.mesh, &rs),
+                let _ = match (&features, &caps) {
+                    (f, Some(caps)) => remesh_capped(&mut self.mesh, &rs, f.as_ref(), caps),
+                    (Some(f), None) => remesh_with_features(&mut self.mesh, &rs, f),
+                    (None, None) => remesh(&mut self.mesh, &rs),
                 };
             }
             round_as_written(&mut self.mesh, self.phi, self.center);
             at(pass, 0.75);
             let Some(clean) = clean else { continue };
-            let intersects =
-                |m: &HalfedgeMesh| count_self_intersections(m.positions(), &m.triangles()) > 0;
+            let intersects = has_intersections;
             if !intersects(&self.mesh) {
                 creases_placed |= features.is_some();
                 continue;
@@ -136,13 +191,23 @@ impl Evolver {
                 }
             }
         }
-        at(self.settings.fit.passes, 0.0);
+        self.mesh.remove_vertex_scalar_layer(CAP_LAYER);
+        at(most, 0.0);
         if self.mesh.validate().is_err() {
             self.mesh = backup;
             return Some(0);
         }
         Some(moved)
     }
+}
+
+/// The vertex layer of the error-adaptive caps on the edge length (see `flow::error_sizing`).
+const CAP_LAYER: &str = "fit_cap";
+/// "No cap" in [`CAP_LAYER`]: finite, because a split vertex gets the mean of its ends' values.
+const NO_CAP: f64 = 1e300;
+
+fn has_intersections(m: &HalfedgeMesh) -> bool {
+    count_self_intersections(m.positions(), &m.triangles()) > 0
 }
 
 /// [`snap_to_creases`] kept intersection-free: a try that makes faces intersect is undone and

@@ -198,6 +198,8 @@ pub const RANGES: &[SettingRange] = &[
     SettingRange::new("flow.d2", 0.0, f64::INFINITY, false, "≥ 0"),
     SettingRange::new("fit.max_points", 6.0, 1e6, false, "6–1000000"),
     SettingRange::new("fit.crease_angle_deg", 0.0, 180.0, false, "0–180"),
+    SettingRange::new("fit.refine_error_cells", 0.0, 1e6, false, "≥ 0"),
+    SettingRange::new("fit.refine_passes", 0.0, 10.0, false, "0–10"),
     SettingRange::new("surgery.check_every", 1.0, 1e6, false, "≥ 1"),
     SettingRange::new("surgery.empty_cells", 0.0, 1e6, false, "≥ 0"),
     SettingRange::new("surgery.empty_spacings", 0.0, 1e6, false, "≥ 0"),
@@ -456,6 +458,8 @@ mod tests {
                 passes: 1,
                 max_points: 256,
                 crease_angle_deg: 40.0,
+                refine_error_cells: 0.25,
+                refine_passes: 3,
             },
             stop: StopSettings {
                 steps: 30,

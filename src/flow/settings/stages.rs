@@ -196,6 +196,15 @@ pub struct FitSettings {
     /// aligns wrap edges with them (see `flow::crease_fit`). 0 turns it off; clouds have none.
     /// Range 0–180; default 40.
     pub crease_angle_deg: f64,
+    /// Error-adaptive sizing of a mesh target's fit: where an edge's midpoint or a face's
+    /// centroid still misses the target by more than this many cells after a pass (a bridged
+    /// eye socket, mouth or fin root), its edges are halved, down to the finest edge the
+    /// settings allow, and the fit takes another pass (see `flow::error_sizing`). 0 turns it
+    /// off; clouds have none. Range ≥ 0; default 0.25.
+    pub refine_error_cells: f64,
+    /// Most extra passes the error-adaptive sizing may add after `passes` (each halves the
+    /// edges that still miss). Range 0–10; default 3.
+    pub refine_passes: u32,
 }
 
 impl Default for FitSettings {
@@ -207,6 +216,8 @@ impl Default for FitSettings {
             passes: 2,
             max_points: 256,
             crease_angle_deg: 40.0,
+            refine_error_cells: 0.25,
+            refine_passes: 3,
         }
     }
 }
