@@ -62,6 +62,7 @@ fn closed_meshes_keep_their_genus_with_the_auto_start() {
         ("cube-hole", 1, 1),
         ("dumbbell", 0, 1),
         ("thin-plate", 0, 1),
+        ("plate-holes", 3, 1),
     ] {
         let (start, c) = wrap(name, StartSurface::Auto);
         assert_eq!(start, StartSurface::Isosurface, "{name}");

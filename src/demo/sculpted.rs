@@ -165,6 +165,24 @@ pub fn bust() -> Shape {
     implicit_surface(sdf, lo, hi, cell)
 }
 
+/// A flat mechanical plate (1 × 0.6 × 0.06, 17:1) with three round through-holes of radii 0.1,
+/// 0.05 and 0.03: genus 3, sharp rims. Its grid is set by the longest side (see
+/// `field::grid::MIN_REFERENCE_RATIO`), so the smallest hole is the one a coarser grid would
+/// close first.
+pub fn plate_holes() -> Shape {
+    let holes = [(-0.25, 0.0, 0.1), (0.1, 0.1, 0.05), (0.3, -0.12, 0.03)];
+    let sdf = |p: DVec3| {
+        let q = p.abs() - DVec3::new(0.5, 0.3, 0.03);
+        let plate = q.max(DVec3::ZERO).length() + q.max_element().min(0.0);
+        holes.iter().fold(plate, |d, &(x, y, r)| {
+            d.max(r - DVec2::new(p.x - x, p.y - y).length())
+        })
+    };
+    let cell = 0.006;
+    let ext = DVec3::new(0.5, 0.3, 0.03) + 2.0 * cell;
+    implicit_surface(sdf, -ext, ext, cell)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

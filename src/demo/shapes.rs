@@ -83,6 +83,10 @@ pub const SHAPES: &[(&str, &str)] = &[
         "bust",
         "sculpted bust: nose, deep eye sockets, a mouth slit 0.7 % of the diagonal wide, cupped thin ears",
     ),
+    (
+        "plate-holes",
+        "flat plate 1 × 0.6 × 0.06 with three through-holes (r 0.1, 0.05, 0.03): genus 3, sharp rims",
+    ),
 ];
 
 /// Number of points of the sampled clouds (`torus-gN-cloud`, `thin-plate-cloud`).
@@ -128,6 +132,7 @@ pub fn generate(name: &str) -> Result<Shape, DemoError> {
         "fish" => Ok(super::sculpted::fish()),
         "creature" => Ok(super::sculpted::creature()),
         "bust" => Ok(super::sculpted::bust()),
+        "plate-holes" => Ok(super::sculpted::plate_holes()),
         other => Err(DemoError::UnknownShape(other.to_string())),
     }
 }
