@@ -58,7 +58,7 @@ impl Evolver {
             ..RemeshSettings::with_sizes(self.sizes)
         };
         let (contact, remeshing) = (self.settings.guard.contact, self.settings.remesh.enabled);
-        // Error-adaptive sizing (mesh targets): extra passes while some edge still misses.
+        // Error-adaptive sizing (mesh targets): extra passes while some target vertex misses.
         let refine_tol = self.settings.fit.refine_error_cells * c;
         let refine = match target {
             SnapTarget::Triangles(bvh) if remeshing && refine_tol > 0.0 => Some(bvh.positions()),

@@ -196,11 +196,11 @@ pub struct FitSettings {
     /// aligns wrap edges with them (see `flow::crease_fit`). 0 turns it off; clouds have none.
     /// Range 0–180; default 40.
     pub crease_angle_deg: f64,
-    /// Error-adaptive sizing of a mesh target's fit: where an edge's midpoint or a face's
-    /// centroid still misses the target by more than this many cells after a pass (a bridged
-    /// eye socket, mouth or fin root), its edges are halved, down to the finest edge the
-    /// settings allow, and the fit takes another pass (see `flow::error_sizing`). 0 turns it
-    /// off; clouds have none. Range ≥ 0; default 0.25.
+    /// Error-adaptive sizing of a mesh target's fit: where a target vertex still lies farther
+    /// than this many cells from the wrap after a pass (a bridged eye socket, mouth or fin
+    /// root), the nearest wrap face's edges are halved, down to the finest edge the settings
+    /// allow, and the fit takes another pass (see `flow::error_sizing`). 0 turns it off; clouds
+    /// have none. Range ≥ 0; default 0.25.
     pub refine_error_cells: f64,
     /// Most extra passes the error-adaptive sizing may add after `passes` (each halves the
     /// edges that still miss). Range 0–10; default 3.
