@@ -23,7 +23,7 @@ fn bunny_sized_cloud() -> Target {
             let y = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
             let s = (1.0 - y * y).sqrt();
             let t = golden * i as f64;
-            c + h * DVec3::new(s * t.cos(), y, s * t.sin())
+            c + h * DVec3::new(s * lsw::fmath::cos(t), y, s * lsw::fmath::sin(t))
         })
         .collect();
     Target::new(pts, vec![]).unwrap()

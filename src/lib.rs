@@ -14,6 +14,7 @@ pub mod demo;
 pub mod error;
 pub mod field;
 pub mod flow;
+pub mod fmath;
 pub mod geometry;
 pub mod io;
 pub mod mesh;

@@ -21,7 +21,7 @@ fn field(t: &Target) -> DistanceField {
 /// The first-order sweep's error bound used throughout: `0.5·c·(1 + ln(max(1, d/c)))` (the
 /// Godunov scheme's error grows like c·log(d/c) away from the source).
 fn sweep_bound(d: f64, c: f64) -> f64 {
-    0.5 * c * (1.0 + (d.abs() / c).max(1.0).ln())
+    0.5 * c * (1.0 + lsw::fmath::ln((d.abs() / c).max(1.0)))
 }
 
 /// Max of |d(x) − (|x − c| − R)| / [`sweep_bound`] over all nodes, plus the sign error count.
@@ -192,7 +192,7 @@ fn gradient_of_sphere_field_points_to_centre() {
         }
         let g = f.sample_gradient(x);
         let cosang = g.normalize().dot((c - x).normalize());
-        worst = worst.max(cosang.clamp(-1.0, 1.0).acos().to_degrees());
+        worst = worst.max(lsw::fmath::acos(cosang.clamp(-1.0, 1.0)).to_degrees());
         assert!(g.length() > 0.9 && g.length() <= 1.0 + 1e-6);
     }
     println!("sphere gradient: worst angle to the centre direction {worst:.3}°");

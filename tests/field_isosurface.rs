@@ -119,9 +119,9 @@ fn torus_mesh(rr: f64, r: f64, nu: usize, nv: usize) -> Target {
                 std::f64::consts::TAU * j as f64 / nv as f64,
             );
             pts.push(DVec3::new(
-                (rr + r * v.cos()) * u.cos(),
-                (rr + r * v.cos()) * u.sin(),
-                r * v.sin(),
+                (rr + r * lsw::fmath::cos(v)) * lsw::fmath::cos(u),
+                (rr + r * lsw::fmath::cos(v)) * lsw::fmath::sin(u),
+                r * lsw::fmath::sin(v),
             ));
         }
     }

@@ -7,7 +7,7 @@ use std::path::Path;
 
 /// Top-level modules by layer, bottom first. A module may use its own layer and those below.
 const LAYERS: &[&[&str]] = &[
-    &["clock", "parallel", "progress", "solve"],
+    &["clock", "fmath", "parallel", "progress", "solve"],
     &["mesh"],
     &["geometry"],
     &["io", "target"],

@@ -30,9 +30,9 @@ fn torus(big: f64, small: f64, nu: u32, nv: u32) -> HalfedgeMesh {
         for j in 0..nv {
             let v = j as f64 / nv as f64 * std::f64::consts::TAU;
             p.push(DVec3::new(
-                (big + small * v.cos()) * u.cos(),
-                (big + small * v.cos()) * u.sin(),
-                small * v.sin(),
+                (big + small * lsw::fmath::cos(v)) * lsw::fmath::cos(u),
+                (big + small * lsw::fmath::cos(v)) * lsw::fmath::sin(u),
+                small * lsw::fmath::sin(v),
             ));
         }
     }

@@ -64,7 +64,7 @@ impl Rng {
     pub fn normal(&mut self) -> f64 {
         let u1 = self.uniform().max(1e-300);
         let u2 = self.uniform();
-        (-2.0 * u1.ln()).sqrt() * (2.0 * PI * u2).cos()
+        (-2.0 * crate::fmath::ln(u1)).sqrt() * crate::fmath::cos(2.0 * PI * u2)
     }
 }
 
@@ -73,7 +73,7 @@ fn unit_vector(rng: &mut Rng) -> DVec3 {
     let z = 2.0 * rng.uniform() - 1.0;
     let phi = 2.0 * PI * rng.uniform();
     let r = (1.0 - z * z).max(0.0).sqrt();
-    DVec3::new(r * phi.cos(), r * phi.sin(), z)
+    DVec3::new(r * crate::fmath::cos(phi), r * crate::fmath::sin(phi), z)
 }
 
 /// `n` points on the unit sphere with Gaussian radial noise of standard deviation `noise`.
@@ -312,7 +312,11 @@ mod tests {
         let c = control_curves(&s, 50);
         assert_eq!(c.delta.len(), 50);
         for (i, &d) in c.delta.iter().enumerate() {
-            let eps = if d < 0.0 { 0.0 } else { 1.0 - (-d * d).exp() };
+            let eps = if d < 0.0 {
+                0.0
+            } else {
+                1.0 - crate::fmath::exp(-d * d)
+            };
             assert!((c.epsilon[i] - eps).abs() < 1e-12);
             let eta = if d < 0.0 { 0.0 } else { 2.0 * d };
             assert!((c.eta_facing[i] - eta).abs() < 1e-12);

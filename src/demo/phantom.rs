@@ -10,7 +10,7 @@ use glam::DVec3;
 
 /// A smooth step from 0 (outside, `d ≫ 0`) to 1 (inside) over about `w` mm around `d = 0`.
 fn inside(d: f64, w: f64) -> f64 {
-    0.5 - 0.5 * (d / w).tanh()
+    0.5 - 0.5 * crate::fmath::tanh(d / w)
 }
 
 /// Signed distance-like value of an ellipsoid (negative inside), in mm near the surface.
@@ -29,7 +29,7 @@ pub fn phantom_volume(n: usize) -> VoxelVolume {
     let s = 192.0 / n as f64;
     let spacing = [s, s, s * 1.25];
     // A small rotation about z (10°) and an origin that centres the head on the world origin.
-    let (sn, cs) = 10f64.to_radians().sin_cos();
+    let (sn, cs) = crate::fmath::sin_cos(10f64.to_radians());
     let dirs = [DVec3::new(cs, sn, 0.0), DVec3::new(-sn, cs, 0.0), DVec3::Z];
     let cols = [0, 1, 2].map(|k| dirs[k] * spacing[k]);
     let half = cols[0] * (n - 1) as f64 / 2.0
@@ -48,7 +48,7 @@ pub fn phantom_volume(n: usize) -> VoxelVolume {
                 let vr = ellipsoid(p, DVec3::new(12.0, 5.0, 10.0), DVec3::new(7.0, 22.0, 9.0));
                 // A ring (torus) of radii 22 and 6 mm below the ventricles.
                 let q = p - DVec3::new(0.0, -10.0, -18.0);
-                let ring = ((q.truncate().length() - 22.0).hypot(q.z)) - 6.0;
+                let ring = crate::fmath::hypot(q.truncate().length() - 22.0, q.z) - 6.0;
                 let w = 1.2 * s;
                 let mut v = 90.0 * inside(head, w);
                 v += 80.0 * inside(brain, w);

@@ -44,7 +44,7 @@ fn fin(p: DVec3, t: [DVec2; 3], half: f64) -> f64 {
     let d = triangle_2d(DVec2::new(p.x, p.z), t);
     let w = p.y.abs() - half;
     if d > 0.0 && w > 0.0 {
-        d.hypot(w)
+        crate::fmath::hypot(d, w)
     } else {
         d.max(w)
     }

@@ -171,7 +171,7 @@ pub fn torus_chain(g: usize) -> Shape {
     let centres: Vec<DVec3> = (0..g)
         .map(|i| DVec3::new((i as f64 - 0.5 * (g - 1) as f64) * pitch, 0.0, 0.0))
         .collect();
-    let cell = 0.048 * (g as f64).powf(0.25);
+    let cell = 0.048 * crate::fmath::powf(g as f64, 0.25);
     let pad = DVec3::splat(2.0 * cell);
     let ext = DVec3::new(half, big + small, small);
     let sdf = |p: DVec3| {
@@ -192,11 +192,15 @@ pub fn torus_cloud(big: f64, small: f64, n: usize, seed: u64) -> Vec<DVec3> {
     while out.len() < n {
         let u = 2.0 * PI * rng.uniform();
         let v = 2.0 * PI * rng.uniform();
-        if rng.uniform() * (big + small) > big + small * v.cos() {
+        if rng.uniform() * (big + small) > big + small * crate::fmath::cos(v) {
             continue;
         }
-        let ring = big + small * v.cos();
-        out.push(DVec3::new(ring * u.cos(), ring * u.sin(), small * v.sin()));
+        let ring = big + small * crate::fmath::cos(v);
+        out.push(DVec3::new(
+            ring * crate::fmath::cos(u),
+            ring * crate::fmath::sin(u),
+            small * crate::fmath::sin(v),
+        ));
     }
     out
 }
@@ -209,7 +213,7 @@ pub fn cut_sphere_cloud(n: usize, z_cut: f64, seed: u64) -> Vec<DVec3> {
             let z = -1.0 + (z_cut + 1.0) * rng.uniform();
             let phi = 2.0 * PI * rng.uniform();
             let r = (1.0 - z * z).max(0.0).sqrt();
-            DVec3::new(r * phi.cos(), r * phi.sin(), z)
+            DVec3::new(r * crate::fmath::cos(phi), r * crate::fmath::sin(phi), z)
         })
         .collect()
 }
@@ -228,16 +232,16 @@ fn push_oriented(tris: &mut Vec<[u32; 3]>, p: &[DVec3], t: [u32; 3], outward: DV
 /// cut (the boundary loop, exactly on the sphere and the plane) down to the south pole, `lon`
 /// vertices per ring, outward oriented.
 pub fn cut_sphere(lon: usize, lat: usize, z_cut: f64) -> Shape {
-    let theta0 = z_cut.clamp(-1.0, 1.0).acos();
+    let theta0 = crate::fmath::acos(z_cut.clamp(-1.0, 1.0));
     let mut p = Vec::with_capacity(lon * lat + 1);
     for j in 0..lat {
         let theta = theta0 + (PI - theta0) * j as f64 / lat as f64;
         for i in 0..lon {
             let phi = 2.0 * PI * i as f64 / lon as f64;
             p.push(DVec3::new(
-                theta.sin() * phi.cos(),
-                theta.sin() * phi.sin(),
-                theta.cos(),
+                crate::fmath::sin(theta) * crate::fmath::cos(phi),
+                crate::fmath::sin(theta) * crate::fmath::sin(phi),
+                crate::fmath::cos(theta),
             ));
         }
     }
@@ -273,8 +277,8 @@ pub fn cube_with_hole(radius: f64, sides: usize, layers: usize) -> Shape {
         for k in 0..4 {
             let a = PI / 4.0 + PI / 2.0 * k as f64;
             p.push(DVec3::new(
-                0.5f64.copysign(a.cos()),
-                0.5f64.copysign(a.sin()),
+                0.5f64.copysign(crate::fmath::cos(a)),
+                0.5f64.copysign(crate::fmath::sin(a)),
                 z,
             ));
         }
@@ -284,7 +288,11 @@ pub fn cube_with_hole(radius: f64, sides: usize, layers: usize) -> Shape {
         let z = -0.5 + l as f64 / layers as f64;
         for i in 0..sides {
             let a = 2.0 * PI * i as f64 / sides as f64;
-            p.push(DVec3::new(radius * a.cos(), radius * a.sin(), z));
+            p.push(DVec3::new(
+                radius * crate::fmath::cos(a),
+                radius * crate::fmath::sin(a),
+                z,
+            ));
         }
     }
     let ring = |l: usize, i: usize| (ring0 + l * sides + i % sides) as u32;
@@ -433,7 +441,9 @@ pub fn extruded_polygon(outline: &[(f64, f64)], star: (f64, f64), height: f64, s
     let mut ring: Vec<(f64, f64)> = Vec::new();
     for (i, &(x0, y0)) in outline.iter().enumerate() {
         let (x1, y1) = outline[(i + 1) % outline.len()];
-        let k = (((x1 - x0).hypot(y1 - y0)) / step).ceil().max(1.0) as usize;
+        let k = (crate::fmath::hypot(x1 - x0, y1 - y0) / step)
+            .ceil()
+            .max(1.0) as usize;
         for j in 0..k {
             let t = j as f64 / k as f64;
             ring.push((x0 + t * (x1 - x0), y0 + t * (y1 - y0)));
@@ -630,7 +640,7 @@ mod tests {
         assert_eq!(rep.components, 1);
         let mesh = HalfedgeMesh::from_triangles(p, &generate("cube-hole").unwrap().1).unwrap();
         let n = 64.0;
-        let prism = 0.5 * n * 0.25 * 0.25 * (2.0 * PI / n).sin();
+        let prism = 0.5 * n * 0.25 * 0.25 * crate::fmath::sin(2.0 * PI / n);
         assert!((mesh.signed_volume() - (1.0 - prism)).abs() < 1e-12);
         assert!((diagonal(mesh.positions()) - 3f64.sqrt()).abs() < 1e-12);
     }
@@ -717,7 +727,7 @@ mod tests {
         let near: Vec<f64> = p
             .iter()
             .filter(|q| q.x.abs() < 0.05)
-            .map(|q| q.y.hypot(q.z))
+            .map(|q| crate::fmath::hypot(q.y, q.z))
             .collect();
         assert!(!near.is_empty());
         assert!(near.iter().all(|&r| r < 0.09), "{near:?}");

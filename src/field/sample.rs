@@ -103,10 +103,10 @@ mod tests {
             dims: [5, 4, 6],
         };
         let values: Vec<f64> = (0..grid.node_count())
-            .map(|i| (i as f64 * 0.37).sin())
+            .map(|i| crate::fmath::sin(i as f64 * 0.37))
             .collect();
         let vectors: Vec<[f32; 3]> = (0..grid.node_count())
-            .map(|i| [(i as f32).cos(), 0.5, -(i as f32 * 0.1)])
+            .map(|i| [crate::fmath::cosf(i as f32), 0.5, -(i as f32 * 0.1)])
             .collect();
         // Inside, on nodes, and outside the box (clamped).
         for k in 0..200 {

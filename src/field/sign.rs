@@ -165,7 +165,7 @@ impl<'a> PseudoNormals<'a> {
             for k in 0..3 {
                 let e1 = (p[(k + 1) % 3] - p[k]).normalize_or_zero();
                 let e2 = (p[(k + 2) % 3] - p[k]).normalize_or_zero();
-                let angle = e1.dot(e2).clamp(-1.0, 1.0).acos();
+                let angle = crate::fmath::acos(e1.dot(e2).clamp(-1.0, 1.0));
                 vertex[t[k] as usize] += angle * n;
             }
         }

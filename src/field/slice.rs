@@ -171,7 +171,7 @@ mod tests {
                 let y = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
                 let r = (1.0 - y * y).sqrt();
                 let a = golden * i as f64;
-                DVec3::new(r * a.cos(), y, r * a.sin())
+                DVec3::new(r * crate::fmath::cos(a), y, r * crate::fmath::sin(a))
             })
             .collect();
         let settings = FieldSettings {

@@ -21,7 +21,7 @@ impl Controls {
         if self.mcf_positive_support && delta < 0.0 {
             return 0.0;
         }
-        self.c1 * (1.0 - (-delta * delta / self.c2).exp())
+        self.c1 * (1.0 - crate::fmath::exp(-delta * delta / self.c2))
     }
 
     /// η(δ, cos θ) = D1·δ·(cos θ − D2·sin θ) with cos θ = g·N (g = −∇d/|∇d|, N the outward normal),
@@ -53,7 +53,7 @@ mod tests {
     fn epsilon_vanishes_at_and_inside_the_target() {
         assert_eq!(C.epsilon(0.0), 0.0);
         assert_eq!(C.epsilon(-0.5), 0.0);
-        assert!((C.epsilon(1.0) - (1.0 - (-1.0f64).exp())).abs() < 1e-15);
+        assert!((C.epsilon(1.0) - (1.0 - crate::fmath::exp(-1.0f64))).abs() < 1e-15);
         assert!(C.epsilon(10.0) > 0.999);
         let two_sided = Controls {
             mcf_positive_support: false,

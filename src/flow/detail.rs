@@ -100,7 +100,7 @@ fn three_digits(x: f64) -> f64 {
     if x == 0.0 || !x.is_finite() {
         return x;
     }
-    let scale = 10f64.powi(2 - x.abs().log10().floor() as i32);
+    let scale = 10f64.powi(2 - crate::fmath::log10(x.abs()).floor() as i32);
     (x * scale).round() / scale
 }
 

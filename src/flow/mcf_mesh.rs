@@ -476,7 +476,7 @@ mod tests {
             .iter()
             .enumerate()
             .map(|(i, p)| {
-                let s = ((i as f64 * 12.9898).sin() * 43758.5453).fract();
+                let s = (crate::fmath::sin(i as f64 * 12.9898) * 43758.5453).fract();
                 *p * (1.0 + amp * s)
             })
             .collect();

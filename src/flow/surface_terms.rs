@@ -141,8 +141,9 @@ mod tests {
     fn lumpy() -> HalfedgeMesh {
         let mut m = icosphere(3, 1.0, DVec3::ZERO).unwrap();
         for (i, p) in m.positions_mut().iter_mut().enumerate() {
-            let s = (i as f64 * 0.7).sin();
-            *p = *p * (1.0 + 0.2 * s) + 0.03 * DVec3::new(s, (i as f64 * 1.3).cos(), 0.0);
+            let s = crate::fmath::sin(i as f64 * 0.7);
+            *p =
+                *p * (1.0 + 0.2 * s) + 0.03 * DVec3::new(s, crate::fmath::cos(i as f64 * 1.3), 0.0);
         }
         m
     }
@@ -183,7 +184,7 @@ mod tests {
         let mut p = vec![DVec3::ZERO];
         p.extend((0..6).map(|k| {
             let a = k as f64 * std::f64::consts::TAU / 6.0;
-            DVec3::new(a.cos(), a.sin(), 0.0)
+            DVec3::new(crate::fmath::cos(a), crate::fmath::sin(a), 0.0)
         }));
         let faces: Vec<[u32; 3]> = (0..6).map(|k| [0, 1 + k, 1 + (k + 1) % 6]).collect();
         let star = HalfedgeMesh::from_triangles(p.clone(), &faces).unwrap();

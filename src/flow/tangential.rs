@@ -47,7 +47,11 @@ mod tests {
     fn zero_on_regular_star_and_pulls_into_narrow_wedges() {
         let star = |angles: &[f64]| {
             let mut p = vec![DVec3::ZERO];
-            p.extend(angles.iter().map(|a| DVec3::new(a.cos(), a.sin(), 0.0)));
+            p.extend(
+                angles
+                    .iter()
+                    .map(|a| DVec3::new(crate::fmath::cos(*a), crate::fmath::sin(*a), 0.0)),
+            );
             let n = angles.len() as u32;
             let faces: Vec<[u32; 3]> = (0..n).map(|k| [0, 1 + k, 1 + (k + 1) % n]).collect();
             HalfedgeMesh::from_triangles(p, &faces).unwrap()

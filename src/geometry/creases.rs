@@ -99,7 +99,7 @@ pub fn detect_creases(points: &[DVec3], triangles: &[[u32; 3]], min_turn: f64) -
         if j - i == 2 && half[i].3 != half[i + 1].3 {
             let (fa, fb) = (half[i].2 as usize, half[i + 1].2 as usize);
             if let (Some(na), Some(nb)) = (normals[fa], normals[fb]) {
-                let turn = na.dot(nb).clamp(-1.0, 1.0).acos();
+                let turn = crate::fmath::acos(na.dot(nb).clamp(-1.0, 1.0));
                 if turn > min_turn {
                     let (a, b) = (points[half[i].0 as usize], points[half[i].1 as usize]);
                     let far = |f: usize| {
@@ -151,7 +151,7 @@ pub fn detect_creases(points: &[DVec3], triangles: &[[u32; 3]], min_turn: f64) -
                 (if a == p { b - a } else { a - b }).normalize_or_zero()
             };
             // Two crease edges through v: a corner unless they continue one line.
-            (-dir(es[0])).dot(dir(es[1])).clamp(-1.0, 1.0).acos() > min_turn
+            crate::fmath::acos((-dir(es[0])).dot(dir(es[1])).clamp(-1.0, 1.0)) > min_turn
         })
         .map(|(&v, _)| v)
         .collect();

@@ -52,6 +52,7 @@ mod tests {
         for case in 0..500 {
             let axis = DVec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5).normalize();
             let angle = 6.0 * rnd();
+            #[allow(clippy::disallowed_methods)] // a test input: its last bit does not matter
             let r = DMat3::from_axis_angle(axis, angle);
             // Smallest eigenvalue: 0 (a noise-free plane), tiny, or up to 0.7 of the middle one.
             let (l2, l3) = (0.5 + rnd(), 1.5 + rnd());

@@ -21,7 +21,7 @@ pub fn fibonacci_sphere(n: usize) -> Vec<DVec3> {
             let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
             let rho = (1.0 - z * z).sqrt();
             let a = golden * i as f64;
-            DVec3::new(rho * a.cos(), rho * a.sin(), z)
+            DVec3::new(rho * crate::fmath::cos(a), rho * crate::fmath::sin(a), z)
         })
         .collect()
 }

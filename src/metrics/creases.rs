@@ -55,7 +55,7 @@ pub fn crease_fidelity(
         let mid = 0.5 * (e.ends[0] + e.ends[1]);
         let side = |k: usize| normal_near(mid + offset.min(0.5 * e.heights[k]) * e.inward[k]);
         let wrap = match (side(0), side(1)) {
-            (Some(n0), Some(n1)) => n0.dot(n1).clamp(-1.0, 1.0).acos(),
+            (Some(n0), Some(n1)) => crate::fmath::acos(n0.dot(n1).clamp(-1.0, 1.0)),
             _ => 0.0,
         };
         ((wrap - e.turn).abs().to_degrees(), mid)

@@ -69,7 +69,7 @@ pub fn radius_ratio(a: DVec3, b: DVec3, c: DVec3) -> f64 {
 pub fn min_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
     let ang = |p: DVec3, q: DVec3, r: DVec3| {
         let (u, v) = (q - p, r - p);
-        u.cross(v).length().atan2(u.dot(v))
+        crate::fmath::atan2(u.cross(v).length(), u.dot(v))
     };
     ang(a, b, c).min(ang(b, c, a)).min(ang(c, a, b))
 }
@@ -263,6 +263,7 @@ mod tests {
         let k = kappa(a, b, c);
         assert!((kappa(b, c, a) - k).abs() < 1e-13);
         assert!((kappa(c, b, a) - k).abs() < 1e-13);
+        #[allow(clippy::disallowed_methods)] // a test input: its last bit does not matter
         let rot = glam::DQuat::from_axis_angle(DVec3::new(1.0, 2.0, 3.0).normalize(), 0.7);
         assert!((kappa(rot * a, rot * b, rot * c) - k).abs() < 1e-12);
         assert!((kappa(3.0 * a, 3.0 * b, 3.0 * c) - k).abs() < 1e-12);

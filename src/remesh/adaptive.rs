@@ -786,7 +786,7 @@ fn project_all(mesh: &mut HalfedgeMesh, w: &mut Work) {
 }
 
 fn remove_caps(mesh: &mut HalfedgeMesh, w: &mut Work) {
-    let cos_cap = w.s.cap_angle_deg.to_radians().cos();
+    let cos_cap = crate::fmath::cos(w.s.cap_angle_deg.to_radians());
     for e in 0..mesh.n_edges() as u32 {
         if w.efeat[e as usize] || !mesh.is_interior_edge(e) {
             continue;

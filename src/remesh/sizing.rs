@@ -24,7 +24,7 @@ pub struct EdgeSizes {
 /// `min_edge_multiplier` λ_min (0.14 in the point-cloud experiments).
 pub fn icosphere_sizes(min_edge_multiplier: f64, radius: f64, level: u32) -> EdgeSizes {
     let angle = std::f64::consts::TAU / 10.0 * 0.5f64.powi(level as i32);
-    let l_min = min_edge_multiplier * 2.0 * radius * angle.sin();
+    let l_min = min_edge_multiplier * 2.0 * radius * crate::fmath::sin(angle);
     from_min_edge(l_min)
 }
 
@@ -128,7 +128,9 @@ mod tests {
     fn sizes_follow_the_reference_rules() {
         let s = icosphere_sizes(0.14, 1.0, 0);
         assert!(
-            (s.min_edge_length - 0.14 * 2.0 * (std::f64::consts::TAU / 10.0).sin()).abs() < 1e-15
+            (s.min_edge_length - 0.14 * 2.0 * crate::fmath::sin(std::f64::consts::TAU / 10.0))
+                .abs()
+                < 1e-15
         );
         assert_eq!(s.max_edge_length, 4.0 * s.min_edge_length);
         assert!((s.approx_error - 1.25 * s.min_edge_length).abs() < 1e-15);

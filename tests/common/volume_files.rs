@@ -40,7 +40,7 @@ impl Affine {
 /// Rotation by `angle` about `axis` (Rodrigues), as columns.
 pub fn rotation(axis: DVec3, angle: f64) -> [DVec3; 3] {
     let k = axis.normalize();
-    let (s, c) = angle.sin_cos();
+    let (s, c) = lsw::fmath::sin_cos(angle);
     [DVec3::X, DVec3::Y, DVec3::Z].map(|v| v * c + k.cross(v) * s + k * k.dot(v) * (1.0 - c))
 }
 

@@ -213,7 +213,7 @@ impl WrapSettings {
     /// τ = 0.05, C1 = D1 = 1/(1 − e⁻⁴) (the reference's `PreComputeAdvectionDiffusionParams(2.0)`),
     /// no size schedule, λ_min = 0.4, 3 remesh iterations from step 1.
     pub fn with_isosurface_start(mut self) -> Self {
-        let c = 1.0 / (1.0 - (-4.0f64).exp());
+        let c = 1.0 / (1.0 - crate::fmath::exp(-4.0f64));
         self.start.surface = StartSurface::Isosurface;
         self.stop.steps = 20;
         self.flow.tau = 0.05;

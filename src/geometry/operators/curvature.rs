@@ -81,7 +81,7 @@ pub fn principal_curvatures(
         let (a, b) = (mesh.from(h0), mesh.to(h0));
         let d = mesh.to(mesh.next(h1));
         let (pa, pb) = (mesh.position(a), mesh.position(b));
-        let angle = n0.cross(n1).length().atan2(n0.dot(n1));
+        let angle = crate::fmath::atan2(n0.cross(n1).length(), n0.dot(n1));
         let convex = (mesh.position(d) - pa).dot(n0) <= 0.0;
         let beta = if convex { angle } else { -angle };
         dihedral[e as usize] = beta;

@@ -185,7 +185,7 @@ mod tests {
             .map(|k| {
                 let a = k as f64 * std::f64::consts::TAU / 7.0 + 0.3 * (k % 2) as f64;
                 let r = 1.0 + 0.2 * ((k * 3) % 5) as f64;
-                DVec3::new(r * a.cos(), r * a.sin(), 0.0)
+                DVec3::new(r * crate::fmath::cos(a), r * crate::fmath::sin(a), 0.0)
             })
             .collect();
         let mut p = vec![DVec3::new(0.1, -0.05, 0.0)];

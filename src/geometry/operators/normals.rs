@@ -1,6 +1,7 @@
 //! Angle-weighted vertex normals (Thürmer & Wüthrich): the normal used by the LSW advection
 //! term (method spec §6.1 step 1) and by the viewer's shading.
 
+use crate::geometry::angle::corner_angle;
 use crate::mesh::HalfedgeMesh;
 use glam::DVec3;
 
@@ -20,7 +21,8 @@ pub fn angle_weighted_normals(mesh: &HalfedgeMesh) -> Vec<DVec3> {
         let n = n / len;
         for k in 0..3 {
             let (a, b) = (ps[(k + 1) % 3] - ps[k], ps[(k + 2) % 3] - ps[k]);
-            let angle = a.angle_between(b);
+            // Not glam's `angle_between`: its `acos` is the platform's (see `crate::fmath`).
+            let angle = corner_angle(a.cross(b).length(), a.dot(b));
             if angle.is_finite() {
                 normals[vs[k] as usize] += angle * n;
             }
