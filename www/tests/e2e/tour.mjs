@@ -114,6 +114,8 @@ test('Close gaps up to: "all" keeps the torus handle closed (genus 0, no surgery
   assert((await page.inputValue('[data-testid=close-gaps]')) === '0', 'the default is not auto');
   const badge = () => page.evaluate(() => ({ ...document.querySelector('[data-testid=health]').dataset }));
   await page.selectOption('[data-testid=close-gaps]', { label: 'all' });
+  // The link follows within the task after the change (updates are coalesced).
+  await page.waitForFunction(() => /s\.surgery\.close_gaps=1/.test(document.querySelector('[data-testid=share-url]').value), null, { timeout: 5000 }).catch(() => {});
   const link = await page.inputValue('[data-testid=share-url]');
   assert(/s\.surgery\.close_gaps=1/.test(link), `link: ${link}`);
   await page.click('[data-testid=demo-sphere-torus]');
