@@ -87,6 +87,20 @@ pub fn noisy_sphere_cloud(n: usize, noise: f64, seed: u64) -> Vec<DVec3> {
         .collect()
 }
 
+/// Approximate signed distance to an axis-aligned ellipsoid (exact on the axes; good enough
+/// for an implicit surface, whose zero set is exact).
+pub(crate) fn ellipsoid(p: DVec3, c: DVec3, r: DVec3) -> f64 {
+    let q = (p - c) / r;
+    (q.length() - 1.0) * r.min_element()
+}
+
+/// Signed distance to the capsule from `a` to `b` of radius `r`.
+pub(crate) fn capsule(p: DVec3, a: DVec3, b: DVec3, r: f64) -> f64 {
+    let ab = b - a;
+    let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+    (p - (a + t * ab)).length() - r
+}
+
 /// Signed distance to a torus around the z axis with radii `big`, `small`, centred at `c`.
 fn torus_sdf(p: DVec3, c: DVec3, big: f64, small: f64) -> f64 {
     let q = p - c;

@@ -4,19 +4,13 @@
 //! rotated affine, so the app exercises the same reading, histogram, slicing and world-frame code
 //! as a real scan.
 
-use super::Rng;
+use super::{ellipsoid, Rng};
 use crate::io::volume::{affine, ScalarType, VoxelVolume};
 use glam::DVec3;
 
 /// A smooth step from 0 (outside, `d ≫ 0`) to 1 (inside) over about `w` mm around `d = 0`.
 fn inside(d: f64, w: f64) -> f64 {
     0.5 - 0.5 * crate::fmath::tanh(d / w)
-}
-
-/// Signed distance-like value of an ellipsoid (negative inside), in mm near the surface.
-fn ellipsoid(p: DVec3, c: DVec3, r: DVec3) -> f64 {
-    let q = (p - c) / r;
-    (q.length() - 1.0) * r.min_element()
 }
 
 /// The phantom on `n × n × (3n/4)` voxels (n clamped to 16…256), values 0…255-ish: background

@@ -5,21 +5,8 @@
 //! it is closed, genus 0 and deterministic. The wrap has never been tuned on them.
 
 use super::shapes::{implicit_surface, smooth_min, Shape};
+use super::{capsule, ellipsoid};
 use glam::{DVec2, DVec3};
-
-/// Approximate signed distance to an axis-aligned ellipsoid (exact on the axes; good enough
-/// for an implicit surface, whose zero set is exact).
-fn ellipsoid(p: DVec3, c: DVec3, r: DVec3) -> f64 {
-    let q = (p - c) / r;
-    (q.length() - 1.0) * r.min_element()
-}
-
-/// Signed distance to the capsule from `a` to `b` of radius `r`.
-fn capsule(p: DVec3, a: DVec3, b: DVec3, r: f64) -> f64 {
-    let ab = b - a;
-    let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
-    (p - (a + t * ab)).length() - r
-}
 
 /// Signed distance in the plane to the triangle `t` (negative inside).
 fn triangle_2d(p: DVec2, t: [DVec2; 3]) -> f64 {

@@ -8,7 +8,7 @@
 //! exact boundaries are built polyhedrally. All randomness is seeded, so every call returns the
 //! same bits.
 
-use super::{sample_mesh, torus_sdf, DemoError, Rng};
+use super::{capsule, sample_mesh, torus_sdf, DemoError, Rng};
 use crate::geometry::icosphere::unit_icosphere;
 use crate::geometry::marching_cubes::{marching_cubes, ScalarGridView};
 use glam::DVec3;
@@ -499,9 +499,7 @@ pub fn dumbbell(r: f64, neck: f64, half_length: f64) -> Shape {
     );
     let sdf = |p: DVec3| {
         let spheres = ((p - c1).length() - r).min((p - c2).length() - r);
-        let x = p.x.clamp(-half_length, half_length);
-        let capsule = (p - DVec3::new(x, 0.0, 0.0)).length() - neck;
-        smooth_min(spheres, capsule, 0.04)
+        smooth_min(spheres, capsule(p, c1, c2, neck), 0.04)
     };
     let cell = 0.028;
     let ext = DVec3::new(half_length + r, r, r) + DVec3::splat(2.0 * cell);

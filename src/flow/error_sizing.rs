@@ -36,13 +36,8 @@ pub fn error_caps(
     };
     let nearest: Vec<Option<u32>> = crate::parallel::map(check.len(), |i| {
         let p = samples[check[i] as usize];
-        let d2 = |t: u32| {
-            let [a, b, c] = tris[t as usize].map(|v| mesh.position(v));
-            (crate::geometry::spatial::bvh::closest_point_on_triangle(p, a, b, c).0 - p)
-                .length_squared()
-        };
         // Most samples are on the wrap: a search bounded by the tolerance ends at once.
-        if wrap.bvh().nearest_within(p, tol * tol, d2).is_some() {
+        if wrap.closest_point_within(p, tol).is_some() {
             return None;
         }
         let f = wrap.closest_point(p)?.triangle;

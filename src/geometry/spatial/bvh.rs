@@ -434,10 +434,18 @@ impl TriangleBvh {
 
     /// Exact closest point on the triangle set (`None` if it is empty).
     pub fn closest_point(&self, p: DVec3) -> Option<ClosestHit> {
-        let (t, d2) = self.bvh.nearest(p, |i| {
-            let [a, b, c] = self.triangles[i as usize].map(|v| self.positions[v as usize]);
-            (closest_point_on_triangle(p, a, b, c).0 - p).length_squared()
-        })?;
+        self.closest_point_within(p, f64::INFINITY)
+    }
+
+    /// [`Self::closest_point`] among the triangles within `max_distance` of `p` (`None` when
+    /// there is none): a query far from everything ends at once.
+    pub fn closest_point_within(&self, p: DVec3, max_distance: f64) -> Option<ClosestHit> {
+        let (t, d2) = self
+            .bvh
+            .nearest_within(p, max_distance * max_distance, |i| {
+                let [a, b, c] = self.triangles[i as usize].map(|v| self.positions[v as usize]);
+                (closest_point_on_triangle(p, a, b, c).0 - p).length_squared()
+            })?;
         let [a, b, c] = self.triangles[t as usize].map(|v| self.positions[v as usize]);
         let (point, barycentric) = closest_point_on_triangle(p, a, b, c);
         Some(ClosestHit {
