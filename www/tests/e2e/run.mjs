@@ -204,13 +204,18 @@ test('health badge: a genus-2 mesh ends done and certified (valid, genus 2, 0 SI
   assert(h.valid === 'true' && h.genus === '2' && h.si === '0', `health badge after the genus-2 torus: ${JSON.stringify(h)}`);
   const state = await page.getAttribute('[data-testid=status]', 'data-state');
   assert(state === 'done', `status ${state}`);
+  // Determinism across platforms on a mesh target too (isosurface start, mesh fit with its
+  // error-adaptive sizing): the browser's result is the native CLI's, bit for bit.
+  const browserHash = await resultHash(page);
+  const native = lswWrap(torus, join(out, 'torus-g2-native.ply'));
+  assert(browserHash === native.result_hash, `torus-g2: browser result hash ${browserHash} differs from the native CLI's ${native.result_hash}`);
   await dropFile(page, 'three.xyz', Buffer.from('0 0 0\n1 0 0\n0 1 0\n'));
   await page.waitForSelector('[data-testid=status][data-state=error]', { timeout: 60000 });
   const msg = await page.textContent('[data-testid=error]');
   assert(/distinct point/.test(msg), `error for three points: ${msg}`);
   await page.screenshot({ path: join(out, 'health-coplanar-error.png') });
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
-  console.log(`   genus-2 torus: ${h.text}; three points: ${msg.slice(0, 120)}`);
+  console.log(`   genus-2 torus: ${h.text}, hash ${browserHash} (native CLI: the same); three points: ${msg.slice(0, 120)}`);
   await page.close();
 });
 
