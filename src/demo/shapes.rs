@@ -87,6 +87,11 @@ pub const SHAPES: &[(&str, &str)] = &[
         "plate-holes",
         "flat plate 1 × 0.6 × 0.06 with three through-holes (r 0.1, 0.05, 0.03): genus 3, sharp rims",
     ),
+    ("cube-cloud", "20 000 points sampled from cube (no normals): sharp edges in a cloud"),
+    (
+        "cad-part-cloud",
+        "20 000 points sampled from cad-part (no normals): convex, concave and 135° edges in a cloud",
+    ),
 ];
 
 /// Number of points of the sampled clouds (`torus-gN-cloud`, `thin-plate-cloud`).
@@ -133,6 +138,8 @@ pub fn generate(name: &str) -> Result<Shape, DemoError> {
         "creature" => Ok(super::sculpted::creature()),
         "bust" => Ok(super::sculpted::bust()),
         "plate-holes" => Ok(super::sculpted::plate_holes()),
+        "cube-cloud" => cloud(grid_box(DVec3::ONE, [16, 16, 16]), 108),
+        "cad-part-cloud" => cloud(cad_part(), 109),
         other => Err(DemoError::UnknownShape(other.to_string())),
     }
 }

@@ -157,19 +157,24 @@ pub fn detect_creases(points: &[DVec3], triangles: &[[u32; 3]], min_turn: f64) -
         .collect();
     corner_ids.sort_unstable();
     let corners: Vec<DVec3> = corner_ids.iter().map(|&v| points[v as usize]).collect();
-    let (mins, maxs): (Vec<DVec3>, Vec<DVec3>) = edges
-        .iter()
-        .map(|c| (c.ends[0].min(c.ends[1]), c.ends[0].max(c.ends[1])))
-        .unzip();
-    Creases {
-        edge_bvh: Bvh::new(&mins, &maxs),
-        corner_bvh: PointBvh::new(&corners),
-        edges,
-        corners,
-    }
+    Creases::new(edges, corners)
 }
 
 impl Creases {
+    /// Crease edges and corners, with their search structures.
+    pub fn new(edges: Vec<Crease>, corners: Vec<DVec3>) -> Self {
+        let (mins, maxs): (Vec<DVec3>, Vec<DVec3>) = edges
+            .iter()
+            .map(|c| (c.ends[0].min(c.ends[1]), c.ends[0].max(c.ends[1])))
+            .unzip();
+        Creases {
+            edge_bvh: Bvh::new(&mins, &maxs),
+            corner_bvh: PointBvh::new(&corners),
+            edges,
+            corners,
+        }
+    }
+
     /// No creases at all.
     pub fn is_empty(&self) -> bool {
         self.edges.is_empty()

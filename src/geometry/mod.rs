@@ -2,6 +2,7 @@
 
 pub mod aabb;
 pub mod angle;
+pub mod cloud_creases;
 pub mod creases;
 pub mod eigen3;
 pub mod icosphere;

@@ -81,6 +81,7 @@ impl Evolver {
             progress.report(FIT_PHASE, (pass as f64 + part) / most.max(1) as f64)
         };
         let mut creases_placed = false;
+        let cloud = matches!(target, SnapTarget::Points(_));
         let mut missed = true;
         for pass in 0..most {
             if pass >= passes && !missed {
@@ -91,9 +92,15 @@ impl Evolver {
             let clean = contact.then(|| self.mesh.clone());
             let start_of_pass = self.creases.is_some().then(|| self.mesh.clone());
             let normals = angle_weighted_normals(&self.mesh);
-            moved = snap_to_target(&mut self.mesh, &normals, target, &params, &mut |f| {
-                at(pass, 0.5 * f)
-            });
+            let creases = self.creases.as_ref();
+            moved = snap_to_target(
+                &mut self.mesh,
+                &normals,
+                target,
+                &params,
+                creases,
+                &mut |f| at(pass, 0.5 * f),
+            );
             // Sharp creases: vertices onto them, edges along them, kept by the remesh. Their
             // snap is checked for intersections, so first undo the moves above that made any
             // (or every crease try would be blamed for them).
@@ -102,7 +109,14 @@ impl Evolver {
             }
             let features = match &self.creases {
                 None => None,
-                Some(c) => match snap_creases_checked(&mut self.mesh, c, params.max_move) {
+                Some(c) => match snap_creases_checked(
+                    &mut self.mesh,
+                    c,
+                    params.max_move,
+                    cloud.then_some(&|m: &mut HalfedgeMesh| {
+                        round_as_written(m, self.phi, self.center)
+                    }),
+                ) {
                     Some(f) => Some(f),
                     // An earlier pass placed the creases: keep this pass's moves without a
                     // remesh (they leave vertices on a crease where they are), or else the
@@ -179,7 +193,15 @@ impl Evolver {
             let before = clean.positions().to_vec();
             self.mesh = clean;
             // (Silent: the pass's progress has already gone past the moves.)
-            moved = snap_to_target(&mut self.mesh, &normals, target, &params, &mut |_| {});
+            let creases = self.creases.as_ref();
+            moved = snap_to_target(
+                &mut self.mesh,
+                &normals,
+                target,
+                &params,
+                creases,
+                &mut |_| {},
+            );
             resolve_contacts(&mut self.mesh, &before, &self.settings.guard);
             round_as_written(&mut self.mesh, self.phi, self.center);
             if remeshing {
@@ -213,16 +235,26 @@ fn has_intersections(m: &HalfedgeMesh) -> bool {
 /// [`snap_to_creases`] kept intersection-free: a try that makes faces intersect is undone and
 /// redone without the vertices of those faces and their neighbours, a few times at most; then
 /// the mesh is as it came and the answer is None.
+///
+/// With `round`, the check is of the positions as written. A cloud's crease lines are many
+/// short pieces found point by point, and the wrap over a cloud is finer than a mesh target's
+/// fit: a vertex often lands on a line between two others already on it, touching their faces,
+/// which the f32 rounding turns into a crossing that the pass's own check then refuses whole
+/// (a cube cloud kept no crease). A mesh's snap is checked as computed, as before.
 fn snap_creases_checked(
     mesh: &mut HalfedgeMesh,
     creases: &Creases,
     reach: f64,
+    round: Option<&dyn Fn(&mut HalfedgeMesh)>,
 ) -> Option<Features> {
     mesh.garbage_collect();
     let before = mesh.clone();
     let mut banned = vec![false; before.n_vertices()];
     for _ in 0..CREASE_TRIES {
         let (features, _) = snap_to_creases(mesh, creases, reach, &banned);
+        if let Some(round) = round {
+            round(mesh);
+        }
         let tris = mesh.triangles();
         let pairs = self_intersecting_pairs(mesh.positions(), &tris);
         if pairs.is_empty() {

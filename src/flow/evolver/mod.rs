@@ -28,6 +28,7 @@ use super::start::build_start;
 use super::surgery::SurgeryEvent;
 use crate::clock::now_ms;
 use crate::field::{DistanceField, FieldError};
+use crate::geometry::cloud_creases::detect_cloud_creases;
 use crate::geometry::creases::{detect_creases, Creases};
 use crate::geometry::icosphere::IcosphereError;
 use crate::mesh::{HalfedgeMesh, MeshBuildError};
@@ -179,8 +180,8 @@ pub struct Evolver {
     gradients: Vec<DVec3>,
     /// The target for the final fit (stabilised frame).
     fit_target: Option<SnapTarget>,
-    /// The mesh target's sharp creases for the final fit (stabilised frame); None for clouds
-    /// or with `fit.crease_angle_deg` = 0.
+    /// The target's sharp creases for the final fit (stabilised frame): from dihedral angles
+    /// on a mesh, from plane fits on a cloud; None with `fit.crease_angle_deg` = 0.
     creases: Option<Creases>,
     /// The schedule changed the target edge lengths since the last remesh.
     sizes_changed: bool,
@@ -279,17 +280,20 @@ impl Evolver {
         let field = field.scaled(center, phi);
         let fit_target = (settings.fit.enabled && settings.flow.use_target)
             .then(|| SnapTarget::new(target, center, phi, settings.fit.radius_cells * c * phi));
-        let creases = (fit_target.is_some()
-            && settings.fit.crease_angle_deg > 0.0
-            && !target.triangles.is_empty())
-        .then(|| {
-            let pts: Vec<DVec3> = target.points.iter().map(|&p| phi * (p - center)).collect();
-            detect_creases(
-                &pts,
-                &target.triangles,
-                settings.fit.crease_angle_deg.to_radians(),
-            )
-        });
+        let creases = (fit_target.is_some() && settings.fit.crease_angle_deg > 0.0)
+            .then(|| {
+                let pts: Vec<DVec3> = target.points.iter().map(|&p| phi * (p - center)).collect();
+                let angle = settings.fit.crease_angle_deg.to_radians();
+                if target.triangles.is_empty() {
+                    // Seen at the scale of the fit's plane fits. A smooth cloud's fit stays
+                    // exactly as without crease detection.
+                    let c = detect_cloud_creases(&pts, settings.fit.radius_cells * c * phi, angle);
+                    (!c.is_empty()).then_some(c)
+                } else {
+                    Some(detect_creases(&pts, &target.triangles, angle))
+                }
+            })
+            .flatten();
         let d0 = settings.flow.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
         let empty_distance = phi * empty_distance(target, c, &settings);
         let mut ev = Evolver {

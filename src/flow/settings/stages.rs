@@ -191,10 +191,11 @@ pub struct FitSettings {
     /// points. Range ≥ 6; default 256 (on 1 M points sampled from spot, 64 left the target → mesh
     /// p95 at 0.93 % of the diagonal against 0.56 % with every point in the radius; 256: 0.56 %).
     pub max_points: usize,
-    /// Sharp creases of a mesh target: edges whose faces turn by more than this many degrees
+    /// Sharp creases of the target: edges whose faces turn by more than this many degrees
     /// are kept sharp — the fit puts wrap vertices on the target's corners and crease lines and
-    /// aligns wrap edges with them (see `flow::crease_fit`). 0 turns it off; clouds have none.
-    /// Range 0–180; default 40.
+    /// aligns wrap edges with them (see `flow::crease_fit`). A mesh's creases come from its
+    /// dihedral angles, a cloud's from plane fits around its points (lines at least 4 fit radii
+    /// long, `geometry::cloud_creases`). 0 turns it off. Range 0–180; default 40.
     pub crease_angle_deg: f64,
     /// Error-adaptive sizing of a mesh target's fit: where a target vertex still lies farther
     /// than this many cells from the wrap after a pass (a bridged eye socket, mouth or fin
