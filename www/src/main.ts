@@ -108,10 +108,12 @@ function onWorkerMessage(msg: FromWorker): void {
       return onReady(msg);
     case 'frame':
       return onFrame(msg);
+    // A wrap's phases (reading, field, certificate): a wrap that ends just as a lesson starts
+    // still reports its certificate, which must not cover the lesson's status.
     case 'loading':
-      return status.set('loading', msg.what);
+      return void (mode.current === 'wrap' && status.set('loading', msg.what));
     case 'progress':
-      return status.progress(msg.phase, msg.fraction);
+      return void (mode.current === 'wrap' && status.progress(msg.phase, msg.fraction));
     case 'mcf-advice':
       return lesson.advice(msg.advice);
     case 'target':
