@@ -45,15 +45,20 @@ const MIN_GROUP: usize = 6;
 
 /// The creases (turning by more than `min_turn` radians) and corners of the surface the cloud
 /// `points` samples, seen at the scale `radius` (a few point spacings or more: the plane fits
-/// use the points within it).
-pub fn detect_cloud_creases(points: &[DVec3], radius: f64, min_turn: f64) -> Creases {
+/// use the points within it). `grid` buckets `points` for queries of that radius (the final
+/// fit's own, [`crate::flow::snap::SnapTarget::Points`], so it is built once).
+pub fn detect_cloud_creases(
+    points: &[DVec3],
+    grid: &PointGrid,
+    radius: f64,
+    min_turn: f64,
+) -> Creases {
     if points.len() < 4 * NEIGHBOURS || !(radius > 0.0 && radius.is_finite()) {
         return Creases::new(vec![], vec![]);
     }
     let stride = points.len().div_ceil(MAX_TESTED);
     let tested: Vec<DVec3> = points.iter().step_by(stride).copied().collect();
     let centroid = points.iter().fold(DVec3::ZERO, |a, &p| a + p) / points.len() as f64;
-    let grid = PointGrid::new(points, radius);
     // 1. The normal (either sign) and surface variation of every tested point.
     let fits: Vec<Option<(DVec3, f64)>> = crate::parallel::map(tested.len(), |i| {
         let mut near = Vec::with_capacity(NEIGHBOURS);
@@ -393,7 +398,12 @@ mod tests {
     fn finds_the_edges_and_corners_of_a_cube_cloud() {
         let pts = cube_cloud(20_000);
         let radius = 0.05;
-        let c = detect_cloud_creases(&pts, radius, 40f64.to_radians());
+        let c = detect_cloud_creases(
+            &pts,
+            &PointGrid::new(&pts, radius),
+            radius,
+            40f64.to_radians(),
+        );
         assert!(c.edges.len() > 50, "{} crease pieces", c.edges.len());
         for e in &c.edges {
             for end in e.ends {
@@ -430,10 +440,21 @@ mod tests {
     #[test]
     fn smooth_clouds_have_none() {
         let sphere = crate::geometry::sphere::fibonacci_sphere(20_000);
-        assert!(detect_cloud_creases(&sphere, 0.05, 40f64.to_radians()).is_empty());
+        assert!(detect_cloud_creases(
+            &sphere,
+            &PointGrid::new(&sphere, 0.05),
+            0.05,
+            40f64.to_radians()
+        )
+        .is_empty());
         let (p, t) = generate("torus-g1").unwrap();
         let torus = sample_mesh(&p, &t, 20_000, 3).unwrap();
-        let c = detect_cloud_creases(&torus, 0.05, 40f64.to_radians());
+        let c = detect_cloud_creases(
+            &torus,
+            &PointGrid::new(&torus, 0.05),
+            0.05,
+            40f64.to_radians(),
+        );
         assert!(c.is_empty(), "{} crease pieces on a torus", c.edges.len());
     }
 }

@@ -18,6 +18,7 @@ use crate::mesh::HalfedgeMesh;
 use crate::metrics::intersections::{count_self_intersections, self_intersecting_pairs};
 use crate::remesh::adaptive::{remesh, remesh_capped, remesh_with_features, RemeshSettings};
 use crate::remesh::features::Features;
+use glam::DVec3;
 
 impl Evolver {
     /// The final fit when the evolution has just ended; vertices moved.
@@ -82,6 +83,11 @@ impl Evolver {
         };
         let mut creases_placed = false;
         let cloud = matches!(target, SnapTarget::Points(_));
+        // The moves onto the target (a cloud's near its crease lines onto their faces' planes).
+        let creases = self.creases.as_ref();
+        let snap = |mesh: &mut HalfedgeMesh, normals: &[DVec3], progress: &mut dyn FnMut(f64)| {
+            snap_to_target(mesh, normals, target, &params, creases, progress)
+        };
         let mut missed = true;
         for pass in 0..most {
             if pass >= passes && !missed {
@@ -92,15 +98,7 @@ impl Evolver {
             let clean = contact.then(|| self.mesh.clone());
             let start_of_pass = self.creases.is_some().then(|| self.mesh.clone());
             let normals = angle_weighted_normals(&self.mesh);
-            let creases = self.creases.as_ref();
-            moved = snap_to_target(
-                &mut self.mesh,
-                &normals,
-                target,
-                &params,
-                creases,
-                &mut |f| at(pass, 0.5 * f),
-            );
+            moved = snap(&mut self.mesh, &normals, &mut |f| at(pass, 0.5 * f));
             // Sharp creases: vertices onto them, edges along them, kept by the remesh. Their
             // snap is checked for intersections, so first undo the moves above that made any
             // (or every crease try would be blamed for them).
@@ -193,15 +191,7 @@ impl Evolver {
             let before = clean.positions().to_vec();
             self.mesh = clean;
             // (Silent: the pass's progress has already gone past the moves.)
-            let creases = self.creases.as_ref();
-            moved = snap_to_target(
-                &mut self.mesh,
-                &normals,
-                target,
-                &params,
-                creases,
-                &mut |_| {},
-            );
+            moved = snap(&mut self.mesh, &normals, &mut |_| {});
             resolve_contacts(&mut self.mesh, &before, &self.settings.guard);
             round_as_written(&mut self.mesh, self.phi, self.center);
             if remeshing {

@@ -284,13 +284,15 @@ impl Evolver {
             .then(|| {
                 let pts: Vec<DVec3> = target.points.iter().map(|&p| phi * (p - center)).collect();
                 let angle = settings.fit.crease_angle_deg.to_radians();
-                if target.triangles.is_empty() {
-                    // Seen at the scale of the fit's plane fits. A smooth cloud's fit stays
-                    // exactly as without crease detection.
-                    let c = detect_cloud_creases(&pts, settings.fit.radius_cells * c * phi, angle);
-                    (!c.is_empty()).then_some(c)
-                } else {
-                    Some(detect_creases(&pts, &target.triangles, angle))
+                match &fit_target {
+                    // Seen at the scale of the fit's plane fits, on the fit's own grid. A smooth
+                    // cloud's fit stays exactly as without crease detection.
+                    Some(SnapTarget::Points(grid)) => {
+                        let r = settings.fit.radius_cells * c * phi;
+                        let c = detect_cloud_creases(&pts, grid, r, angle);
+                        (!c.is_empty()).then_some(c)
+                    }
+                    _ => Some(detect_creases(&pts, &target.triangles, angle)),
                 }
             })
             .flatten();
