@@ -4,6 +4,39 @@
 import uPlot from 'uplot';
 import 'uplot/dist/uPlot.min.css';
 
+/** Redraws waiting for a frame, at most one per plot (the latest wins). One runs per animation
+ * frame, and DRAW_GAP_MS apart: several uPlot redraws and the page's layout in one frame made
+ * main-thread tasks of over 100 ms on a loaded 2-core machine; one redraw is a few milliseconds. */
+const pendingDraws = new Map<object, () => void>();
+const DRAW_GAP_MS = 60;
+let lastDrawAt = -Infinity;
+let scheduled = false;
+
+/** Queues `draw` under `key` (a plot for its data, its host element for its size). */
+function drawLater(key: object, draw: () => void): void {
+  pendingDraws.set(key, draw);
+  scheduleDraw();
+}
+
+function scheduleDraw(): void {
+  if (scheduled || pendingDraws.size === 0) return;
+  scheduled = true;
+  const wait = Math.max(0, lastDrawAt + DRAW_GAP_MS - performance.now());
+  setTimeout(() => requestAnimationFrame(drawOne), wait);
+}
+
+function drawOne(now: number): void {
+  scheduled = false;
+  lastDrawAt = now;
+  const next = pendingDraws.entries().next();
+  if (!next.done) {
+    const [key, draw] = next.value;
+    pendingDraws.delete(key);
+    draw();
+  }
+  scheduleDraw();
+}
+
 /** Keeps `plot` as wide as `el` (uPlot draws at a fixed pixel size). */
 function followWidth(el: HTMLElement, plot: uPlot, height: number): void {
   let last = 0;
@@ -11,7 +44,7 @@ function followWidth(el: HTMLElement, plot: uPlot, height: number): void {
     const w = Math.floor(el.clientWidth);
     if (w > 0 && w !== last) {
       last = w;
-      plot.setSize({ width: w, height });
+      drawLater(el, () => plot.setSize({ width: w, height }));
     }
   }).observe(el);
 }
@@ -44,7 +77,7 @@ export class RadiusPlot {
 
   clear(): void {
     this.t.length = this.mesh.length = this.exact.length = 0;
-    this.plot.setData([[], [], []]);
+    drawLater(this.plot, () => this.plot.setData([[], [], []]));
   }
 
   push(t: number, mesh: number, exact: number): void {
@@ -52,7 +85,7 @@ export class RadiusPlot {
     this.t.push(t);
     this.mesh.push(mesh);
     this.exact.push(exact);
-    this.plot.setData([this.t, this.mesh, this.exact]);
+    drawLater(this.plot, () => this.plot.setData([this.t, this.mesh, this.exact]));
   }
 
   /** The plotted series, for tests and export. */
@@ -67,7 +100,6 @@ const AXIS = { stroke: '#9aa3b2', grid: { stroke: '#2c303a' }, ticks: { stroke: 
 export class LinePlot {
   private readonly cols: number[][];
   private readonly plot: uPlot;
-  private pending = false;
 
   constructor(el: HTMLElement, title: string, labels: string[], colours: string[], opts: { log?: boolean; width?: number; height?: number; xLabel?: string } = {}) {
     this.cols = [[], ...labels.map(() => [])];
@@ -90,7 +122,7 @@ export class LinePlot {
 
   clear(): void {
     for (const c of this.cols) c.length = 0;
-    this.plot.setData(this.cols as uPlot.AlignedData);
+    this.redraw();
   }
 
   push(x: number, ...ys: number[]): void {
@@ -98,19 +130,17 @@ export class LinePlot {
     if (xs.length && x <= xs[xs.length - 1]) return;
     xs.push(x);
     ys.forEach((y, i) => this.cols[i + 1].push(y));
-    // Redraw at most once per animation frame.
-    if (this.pending) return;
-    this.pending = true;
-    requestAnimationFrame(() => {
-      this.pending = false;
-      this.plot.setData(this.cols as uPlot.AlignedData);
-    });
+    this.redraw();
+  }
+
+  private redraw(): void {
+    drawLater(this.plot, () => this.plot.setData(this.cols as uPlot.AlignedData));
   }
 
   /** Replaces all data (x plus one column per series). */
   set(cols: number[][]): void {
     cols.forEach((c, i) => (this.cols[i] = c.slice()));
-    this.plot.setData(this.cols as uPlot.AlignedData);
+    this.redraw();
   }
 
   series(): number[][] {
@@ -143,11 +173,16 @@ export class HistogramPlot {
   set(lo: number, hi: number, counts: number[]): void {
     const w = (hi - lo) / Math.max(1, counts.length);
     this.data = [counts.map((_, i) => lo + (i + 0.5) * w), counts.slice()];
-    this.plot.setData(this.data as uPlot.AlignedData);
+    this.redraw();
   }
 
   clear(): void {
     this.data = [[], []];
-    this.plot.setData(this.data as uPlot.AlignedData);
+    this.redraw();
+  }
+
+  private redraw(): void {
+    const data = this.data;
+    drawLater(this.plot, () => this.plot.setData(data as uPlot.AlignedData));
   }
 }

@@ -304,7 +304,15 @@ function finish(session: WrapSession): void {
   post({ type: 'stopped', reason: 'finished' });
 }
 
-/** Runs steps for about 30 ms, posts a frame, and yields so pause / cancel get through. */
+/** Shortest time between two frames of a running wrap. A frame costs the page a mesh upload, a
+ * software-rendered draw and plot redraws: at ~30 frames a second these took the cores that the
+ * wrap and the page's own tasks need (main-thread tasks of over 100 ms on a loaded 2-core
+ * machine); ~12 a second still reads as motion. */
+const FRAME_MS = 80;
+let lastFrameAt = -Infinity;
+
+/** Runs steps for about 30 ms, posts a frame when FRAME_MS have passed (and at the end), and
+ * yields so pause / cancel get through. */
 function wrapLoop(id: number): void {
   if (!playing || !wrap || mode !== 'wrap' || id !== runId) return;
   const session = wrap;
@@ -315,7 +323,10 @@ function wrapLoop(id: number): void {
       done = session.step(1);
       pendingReports.push(session.report() as StepReport);
     }
-    sendWrapFrame(session);
+    if (done || performance.now() - lastFrameAt >= FRAME_MS) {
+      lastFrameAt = performance.now();
+      sendWrapFrame(session);
+    }
     if (done) finish(session);
     else setTimeout(() => wrapLoop(id), 0);
   } catch (e) {
@@ -415,6 +426,8 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
       case 'pause':
         playing = false;
         clock.pause();
+        // The steps since the last frame (frames are paced) show before the pause is reported.
+        if (mode === 'wrap' && wrap && pendingReports.length > 0) sendWrapFrame(wrap);
         post({ type: 'stopped', reason: 'paused' });
         break;
       case 'cancel':
