@@ -79,8 +79,9 @@ fn without_the_crease_fit_the_cube_is_bevelled() {
 /// Clouds of the CAD shapes (20 000 points, no normals): the crease lines found by plane fits
 /// (`geometry::cloud_creases`) bring most edges within 10° of the target's dihedral angle and
 /// the wrap onto the faces beside them; without them the fit's plane fits straddle every
-/// crease and round it off (measured: cube 136 and 12 of 192 edges within 10°, cad-part 169 and
-/// 37 of 214).
+/// crease and round it off (measured: cube 173 and 17 of 192 edges within 10°, cad-part 176 and
+/// 50 of 214). Chord-midpoint splits (`remesh.curved_splits` off) shaved the cube's edges during
+/// the evolution: 136 of 192 with the crease fit.
 #[test]
 fn cad_clouds_keep_most_of_their_edges() {
     for (cloud, mesh) in [("cube-cloud", "cube"), ("cad-part-cloud", "cad-part")] {
@@ -106,7 +107,7 @@ fn cad_clouds_keep_most_of_their_edges() {
         let (with_mean, with) = run(WrapSettings::default().fit.crease_angle_deg);
         let (without_mean, without) = run(0.0);
         assert!(
-            5 * with.within_tolerance >= 3 * with.edges,
+            4 * with.within_tolerance >= 3 * with.edges,
             "{cloud}: {with:?}"
         );
         assert!(

@@ -4,7 +4,7 @@
 
 use lsw::geometry::icosphere::icosphere;
 use lsw::mesh::HalfedgeMesh;
-use lsw::remesh::{remesh, RemeshSettings};
+use lsw::remesh::{remesh, RemeshSettings, CURVED_SPLITS_LAYER};
 use lsw::DVec3;
 use wasm_bindgen_test::*;
 
@@ -271,4 +271,43 @@ fn open_surface_keeps_its_boundary() {
         assert!(rebuilt.face_normal_area(f).1 > 1e-8);
     }
     assert!(m.n_vertices() > 2 * before.len());
+}
+
+/// Mean |r − 1| over the vertices of a mesh around the unit sphere.
+fn mean_radial_error(m: &HalfedgeMesh) -> f64 {
+    m.positions()
+        .iter()
+        .map(|p| (p.length() - 1.0).abs())
+        .sum::<f64>()
+        / m.n_vertices() as f64
+}
+
+/// Refining a coarse icosahedron of the unit sphere: chord midpoints stay on its flat faces (the
+/// surface shrinks with every split), curved ones land near the sphere. With the layer at 0 the
+/// splits take the chord, as with the option off.
+#[wasm_bindgen_test(unsupported = test)]
+fn curved_splits_follow_the_surface_and_chords_cut_it() {
+    let refine = |curved: bool, layer: Option<f64>| {
+        let mut m = icosphere(1, 1.0, DVec3::ZERO).unwrap(); // edges ≈ 1.05
+        if let Some(v) = layer {
+            m.set_vertex_scalar_layer(CURVED_SPLITS_LAYER, v);
+        }
+        let s = RemeshSettings {
+            curved_splits: curved,
+            smoothing_iterations: 0,
+            ..uniform(0.15)
+        };
+        remesh_checked(&mut m, &s, 1, 0);
+        m
+    };
+    let (chord, curved) = (refine(false, None), refine(true, None));
+    let (e_chord, e_curved) = (mean_radial_error(&chord), mean_radial_error(&curved));
+    println!("mean |r − 1|: chord {e_chord:.4}, curved {e_curved:.4}");
+    assert!(e_chord > 0.02, "{e_chord}");
+    assert!(e_curved < 0.25 * e_chord, "{e_curved} against {e_chord}");
+    assert!(curved.signed_volume() > chord.signed_volume());
+    let off = refine(true, Some(0.0));
+    assert_eq!(off.positions(), chord.positions());
+    let on = refine(true, Some(1.0));
+    assert_eq!(on.positions(), curved.positions());
 }

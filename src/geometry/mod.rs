@@ -4,6 +4,7 @@ pub mod aabb;
 pub mod angle;
 pub mod cloud_creases;
 pub mod creases;
+pub mod curved_midpoint;
 pub mod eigen3;
 pub mod icosphere;
 pub mod marching_cubes;

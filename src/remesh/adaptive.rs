@@ -20,7 +20,9 @@
 use super::features::{detect_features, FeatureDetector, FeatureSettings, Features};
 use super::sizing::{curvature_sizing, EdgeSizes};
 use crate::clock::now_ms;
+use crate::geometry::curved_midpoint::curved_midpoint;
 use crate::geometry::operators::curvature::principal_curvatures;
+use crate::geometry::operators::normals::area_weighted_normal;
 use crate::geometry::spatial::bvh::TriangleBvh;
 use crate::mesh::{HalfedgeMesh, INVALID};
 use glam::{DMat3, DVec3};
@@ -62,12 +64,25 @@ pub struct RemeshSettings {
     pub cap_angle_deg: f64,
     /// Feature detection, redone on every call. Default: off.
     pub features: FeatureSettings,
+    /// Splits insert the midpoint of the curve through the edge's ends along their normals
+    /// ([`curved_midpoint`]) instead of the chord's (the reference's). Without projection the
+    /// chord midpoints of a convex rim lie inside the surface, where the flow's positive support
+    /// never pushes them back: a thin plate's corners and a cube cloud's edges were shaved a
+    /// little at every remesh. Ignored with `use_projection` (the projection places the vertex).
+    /// A mesh with the vertex layer [`CURVED_SPLITS_LAYER`] gets them only on edges whose ends
+    /// both have a value above ½ there. Default true.
+    pub curved_splits: bool,
     /// After a call that split or collapsed more than 5 % of the vertices, renumber the mesh in
     /// spatial order ([`HalfedgeMesh::reorder_spatially`]) so neighbours stay close in memory —
     /// splits append vertices, and after many remeshes neighbouring indices lie thousands apart.
     /// Default true.
     pub reorder: bool,
 }
+
+/// The vertex layer that limits [`RemeshSettings::curved_splits`] to part of a mesh (1 = curved,
+/// 0 = chord). The flow keeps chord midpoints away from the target: there the surface is still
+/// shrinking, and curved ones held membranes over a torus's holes apart (no surgery, genus lost).
+pub const CURVED_SPLITS_LAYER: &str = "curved_splits";
 
 impl Default for RemeshSettings {
     fn default() -> Self {
@@ -81,6 +96,7 @@ impl Default for RemeshSettings {
             use_projection: false,
             cap_angle_deg: 170.0,
             features: FeatureSettings::default(),
+            curved_splits: true,
             reorder: true,
         }
     }
@@ -376,7 +392,16 @@ fn split_long_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
                 continue;
             }
             let feature = w.efeat[e as usize];
-            let mut p = 0.5 * (pa + pb);
+            let curved = w.s.curved_splits && !feature && w.reference.is_none() && {
+                let layer = mesh.vertex_scalars(CURVED_SPLITS_LAYER);
+                layer.is_none_or(|l| l[a as usize] > 0.5 && l[b as usize] > 0.5)
+            };
+            let mut p = if curved {
+                let (na, nb) = (area_weighted_normal(mesh, a), area_weighted_normal(mesh, b));
+                curved_midpoint(pa, na, pb, nb)
+            } else {
+                0.5 * (pa + pb)
+            };
             let mut hm = 0.5 * (w.h[a as usize] + w.h[b as usize]);
             if !feature {
                 if let Some(r) = &w.reference {

@@ -5,7 +5,11 @@ use super::{EvolveError, Evolver, PhaseTimes};
 use crate::clock::now_ms;
 use crate::flow::guard::check_divergence;
 use crate::flow::settings::RemeshTrigger;
-use crate::remesh::adaptive::{remesh, RemeshReport, RemeshSettings};
+use crate::remesh::adaptive::{remesh, RemeshReport, RemeshSettings, CURVED_SPLITS_LAYER};
+
+/// Distance beyond the offset level d₀, in grid cells, up to which remesh splits follow the
+/// surface's curvature (see [`RemeshSettings::curved_splits`]).
+const CURVED_CELLS: f64 = 2.0;
 
 impl Evolver {
     /// Remeshes if due; `None` when it was not.
@@ -36,10 +40,25 @@ impl Evolver {
             iterations: s.remesh.iterations,
             smoothing_iterations: s.remesh.smoothing_iterations,
             features: s.remesh.features.clone(),
+            curved_splits: s.remesh.curved_splits,
             ..RemeshSettings::with_sizes(self.sizes)
         };
         self.sizes_changed = false;
-        let report = remesh(&mut self.mesh, &rs)?;
+        // Curved splits only near the target (within CURVED_CELLS of the offset level).
+        let near = self.d0 + CURVED_CELLS * self.field.cell_size() * self.phi;
+        let layer: Vec<f64> = (0..self.mesh.n_vertices())
+            .map(|v| match self.distances.get(v) {
+                Some(&d) if self.distances.len() == self.mesh.n_vertices() && d <= near => 1.0,
+                _ => 0.0,
+            })
+            .collect();
+        self.mesh.set_vertex_scalar_layer(CURVED_SPLITS_LAYER, 0.0);
+        if let Some(l) = self.mesh.vertex_scalars_mut(CURVED_SPLITS_LAYER) {
+            l.copy_from_slice(&layer);
+        }
+        let report = remesh(&mut self.mesh, &rs);
+        self.mesh.remove_vertex_scalar_layer(CURVED_SPLITS_LAYER);
+        let report = report?;
         times.remesh += now_ms() - t0;
         Ok(report)
     }

@@ -450,6 +450,7 @@ mod tests {
                     detector: crate::remesh::FeatureDetector::Both,
                     ..Default::default()
                 },
+                curved_splits: true,
             },
             fit: FitSettings {
                 enabled: false,

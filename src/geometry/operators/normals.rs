@@ -34,10 +34,36 @@ pub fn angle_weighted_normals(mesh: &HalfedgeMesh) -> Vec<DVec3> {
     normals
 }
 
+/// Unit area-weighted normal of vertex `v` alone (the sum of its faces' cross products; boundary
+/// sides skipped), for edits that need one vertex's normal while the mesh changes under them.
+pub fn area_weighted_normal(mesh: &HalfedgeMesh, v: u32) -> DVec3 {
+    let x = mesh.position(v);
+    let mut n = DVec3::ZERO;
+    for h in mesh.outgoing(v) {
+        if !mesh.is_boundary_halfedge(h) {
+            let (a, b) = (
+                mesh.position(mesh.to(h)),
+                mesh.position(mesh.to(mesh.next(h))),
+            );
+            n += (a - x).cross(b - x);
+        }
+    }
+    n.normalize_or_zero()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::geometry::icosphere::icosphere;
+
+    #[test]
+    fn one_vertex_area_normal_is_radial_on_a_sphere() {
+        let m = icosphere(2, 1.0, DVec3::ZERO).unwrap();
+        for v in 0..m.n_vertices() as u32 {
+            let n = area_weighted_normal(&m, v);
+            assert!(n.dot(m.position(v).normalize()) > 0.999, "{v}: {n:?}");
+        }
+    }
 
     #[test]
     fn sphere_normals_are_radial() {
