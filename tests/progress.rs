@@ -1,6 +1,6 @@
-//! Progress of the long phases (issue 16, item 6): the field build, the start surface and the
-//! final fit report a phase name and a fraction, in order, each phase reaching 100 %. Natively
-//! and in headless Chromium.
+//! Progress of the long phases (issue 16, item 6): the field build, the start surface, a cloud's
+//! crease detection and the final fit report a phase name and a fraction, in order, each phase
+//! reaching 100 %. Natively and in headless Chromium.
 
 use lsw::demo::shapes::generate;
 use lsw::flow::{Evolver, WrapSettings};
@@ -39,6 +39,7 @@ fn phases_report_in_order_and_each_reaches_the_end() {
             "distance field: near band",
             "distance field: sweeps",
             "start surface",
+            "sharp creases",
             "final fit"
         ],
         "{seen:?}"

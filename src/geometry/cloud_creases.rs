@@ -52,38 +52,56 @@ pub fn detect_cloud_creases(
     grid: &PointGrid,
     radius: f64,
     min_turn: f64,
+    done: &mut dyn FnMut(f64),
 ) -> Creases {
     if points.len() < 4 * NEIGHBOURS || !(radius > 0.0 && radius.is_finite()) {
+        done(1.0);
         return Creases::new(vec![], vec![]);
     }
     let stride = points.len().div_ceil(MAX_TESTED);
     let tested: Vec<DVec3> = points.iter().step_by(stride).copied().collect();
     let centroid = points.iter().fold(DVec3::ZERO, |a, &p| a + p) / points.len() as f64;
     // 1. The normal (either sign) and surface variation of every tested point.
-    let fits: Vec<Option<(DVec3, f64)>> = crate::parallel::map(tested.len(), |i| {
-        let mut near = Vec::with_capacity(NEIGHBOURS);
-        grid.nearest_within_unordered(tested[i], radius, NEIGHBOURS, &mut near);
-        plane_fit(near.iter().map(|q| q.point))
-    });
+    let n = tested.len();
+    let fits: Vec<Option<(DVec3, f64)>> = crate::parallel::map_chunked(
+        n,
+        PROGRESS_CHUNK,
+        |i| {
+            let mut near = Vec::with_capacity(NEIGHBOURS);
+            grid.nearest_within_unordered(tested[i], radius, NEIGHBOURS, &mut near);
+            plane_fit(near.iter().map(|q| q.point))
+        },
+        &mut |k| done(0.5 * k as f64 / n as f64),
+    );
     // 2. Near-crease points: groups of their flat neighbours' normals.
     let flat_grid = PointGrid::new(&tested, GATHER * radius);
-    let found: Vec<Option<Feature>> = crate::parallel::map(tested.len(), |i| {
-        let (_, variation) = fits[i]?;
-        if variation <= CANDIDATE_VARIATION {
-            return None;
-        }
-        let mut near = Vec::with_capacity(8 * NEIGHBOURS);
-        flat_grid.nearest_within_unordered(tested[i], GATHER * radius, 8 * NEIGHBOURS, &mut near);
-        let flat: Vec<(DVec3, DVec3)> = near
-            .iter()
-            .filter_map(|&Near { index, point, .. }| {
-                let (m, v) = fits[index as usize]?;
-                (v < FLAT_VARIATION).then_some((point, m))
-            })
-            .collect();
-        let groups = group_normals(&flat, min_turn, radius)?;
-        feature_of(tested[i], &groups, radius, centroid)
-    });
+    let found: Vec<Option<Feature>> = crate::parallel::map_chunked(
+        n,
+        PROGRESS_CHUNK,
+        |i| {
+            let (_, variation) = fits[i]?;
+            if variation <= CANDIDATE_VARIATION {
+                return None;
+            }
+            let mut near = Vec::with_capacity(8 * NEIGHBOURS);
+            flat_grid.nearest_within_unordered(
+                tested[i],
+                GATHER * radius,
+                8 * NEIGHBOURS,
+                &mut near,
+            );
+            let flat: Vec<(DVec3, DVec3)> = near
+                .iter()
+                .filter_map(|&Near { index, point, .. }| {
+                    let (m, v) = fits[index as usize]?;
+                    (v < FLAT_VARIATION).then_some((point, m))
+                })
+                .collect();
+            let groups = group_normals(&flat, min_turn, radius)?;
+            feature_of(tested[i], &groups, radius, centroid)
+        },
+        &mut |k| done(0.5 + 0.5 * k as f64 / n as f64),
+    );
     // 3. Crease pieces on lines long enough; corners merged (every point near one finds it).
     let mut pieces = Vec::new();
     let mut edges = Vec::new();
@@ -110,8 +128,12 @@ pub fn detect_cloud_creases(
     }
     let corners: Vec<DVec3> = corners.iter().map(|&(sum, k)| sum / k as f64).collect();
     edges.extend(long_lines(pieces, radius, min_turn));
+    done(1.0);
     Creases::new(edges, corners)
 }
+
+/// Tested points per progress report (each chunk is spread over the threads).
+const PROGRESS_CHUNK: usize = 8192;
 
 /// The crease pieces that belong to lines at least [`MIN_LINE`] radii long: a piece joins the
 /// pieces within a radius that run along its line. A scan's noise or a small sharp bump gives a
@@ -398,11 +420,20 @@ mod tests {
     fn finds_the_edges_and_corners_of_a_cube_cloud() {
         let pts = cube_cloud(20_000);
         let radius = 0.05;
+        let mut fractions = Vec::new();
         let c = detect_cloud_creases(
             &pts,
             &PointGrid::new(&pts, radius),
             radius,
             40f64.to_radians(),
+            &mut |f| fractions.push(f),
+        );
+        // Progress: rising, in (0, 1], ending at 1, more than once.
+        assert!(fractions.len() > 2, "{fractions:?}");
+        assert!(fractions.windows(2).all(|w| w[0] <= w[1]), "{fractions:?}");
+        assert!(
+            fractions[0] > 0.0 && fractions.last() == Some(&1.0),
+            "{fractions:?}"
         );
         assert!(c.edges.len() > 50, "{} crease pieces", c.edges.len());
         for e in &c.edges {
@@ -444,7 +475,8 @@ mod tests {
             &sphere,
             &PointGrid::new(&sphere, 0.05),
             0.05,
-            40f64.to_radians()
+            40f64.to_radians(),
+            &mut |_| {}
         )
         .is_empty());
         let (p, t) = generate("torus-g1").unwrap();
@@ -454,6 +486,7 @@ mod tests {
             &PointGrid::new(&torus, 0.05),
             0.05,
             40f64.to_radians(),
+            &mut |_| {},
         );
         assert!(c.is_empty(), "{} crease pieces on a torus", c.edges.len());
     }
