@@ -45,16 +45,14 @@ impl Evolver {
         };
         self.sizes_changed = false;
         // Curved splits only near the target (within CURVED_CELLS of the offset level).
+        // (The distances are this step's, sampled before the move; none if the count changed.)
         let near = self.d0 + CURVED_CELLS * self.field.cell_size() * self.phi;
-        let layer: Vec<f64> = (0..self.mesh.n_vertices())
-            .map(|v| match self.distances.get(v) {
-                Some(&d) if self.distances.len() == self.mesh.n_vertices() && d <= near => 1.0,
-                _ => 0.0,
-            })
-            .collect();
+        let fresh = self.distances.len() == self.mesh.n_vertices();
         self.mesh.set_vertex_scalar_layer(CURVED_SPLITS_LAYER, 0.0);
-        if let Some(l) = self.mesh.vertex_scalars_mut(CURVED_SPLITS_LAYER) {
-            l.copy_from_slice(&layer);
+        if let (true, Some(layer)) = (fresh, self.mesh.vertex_scalars_mut(CURVED_SPLITS_LAYER)) {
+            for (l, &d) in layer.iter_mut().zip(&self.distances) {
+                *l = if d <= near { 1.0 } else { 0.0 };
+            }
         }
         let report = remesh(&mut self.mesh, &rs);
         self.mesh.remove_vertex_scalar_layer(CURVED_SPLITS_LAYER);
