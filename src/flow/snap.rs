@@ -7,7 +7,8 @@
 //! for a mesh, by the component along the normal of the way to the closest point of the
 //! triangles (exactly onto it where it lies along the normal). Vertices without a clear local
 //! surface (too few points, plane nearly parallel to the normal, a move longer than the limit —
-//! e.g. where the surface bridges a hole in a scan) stay where they are.
+//! e.g. where the surface bridges a hole in a scan) take their neighbours' mean move when most
+//! of those have one, and otherwise stay where they are.
 
 use crate::geometry::creases::Creases;
 use crate::geometry::eigen3::smallest_eigenvector;
@@ -95,6 +96,16 @@ pub fn snap_to_target(
         },
         &mut |done| progress(done as f64 / n_vertices as f64),
     );
+    // (A cloud's vertices with points around them only: one bridging a hole in the scan has
+    // none and stays where the evolution left it.)
+    let moves = match target {
+        SnapTarget::Points(grid) => fill_from_neighbours(mesh, positions, moves, |p| {
+            let mut near = Vec::with_capacity(params.min_points);
+            grid.nearest_within_unordered(p, params.radius, params.min_points, &mut near);
+            near.len() >= params.min_points
+        }),
+        SnapTarget::Triangles(_) => moves,
+    };
     let old = mesh.positions().to_vec();
     let mut accept: Vec<bool> = moves.iter().map(|m| m.is_some()).collect();
     // Undo moves that would fold a face (turn its normal by more than 60°): the fit must not
@@ -139,6 +150,38 @@ pub fn snap_to_target(
         }
     }
     moved
+}
+
+/// A vertex without a move of its own but with target points around it (`has_points`: a plane
+/// nearly along its normal, a move too long) takes the mean move of its neighbours when at
+/// least two thirds of them have one.
+/// Left where it was, it stood a fit distance off the surface among moved neighbours, their
+/// faces folded, and the fold check then undid the moves of a whole patch around it (on the
+/// bunny cloud the means fell from 0.131/0.098 to 0.111/0.077 % with the fill). One pass, from
+/// the computed moves only, so the result does not depend on the vertex order.
+fn fill_from_neighbours(
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    moves: Vec<Option<DVec3>>,
+    has_points: impl Fn(DVec3) -> bool,
+) -> Vec<Option<DVec3>> {
+    let filled: Vec<Option<DVec3>> = (0..moves.len())
+        .map(|i| {
+            if moves[i].is_some() || !has_points(positions[i]) {
+                return moves[i];
+            }
+            let (mut sum, mut with, mut all) = (DVec3::ZERO, 0usize, 0usize);
+            for u in mesh.neighbors(i as u32) {
+                all += 1;
+                if let Some(q) = moves[u as usize] {
+                    sum += q - positions[u as usize];
+                    with += 1;
+                }
+            }
+            (all > 0 && 3 * with >= 2 * all).then(|| positions[i] + sum / with as f64)
+        })
+        .collect();
+    filled
 }
 
 /// Where `p` lies within `radius` of a crease line: the signed distance along `n` to the plane of
@@ -389,7 +432,28 @@ mod tests {
             .map(|p| (p.length() - 1.0).abs())
             .fold(0.0, f64::max);
         assert!(worst < 2e-3, "worst radial error {worst}");
-        // A move longer than the limit is refused.
+        // Vertices whose own normal is useless (tangent: the plane runs along it) take their
+        // neighbours' move and land on the sphere too; the fold check keeps them.
+        let mut mesh = icosphere(4, 1.05, DVec3::ZERO).unwrap();
+        let mut normals: Vec<DVec3> = mesh.positions().iter().map(|p| p.normalize()).collect();
+        let spoiled: Vec<usize> = (0..normals.len()).step_by(37).collect();
+        for &v in &spoiled {
+            normals[v] = normals[v].any_orthonormal_vector();
+        }
+        let moved = snap_to_target(
+            &mut mesh,
+            &normals,
+            &SnapTarget::Points(PointGrid::new(&pts, 0.1)),
+            &params,
+            None,
+            &mut |_| {},
+        );
+        assert_eq!(moved, mesh.n_vertices());
+        for &v in &spoiled {
+            let r = mesh.position(v as u32).length();
+            assert!((r - 1.0).abs() < 2e-3, "vertex {v} at radius {r}");
+        }
+        // A move longer than the limit is refused (and there are no points to fill from).
         let mut far = icosphere(2, 1.5, DVec3::ZERO).unwrap();
         let normals: Vec<DVec3> = far.positions().iter().map(|p| p.normalize()).collect();
         let params = SnapParams {
