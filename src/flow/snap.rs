@@ -165,7 +165,7 @@ fn fill_from_neighbours(
     moves: Vec<Option<DVec3>>,
     has_points: impl Fn(DVec3) -> bool,
 ) -> Vec<Option<DVec3>> {
-    let filled: Vec<Option<DVec3>> = (0..moves.len())
+    (0..moves.len())
         .map(|i| {
             if moves[i].is_some() || !has_points(positions[i]) {
                 return moves[i];
@@ -180,8 +180,7 @@ fn fill_from_neighbours(
             }
             (all > 0 && 3 * with >= 2 * all).then(|| positions[i] + sum / with as f64)
         })
-        .collect();
-    filled
+        .collect()
 }
 
 /// Where `p` lies within `radius` of a crease line: the signed distance along `n` to the plane of
