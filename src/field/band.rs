@@ -74,25 +74,8 @@ pub fn points_band(
             Some([x.0, x.1, y.0, y.1, z.0, z.1])
         })
         .collect();
-    let slabs = nz.div_ceil(SLAB_PLANES);
-    let mut start = vec![0u32; slabs + 1];
-    for b in reach.iter().flatten() {
-        for s in b[4] / SLAB_PLANES..=b[5] / SLAB_PLANES {
-            start[s + 1] += 1;
-        }
-    }
-    for s in 0..slabs {
-        start[s + 1] += start[s];
-    }
-    let mut fill = start.clone();
-    let mut members = vec![0u32; start[slabs] as usize];
-    for (i, b) in reach.iter().enumerate() {
-        let Some(b) = b else { continue };
-        for s in b[4] / SLAB_PLANES..=b[5] / SLAB_PLANES {
-            members[fill[s] as usize] = i as u32;
-            fill[s] += 1;
-        }
-    }
+    let (start, members) = bucket_by_slab(&reach, nz);
+    let slabs = start.len() - 1;
     let mut d2 = vec![init * init; plane * nz];
     let total = slabs.max(1);
     crate::parallel::for_each_chunk_mut(
@@ -175,85 +158,173 @@ pub fn triangles_band(
 ) -> Band {
     let r = width_cells * grid.cell;
     let r2 = r * r;
-    let n = grid.node_count();
-    let [nx, ny, _] = grid.dims;
-    let mut d2 = vec![init * init; n];
-    // √d2, kept so the bounding-sphere rejection below needs no square root per node visit
-    // (with many triangles much smaller than a cell almost every visit is rejected).
-    let mut d1 = vec![init; n];
-    let mut nearest = vec![u32::MAX; n];
-    for (t, tri) in triangles.iter().enumerate() {
-        progress.items(PHASE, t, triangles.len());
-        let [a, b, c] = tri.map(|v| points[v as usize]);
-        let lo = a.min(b).min(c) - DVec3::splat(r);
-        let hi = a.max(b).max(c) + DVec3::splat(r);
-        let (Some((x0, x1)), Some((y0, y1)), Some((z0, z1))) = (
-            node_range(grid, 0, lo.x, hi.x),
-            node_range(grid, 1, lo.y, hi.y),
-            node_range(grid, 2, lo.z, hi.z),
-        ) else {
-            continue;
+    let [nx, ny, nz] = grid.dims;
+    let plane = nx * ny;
+    // As in `points_band`: the grid is cut into slabs of z-planes, each filled by the triangles
+    // that reach it, in triangle order; a node sees the same sequence of updates as in one pass
+    // over all triangles, so the slabs are independent and the result does not depend on the
+    // thread count (the first triangle in order wins a tie, as before).
+    let reach: Vec<Option<[usize; 6]>> = triangles
+        .iter()
+        .map(|tri| {
+            let [a, b, c] = tri.map(|v| points[v as usize]);
+            let lo = a.min(b).min(c) - DVec3::splat(r);
+            let hi = a.max(b).max(c) + DVec3::splat(r);
+            let (x, y, z) = (
+                node_range(grid, 0, lo.x, hi.x)?,
+                node_range(grid, 1, lo.y, hi.y)?,
+                node_range(grid, 2, lo.z, hi.z)?,
+            );
+            Some([x.0, x.1, y.0, y.1, z.0, z.1])
+        })
+        .collect();
+    let (start, members) = bucket_by_slab(&reach, nz);
+    let slabs = start.len() - 1;
+    let mut best = vec![
+        Nearest {
+            d2: init * init,
+            d1: init,
+            triangle: u32::MAX,
         };
-        let nrm = (b - a).cross(c - a).normalize_or_zero();
-        let centre = (a + b + c) / 3.0;
-        // Slightly enlarged so that rounding never makes the bound exceed the true distance.
-        let radius = (a - centre)
-            .length()
-            .max((b - centre).length())
-            .max((c - centre).length())
-            * (1.0 + 1e-12);
-        // Slab |n·(x − a)| ≤ r cut along x when the plane is not parallel to the x axis.
-        let slab_x = nrm.x.abs() > 1e-3;
-        for iz in z0..=z1 {
-            let z = grid.origin.z + grid.cell * iz as f64;
-            for iy in y0..=y1 {
-                let y = grid.origin.y + grid.cell * iy as f64;
-                let (mut xa, mut xb) = (x0, x1);
-                if slab_x {
-                    // n·(x − a) = nrm.x·(x − a.x) + rest, |…| ≤ r  ⇒ x in an interval.
-                    let rest = nrm.y * (y - a.y) + nrm.z * (z - a.z);
-                    let u = a.x + (-r - rest) / nrm.x;
-                    let v = a.x + (r - rest) / nrm.x;
-                    let (u, v) = (u.min(v), u.max(v));
-                    match node_range(grid, 0, u, v) {
-                        Some((p, q)) => {
-                            xa = xa.max(p);
-                            xb = xb.min(q);
-                            if xa > xb {
-                                continue;
-                            }
+        plane * nz
+    ];
+    crate::parallel::for_each_chunk_mut(
+        &mut best,
+        plane * SLAB_PLANES,
+        SLABS_PER_REPORT,
+        |s, slab| {
+            let z_first = s * SLAB_PLANES;
+            let z_last = z_first + slab.len() / plane - 1;
+            for &t in &members[start[s] as usize..start[s + 1] as usize] {
+                let b = reach[t as usize].expect("bucketed");
+                let [a, bb, c] = triangles[t as usize].map(|v| points[v as usize]);
+                splat_triangle(
+                    grid,
+                    [a, bb, c],
+                    t,
+                    r,
+                    [b[0], b[1], b[2], b[3]],
+                    (b[4].max(z_first), b[5].min(z_last)),
+                    z_first,
+                    slab,
+                );
+            }
+        },
+        &mut |done| progress.report(PHASE, done as f64 / slabs.max(1) as f64),
+    );
+    let nearest = best.iter().map(|b| b.triangle).collect();
+    let mut band = finish(best.into_iter().map(|b| b.d2).collect(), r2, init);
+    band.nearest_triangle = Some(nearest);
+    band
+}
+
+/// A node's nearest triangle so far in [`triangles_band`]: its squared distance, the distance
+/// (kept so that the bounding-sphere rejection needs no square root per visit) and its index.
+#[derive(Clone, Copy)]
+struct Nearest {
+    d2: f64,
+    d1: f64,
+    triangle: u32,
+}
+
+/// Counting sort of primitives into the z-slabs their node ranges reach: `members[start[s]..
+/// start[s + 1]]` are the primitives (in index order) reaching slab `s`.
+fn bucket_by_slab(reach: &[Option<[usize; 6]>], nz: usize) -> (Vec<u32>, Vec<u32>) {
+    let slabs = nz.div_ceil(SLAB_PLANES);
+    let mut start = vec![0u32; slabs + 1];
+    for b in reach.iter().flatten() {
+        for s in b[4] / SLAB_PLANES..=b[5] / SLAB_PLANES {
+            start[s + 1] += 1;
+        }
+    }
+    for s in 0..slabs {
+        start[s + 1] += start[s];
+    }
+    let mut fill = start.clone();
+    let mut members = vec![0u32; start[slabs] as usize];
+    for (i, b) in reach.iter().enumerate() {
+        let Some(b) = b else { continue };
+        for s in b[4] / SLAB_PLANES..=b[5] / SLAB_PLANES {
+            members[fill[s] as usize] = i as u32;
+            fill[s] += 1;
+        }
+    }
+    (start, members)
+}
+
+/// Triangle `t` = `[a, b, c]` offers its exact distance to the nodes of `slab` (whose first
+/// z-plane is `z_first`) within `r` of its plane and its grown box (`xy` node ranges, `z`
+/// planes); each keeps the nearer.
+#[allow(clippy::too_many_arguments)]
+fn splat_triangle(
+    grid: &Grid,
+    [a, b, c]: [DVec3; 3],
+    t: u32,
+    r: f64,
+    [x0, x1, y0, y1]: [usize; 4],
+    (z0, z1): (usize, usize),
+    z_first: usize,
+    slab: &mut [Nearest],
+) {
+    let [nx, ny, _] = grid.dims;
+    let nrm = (b - a).cross(c - a).normalize_or_zero();
+    let centre = (a + b + c) / 3.0;
+    // Slightly enlarged so that rounding never makes the bound exceed the true distance.
+    let radius = (a - centre)
+        .length()
+        .max((b - centre).length())
+        .max((c - centre).length())
+        * (1.0 + 1e-12);
+    // Slab |n·(x − a)| ≤ r cut along x when the plane is not parallel to the x axis.
+    let slab_x = nrm.x.abs() > 1e-3;
+    for iz in z0..=z1 {
+        let z = grid.origin.z + grid.cell * iz as f64;
+        for iy in y0..=y1 {
+            let y = grid.origin.y + grid.cell * iy as f64;
+            let (mut xa, mut xb) = (x0, x1);
+            if slab_x {
+                // n·(x − a) = nrm.x·(x − a.x) + rest, |…| ≤ r  ⇒ x in an interval.
+                let rest = nrm.y * (y - a.y) + nrm.z * (z - a.z);
+                let u = a.x + (-r - rest) / nrm.x;
+                let v = a.x + (r - rest) / nrm.x;
+                let (u, v) = (u.min(v), u.max(v));
+                match node_range(grid, 0, u, v) {
+                    Some((p, q)) => {
+                        xa = xa.max(p);
+                        xb = xb.min(q);
+                        if xa > xb {
+                            continue;
                         }
-                        None => continue,
                     }
-                } else if nrm != DVec3::ZERO && (nrm.y * (y - a.y) + nrm.z * (z - a.z)).abs() > r {
+                    None => continue,
+                }
+            } else if nrm != DVec3::ZERO && (nrm.y * (y - a.y) + nrm.z * (z - a.z)).abs() > r {
+                continue;
+            }
+            let row = nx * (iy + ny * (iz - z_first));
+            for ix in xa..=xb {
+                let p = DVec3::new(grid.origin.x + grid.cell * ix as f64, y, z);
+                let node = &mut slab[row + ix];
+                // Cheap lower bound from the bounding sphere: skip nodes that already hold
+                // a value no farther than the sphere (most nodes, where neighbouring
+                // triangles' regions overlap).
+                // (|p − centre| − radius ≥ d ⇔ |p − centre|² ≥ (radius + d)².)
+                let reach = radius + node.d1;
+                if (p - centre).length_squared() >= reach * reach {
                     continue;
                 }
-                let row = nx * (iy + ny * iz);
-                for ix in xa..=xb {
-                    let p = DVec3::new(grid.origin.x + grid.cell * ix as f64, y, z);
-                    // Cheap lower bound from the bounding sphere: skip nodes that already hold
-                    // a value no farther than the sphere (most nodes, where neighbouring
-                    // triangles' regions overlap).
-                    // (|p − centre| − radius ≥ d ⇔ |p − centre|² ≥ (radius + d)².)
-                    let reach = radius + d1[row + ix];
-                    if (p - centre).length_squared() >= reach * reach {
-                        continue;
-                    }
-                    let q = closest_point_on_triangle(p, a, b, c).0;
-                    let s = (p - q).length_squared();
-                    let i = row + ix;
-                    if s < d2[i] {
-                        d2[i] = s;
-                        d1[i] = s.sqrt();
-                        nearest[i] = t as u32;
-                    }
+                let q = closest_point_on_triangle(p, a, b, c).0;
+                let s = (p - q).length_squared();
+                if s < node.d2 {
+                    *node = Nearest {
+                        d2: s,
+                        d1: s.sqrt(),
+                        triangle: t,
+                    };
                 }
             }
         }
     }
-    let mut band = finish(d2, r2, init);
-    band.nearest_triangle = Some(nearest);
-    band
 }
 
 /// [`triangles_band`] computed per node: a BVH query for the nearest triangle at every node that
@@ -304,19 +375,28 @@ pub fn triangles_band_by_nodes(
     let m = ((r + reach) / grid.cell).ceil() as usize + 1;
     dilate(&mut marked, grid.dims, m);
     let bvh = Bvh::new_morton(&mins, &maxs, 4);
+    let nodes: Vec<u32> = (0..n as u32).filter(|&i| marked[i as usize]).collect();
+    drop(marked);
+    // Independent queries: in parallel natively, collected in node order.
+    let hits = crate::parallel::map_chunked(
+        nodes.len(),
+        NODES_PER_REPORT,
+        |k| {
+            let p = grid.position_of(nodes[k] as usize);
+            bvh.nearest_within(p, r2, |t| {
+                let [a, b, c] = triangles[t as usize].map(|v| points[v as usize]);
+                (p - closest_point_on_triangle(p, a, b, c).0).length_squared()
+            })
+        },
+        &mut |done| progress.report(PHASE, done as f64 / nodes.len().max(1) as f64),
+    );
     let mut d2 = vec![init * init; n];
     let mut nearest = vec![u32::MAX; n];
-    for (i, _) in marked.iter().enumerate().filter(|(_, &c)| c) {
-        progress.items(PHASE, i, n);
-        let p = grid.position_of(i);
-        let hit = bvh.nearest_within(p, r2, |t| {
-            let [a, b, c] = triangles[t as usize].map(|v| points[v as usize]);
-            (p - closest_point_on_triangle(p, a, b, c).0).length_squared()
-        });
+    for (&i, hit) in nodes.iter().zip(hits) {
         if let Some((t, s)) = hit {
-            if s < d2[i] {
-                d2[i] = s;
-                nearest[i] = t;
+            if s < d2[i as usize] {
+                d2[i as usize] = s;
+                nearest[i as usize] = t;
             }
         }
     }
@@ -324,6 +404,9 @@ pub fn triangles_band_by_nodes(
     band.nearest_triangle = Some(nearest);
     band
 }
+
+/// Nodes between two progress reports (and per parallel batch) of [`triangles_band_by_nodes`].
+const NODES_PER_REPORT: usize = 16384;
 
 /// Grows the `true` set of a node mask by `m` nodes along each axis (a box dilation, separable).
 fn dilate(mask: &mut [bool], dims: [usize; 3], m: usize) {
