@@ -63,7 +63,7 @@ pub fn points_band(
     // depend on the order. The grid is cut into slabs of z-planes, each slab filled from the
     // points that reach it (bucketed by a counting sort), so that the slabs are independent:
     // in parallel natively, and progress is reported between groups of slabs.
-    let reach: Vec<Option<[usize; 6]>> = points
+    let reach: Vec<Option<NodeBox>> = points
         .iter()
         .map(|p| {
             let (x, y, z) = (
@@ -71,7 +71,7 @@ pub fn points_band(
                 node_range(grid, 1, p.y - r, p.y + r)?,
                 node_range(grid, 2, p.z - r, p.z + r)?,
             );
-            Some([x.0, x.1, y.0, y.1, z.0, z.1])
+            Some([x.0, x.1, y.0, y.1, z.0, z.1].map(|k| k as u32))
         })
         .collect();
     let (start, members) = bucket_by_slab(&reach, nz);
@@ -86,7 +86,7 @@ pub fn points_band(
             let z_first = s * SLAB_PLANES;
             let mut dx2: Vec<f64> = Vec::new();
             for &i in &members[start[s] as usize..start[s + 1] as usize] {
-                let (p, b) = (points[i as usize], reach[i as usize].expect("bucketed"));
+                let (p, b) = (points[i as usize], unbox(reach[i as usize]));
                 let (x0, x1) = (b[0], b[1]);
                 dx2.clear();
                 dx2.extend((x0..=x1).map(|ix| {
@@ -164,7 +164,7 @@ pub fn triangles_band(
     // that reach it, in triangle order; a node sees the same sequence of updates as in one pass
     // over all triangles, so the slabs are independent and the result does not depend on the
     // thread count (the first triangle in order wins a tie, as before).
-    let reach: Vec<Option<[usize; 6]>> = triangles
+    let reach: Vec<Option<NodeBox>> = triangles
         .iter()
         .map(|tri| {
             let [a, b, c] = tri.map(|v| points[v as usize]);
@@ -175,7 +175,7 @@ pub fn triangles_band(
                 node_range(grid, 1, lo.y, hi.y)?,
                 node_range(grid, 2, lo.z, hi.z)?,
             );
-            Some([x.0, x.1, y.0, y.1, z.0, z.1])
+            Some([x.0, x.1, y.0, y.1, z.0, z.1].map(|k| k as u32))
         })
         .collect();
     let (start, members) = bucket_by_slab(&reach, nz);
@@ -183,7 +183,7 @@ pub fn triangles_band(
     let mut best = vec![
         Nearest {
             d2: init * init,
-            d1: init,
+            d1: f32_up(init),
             triangle: u32::MAX,
         };
         plane * nz
@@ -196,7 +196,7 @@ pub fn triangles_band(
             let z_first = s * SLAB_PLANES;
             let z_last = z_first + slab.len() / plane - 1;
             for &t in &members[start[s] as usize..start[s + 1] as usize] {
-                let b = reach[t as usize].expect("bucketed");
+                let b = unbox(reach[t as usize]);
                 let [a, bb, c] = triangles[t as usize].map(|v| points[v as usize]);
                 splat_triangle(
                     grid,
@@ -213,27 +213,51 @@ pub fn triangles_band(
         &mut |done| progress.report(PHASE, done as f64 / slabs.max(1) as f64),
     );
     let nearest = best.iter().map(|b| b.triangle).collect();
-    let mut band = finish(best.into_iter().map(|b| b.d2).collect(), r2, init);
+    // Collected in place, into the nodes' allocation: give back its unused half.
+    let mut d2: Vec<f64> = best.into_iter().map(|b| b.d2).collect();
+    d2.shrink_to_fit();
+    let mut band = finish(d2, r2, init);
     band.nearest_triangle = Some(nearest);
     band
 }
 
 /// A node's nearest triangle so far in [`triangles_band`]: its squared distance, the distance
-/// (kept so that the bounding-sphere rejection needs no square root per visit) and its index.
+/// rounded up (kept so that the bounding-sphere rejection needs no square root per visit; a
+/// bound too large only skips fewer nodes) and its index. 16 bytes a node, as much as the
+/// separate arrays took before.
 #[derive(Clone, Copy)]
 struct Nearest {
     d2: f64,
-    d1: f64,
+    d1: f32,
     triangle: u32,
+}
+
+/// `x` as an f32 no smaller than it.
+fn f32_up(x: f64) -> f32 {
+    let y = x as f32;
+    if (y as f64) < x {
+        y * (1.0 + f32::EPSILON)
+    } else {
+        y
+    }
+}
+
+/// A primitive's node ranges `[x0, x1, y0, y1, z0, z1]` (inclusive), in u32: one per point of
+/// a scan of millions.
+type NodeBox = [u32; 6];
+
+/// The node ranges of a bucketed primitive, as indices.
+fn unbox(b: Option<NodeBox>) -> [usize; 6] {
+    b.expect("bucketed").map(|k| k as usize)
 }
 
 /// Counting sort of primitives into the z-slabs their node ranges reach: `members[start[s]..
 /// start[s + 1]]` are the primitives (in index order) reaching slab `s`.
-fn bucket_by_slab(reach: &[Option<[usize; 6]>], nz: usize) -> (Vec<u32>, Vec<u32>) {
+fn bucket_by_slab(reach: &[Option<NodeBox>], nz: usize) -> (Vec<u32>, Vec<u32>) {
     let slabs = nz.div_ceil(SLAB_PLANES);
     let mut start = vec![0u32; slabs + 1];
     for b in reach.iter().flatten() {
-        for s in b[4] / SLAB_PLANES..=b[5] / SLAB_PLANES {
+        for s in b[4] as usize / SLAB_PLANES..=b[5] as usize / SLAB_PLANES {
             start[s + 1] += 1;
         }
     }
@@ -244,7 +268,7 @@ fn bucket_by_slab(reach: &[Option<[usize; 6]>], nz: usize) -> (Vec<u32>, Vec<u32
     let mut members = vec![0u32; start[slabs] as usize];
     for (i, b) in reach.iter().enumerate() {
         let Some(b) = b else { continue };
-        for s in b[4] / SLAB_PLANES..=b[5] / SLAB_PLANES {
+        for s in b[4] as usize / SLAB_PLANES..=b[5] as usize / SLAB_PLANES {
             members[fill[s] as usize] = i as u32;
             fill[s] += 1;
         }
@@ -309,7 +333,7 @@ fn splat_triangle(
                 // a value no farther than the sphere (most nodes, where neighbouring
                 // triangles' regions overlap).
                 // (|p − centre| − radius ≥ d ⇔ |p − centre|² ≥ (radius + d)².)
-                let reach = radius + node.d1;
+                let reach = radius + node.d1 as f64;
                 if (p - centre).length_squared() >= reach * reach {
                     continue;
                 }
@@ -318,7 +342,7 @@ fn splat_triangle(
                 if s < node.d2 {
                     *node = Nearest {
                         d2: s,
-                        d1: s.sqrt(),
+                        d1: f32_up(s.sqrt()),
                         triangle: t,
                     };
                 }

@@ -89,11 +89,16 @@ pub fn detect_creases(points: &[DVec3], triangles: &[[u32; 3]], min_turn: f64) -
     half.sort_unstable();
     let mut edges = Vec::new();
     let mut incident: HashMap<u32, Vec<u32>> = HashMap::new();
+    // Vertices on a boundary or non-manifold edge: their angle sums say nothing.
+    let mut open_vertices: Vec<u32> = Vec::new();
     let mut i = 0;
     while i < half.len() {
         let mut j = i + 1;
         while j < half.len() && (half[j].0, half[j].1) == (half[i].0, half[i].1) {
             j += 1;
+        }
+        if j - i != 2 || half[i].3 == half[i + 1].3 {
+            open_vertices.extend([half[i].0, half[i].1]);
         }
         // Exactly two faces that traverse the edge in opposite directions.
         if j - i == 2 && half[i].3 != half[i + 1].3 {
@@ -155,9 +160,65 @@ pub fn detect_creases(points: &[DVec3], triangles: &[[u32; 3]], min_turn: f64) -
         })
         .map(|(&v, _)| v)
         .collect();
+    corner_ids.extend(cone_points(
+        points,
+        triangles,
+        &normals,
+        &weld,
+        &open_vertices,
+        &incident,
+        CONE_DEFECT_PER_TURN * min_turn,
+    ));
     corner_ids.sort_unstable();
     let corners: Vec<DVec3> = corner_ids.iter().map(|&v| points[v as usize]).collect();
     Creases::new(edges, corners)
+}
+
+/// A vertex on no crease is still a corner when its angle defect (2π minus the angles of its
+/// faces there: the surface's concentrated curvature) exceeds this fraction of the crease angle.
+/// The apex of a low-poly sphere's facets (CubeSphere.obj: 0.59 rad) would otherwise be cut by
+/// the wrap's faces; on a fine smooth mesh a vertex's defect is tiny (4π spread over all).
+const CONE_DEFECT_PER_TURN: f64 = 0.5;
+
+/// Welded vertices (ids of the first copy) whose fan is closed, manifold and free of slivers
+/// (`normals[f]` None), that lie on no crease, and whose angle defect exceeds `min_defect` radians: the apexes of cones.
+fn cone_points(
+    points: &[DVec3],
+    triangles: &[[u32; 3]],
+    normals: &[Option<DVec3>],
+    weld: &[u32],
+    open_vertices: &[u32],
+    incident: &HashMap<u32, Vec<u32>>,
+    min_defect: f64,
+) -> Vec<u32> {
+    let mut angle_sum: HashMap<u32, f64> = HashMap::new();
+    let mut open: Vec<u32> = open_vertices.to_vec();
+    for (t, n) in triangles.iter().zip(normals) {
+        let w = t.map(|v| weld[v as usize]);
+        if n.is_none() {
+            // A sliver's angles (0, 0, π) would skew its vertices' sums: leave them out.
+            open.extend(w);
+            continue;
+        }
+        let p = w.map(|v| points[v as usize]);
+        for k in 0..3 {
+            let (a, b) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
+            let angle = crate::fmath::atan2(a.cross(b).length(), a.dot(b));
+            *angle_sum.entry(w[k]).or_default() += angle;
+        }
+    }
+    open.sort_unstable();
+    let mut cones: Vec<u32> = angle_sum
+        .into_iter()
+        .filter(|&(v, sum)| {
+            (std::f64::consts::TAU - sum).abs() > min_defect
+                && !incident.contains_key(&v)
+                && open.binary_search(&v).is_err()
+        })
+        .map(|(v, _)| v)
+        .collect();
+    cones.sort_unstable();
+    cones
 }
 
 impl Creases {
@@ -263,5 +324,31 @@ mod tests {
         assert_eq!(c.corners.len(), 14);
         // No crease inside the flat caps (the fans) or along the flat walls.
         assert!(c.edges.iter().all(|e| e.turn > 0.7));
+    }
+
+    #[test]
+    fn cone_points_without_creases_are_corners() {
+        // A square bipyramid whose faces slope 27°: the apex edges turn by 37° (no crease at
+        // 40°), the apexes are cones (angle defect 0.46 rad); the rim is a crease loop whose
+        // four vertices are corners by its turns.
+        let (sin, cos) = crate::fmath::sin_cos(27f64.to_radians());
+        let h = 0.5f64.sqrt() * sin / cos;
+        let p = vec![
+            DVec3::X,
+            DVec3::Y,
+            -DVec3::X,
+            -DVec3::Y,
+            DVec3::new(0.0, 0.0, h),
+            DVec3::new(0.0, 0.0, -h),
+        ];
+        let t: Vec<[u32; 3]> = (0..4u32)
+            .flat_map(|k| [[k, (k + 1) % 4, 4], [(k + 1) % 4, k, 5]])
+            .collect();
+        let c = detect_creases(&p, &t, 40f64.to_radians());
+        assert_eq!(c.edges.len(), 4);
+        assert_eq!(c.corners, p);
+        // With a face gone the top apex's fan is open: not a cone (nor a rim corner there).
+        let c = detect_creases(&p, &t[1..], 40f64.to_radians());
+        assert!(!c.corners.contains(&p[4]) && c.corners.contains(&p[5]));
     }
 }
