@@ -79,8 +79,9 @@ fn without_the_crease_fit_the_cube_is_bevelled() {
 /// Clouds of the CAD shapes (20 000 points, no normals): the crease lines found by plane fits
 /// (`geometry::cloud_creases`) bring most edges within 10° of the target's dihedral angle and
 /// the wrap onto the faces beside them; without them the fit's plane fits straddle every
-/// crease and round it off (measured: cube 173 and 17 of 192 edges within 10°, cad-part 176 and
-/// 50 of 214). Chord-midpoint splits (`remesh.curved_splits` off) shaved the cube's edges during
+/// crease and round it off (measured: cube 188 and 20 of 192 edges within 10°, cad-part 202 and
+/// 59 of 214; before the fit's folding moves were halved rather than undone, 173/17 and
+/// 176/50). Chord-midpoint splits (`remesh.curved_splits` off) shaved the cube's edges during
 /// the evolution: 136 of 192 with the crease fit.
 #[test]
 fn cad_clouds_keep_most_of_their_edges() {
@@ -107,11 +108,11 @@ fn cad_clouds_keep_most_of_their_edges() {
         let (with_mean, with) = run(WrapSettings::default().fit.crease_angle_deg);
         let (without_mean, without) = run(0.0);
         assert!(
-            4 * with.within_tolerance >= 3 * with.edges,
+            10 * with.within_tolerance >= 9 * with.edges,
             "{cloud}: {with:?}"
         );
         assert!(
-            4 * without.within_tolerance <= without.edges,
+            3 * without.within_tolerance <= without.edges,
             "{cloud}: {without:?}"
         );
         assert!(
