@@ -124,8 +124,10 @@ pub fn points_band(
 /// that a point's cube (2k + 1 planes) rarely spans more than two.
 const SLAB_PLANES: usize = 8;
 
-/// Slabs between two progress reports of [`points_band`].
-const SLABS_PER_REPORT: usize = 8;
+/// Slabs between two progress reports of the bands (natively each group of slabs is spread over
+/// the threads; in wasm, with one thread, a report per slab keeps the bar moving on a big mesh,
+/// whose band takes seconds there). The values do not depend on it.
+const SLABS_PER_REPORT: usize = if cfg!(target_arch = "wasm32") { 1 } else { 8 };
 
 /// Square roots, band flags, truncation.
 fn finish(mut d2: Vec<f64>, r2: f64, init: f64) -> Band {

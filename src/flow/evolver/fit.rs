@@ -99,6 +99,8 @@ impl Evolver {
             let start_of_pass = self.creases.is_some().then(|| self.mesh.clone());
             let normals = angle_weighted_normals(&self.mesh);
             moved = snap(&mut self.mesh, &normals, &mut |f| at(pass, 0.5 * f));
+            // The moves, kept for a redo of the pass (the snap only moves vertices).
+            let snap_moves = clean.is_some().then(|| self.mesh.positions().to_vec());
             // Sharp creases: vertices onto them, edges along them, kept by the remesh. Their
             // snap is checked for intersections, so first undo the moves above that made any
             // (or every crease try would be blamed for them).
@@ -190,8 +192,9 @@ impl Evolver {
             // then a remesh that is undone if it intersects.
             let before = clean.positions().to_vec();
             self.mesh = clean;
-            // (Silent: the pass's progress has already gone past the moves.)
-            moved = snap(&mut self.mesh, &normals, &mut |_| {});
+            if let Some(moves) = &snap_moves {
+                self.mesh.positions_mut().copy_from_slice(moves);
+            }
             resolve_contacts(&mut self.mesh, &before, &self.settings.guard);
             round_as_written(&mut self.mesh, self.phi, self.center);
             if remeshing {
