@@ -181,7 +181,8 @@ pub fn detect_creases(points: &[DVec3], triangles: &[[u32; 3]], min_turn: f64) -
 const CONE_DEFECT_PER_TURN: f64 = 0.5;
 
 /// Welded vertices (ids of the first copy) whose fan is closed, manifold and free of slivers
-/// (`normals[f]` None), that lie on no crease, and whose angle defect exceeds `min_defect` radians: the apexes of cones.
+/// (`normals[f]` None), that lie on no crease, and whose angle defect exceeds `min_defect`
+/// radians: the apexes of cones.
 fn cone_points(
     points: &[DVec3],
     triangles: &[[u32; 3]],
@@ -191,7 +192,8 @@ fn cone_points(
     incident: &HashMap<u32, Vec<u32>>,
     min_defect: f64,
 ) -> Vec<u32> {
-    let mut angle_sum: HashMap<u32, f64> = HashMap::new();
+    // Per welded vertex (None: in no face).
+    let mut angle_sum: Vec<Option<f64>> = vec![None; points.len()];
     let mut open: Vec<u32> = open_vertices.to_vec();
     for (t, n) in triangles.iter().zip(normals) {
         let w = t.map(|v| weld[v as usize]);
@@ -204,21 +206,18 @@ fn cone_points(
         for k in 0..3 {
             let (a, b) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
             let angle = crate::fmath::atan2(a.cross(b).length(), a.dot(b));
-            *angle_sum.entry(w[k]).or_default() += angle;
+            *angle_sum[w[k] as usize].get_or_insert(0.0) += angle;
         }
     }
     open.sort_unstable();
-    let mut cones: Vec<u32> = angle_sum
-        .into_iter()
-        .filter(|&(v, sum)| {
-            (std::f64::consts::TAU - sum).abs() > min_defect
+    (0..points.len() as u32)
+        .filter(|&v| {
+            angle_sum[v as usize]
+                .is_some_and(|sum| (std::f64::consts::TAU - sum).abs() > min_defect)
                 && !incident.contains_key(&v)
                 && open.binary_search(&v).is_err()
         })
-        .map(|(v, _)| v)
-        .collect();
-    cones.sort_unstable();
-    cones
+        .collect()
 }
 
 impl Creases {
