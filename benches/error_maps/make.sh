@@ -5,7 +5,7 @@
 #   (fit.crease_angle_deg=0, "before") and on (the default, "after");
 # - curved splits: clouds wrapped with chord-midpoint splits (remesh.curved_splits=false,
 #   "chord") and with the default curved ones ("curved").
-# Usage: benches/error_maps/make.sh LSW_BIN OUT_DIR
+# Usage: benches/error_maps/make.sh LSW_BIN OUT_DIR  (optional: LSW_BEFORE=… SHARED=… for the fold maps)
 set -euo pipefail
 LSW=$1
 OUT=$2
@@ -31,3 +31,43 @@ for pair in thin-plate-cloud:thin-plate cube-cloud:cube; do
     wrap_and_map "${pair%%:*}" "${pair##*:}" chord remesh.curved_splits=false
     wrap_and_map "${pair%%:*}" "${pair##*:}" curved remesh.curved_splits=true
 done
+# The fit's fold rule (2026-11-26): LSW_BEFORE = an lsw built at fbe6c32 (moves that fold a
+# face undone with those of all its vertices), against LSW (halved, one vertex blamed). No
+# setting selects the old rule, hence the second binary. DoubleWedge.stl from $SHARED (the
+# shared data folder), converted to OBJ for the sampler.
+if [ -n "${LSW_BEFORE:-}" ] && [ -n "${SHARED:-}" ]; then
+    python3 - "$SHARED/DoubleWedge.stl" "$OUT/DoubleWedge.obj" <<'PY'
+import struct, sys
+d = open(sys.argv[1], 'rb').read(); n = struct.unpack('<I', d[80:84])[0]
+index, verts, faces = {}, [], []
+for i in range(n):
+    v = struct.unpack('<12f', d[84 + 50 * i:84 + 50 * i + 48])
+    face = []
+    for k in range(3):
+        p = v[3 + 3 * k:6 + 3 * k]
+        if p not in index:
+            index[p] = len(verts) + 1
+            verts.append(p)
+        face.append(index[p])
+    faces.append(face)
+with open(sys.argv[2], 'w') as f:
+    f.writelines('v %r %r %r\n' % p for p in verts)
+    f.writelines('f %d %d %d\n' % tuple(t) for t in faces)
+PY
+    "$LSW" demo cube -o "$OUT/cube.obj" >/dev/null
+    "$LSW" demo cube-cloud -o "$OUT/cube-cloud.ply" >/dev/null
+    for ref in cube DoubleWedge; do
+        [ -f "$OUT/$ref-dense.ply" ] || python3 "$HERE/../peers/sample_obj.py" "$OUT/$ref.obj" 300000 "$OUT/$ref-dense.ply" 1 >/dev/null
+    done
+    for mode in before after; do
+        bin=$LSW; [ "$mode" = before ] && bin=$LSW_BEFORE
+        "$bin" wrap "$OUT/cube-cloud.ply" -o "$OUT/cube-cloud-fold-$mode.ply" >/dev/null
+        "$bin" wrap "$SHARED/DoubleWedge.stl" -o "$OUT/DoubleWedge-fold-$mode.ply" >/dev/null
+        for pair in cube-cloud:cube DoubleWedge:DoubleWedge; do
+            s=${pair%%:*}; ref=${pair##*:}
+            "$LSW" metrics "$OUT/$s-fold-$mode.ply" --target "$OUT/$ref-dense.ply" \
+                --target-error-map "$OUT/$s-fold-$mode.vtk" >/dev/null
+            python3 "$HERE/render_points.py" "$OUT/$s-fold-$mode.vtk" "$OUT/$s-fold-$mode.png" 1.0
+        done
+    done
+fi
