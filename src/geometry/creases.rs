@@ -165,7 +165,7 @@ pub fn detect_creases(points: &[DVec3], triangles: &[[u32; 3]], min_turn: f64) -
         triangles,
         &normals,
         &weld,
-        &open_vertices,
+        open_vertices,
         &incident,
         CONE_DEFECT_PER_TURN * min_turn,
     ));
@@ -180,21 +180,20 @@ pub fn detect_creases(points: &[DVec3], triangles: &[[u32; 3]], min_turn: f64) -
 /// the wrap's faces; on a fine smooth mesh a vertex's defect is tiny (4π spread over all).
 const CONE_DEFECT_PER_TURN: f64 = 0.5;
 
-/// Welded vertices (ids of the first copy) whose fan is closed, manifold and free of slivers
-/// (`normals[f]` None), that lie on no crease, and whose angle defect exceeds `min_defect`
+/// Welded vertices (ids of the first copy) whose fan is closed (not in `open`: on a boundary or
+/// non-manifold edge), manifold and free of slivers (`normals[f]` None), that lie on no crease, and whose angle defect exceeds `min_defect`
 /// radians: the apexes of cones.
 fn cone_points(
     points: &[DVec3],
     triangles: &[[u32; 3]],
     normals: &[Option<DVec3>],
     weld: &[u32],
-    open_vertices: &[u32],
+    mut open: Vec<u32>,
     incident: &HashMap<u32, Vec<u32>>,
     min_defect: f64,
 ) -> Vec<u32> {
     // Per welded vertex (None: in no face).
     let mut angle_sum: Vec<Option<f64>> = vec![None; points.len()];
-    let mut open: Vec<u32> = open_vertices.to_vec();
     for (t, n) in triangles.iter().zip(normals) {
         let w = t.map(|v| weld[v as usize]);
         if n.is_none() {
