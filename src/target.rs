@@ -75,6 +75,9 @@ pub enum TargetError {
     NoIsosurface { iso: f64, min: f64, max: f64 },
 }
 
+/// The largest share of a cloud [`Target::without_isolated_points`] leaves out.
+pub const MOST_ISOLATED: f64 = 0.1;
+
 impl Target {
     /// Builds a target, checking that coordinates are finite and indices in range.
     pub fn new(points: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> Result<Self, TargetError> {
@@ -105,6 +108,31 @@ impl Target {
             triangles,
             bbox,
         })
+    }
+
+    /// This cloud without its isolated points (see [`crate::geometry::spatial::isolated`]) at a
+    /// radius of `spacings` median spacings, and how many were left out; None when there are
+    /// none, for meshes, for `spacings` = 0, and when more than [`MOST_ISOLATED`] of the points
+    /// would go (then the cloud is sparse in places, not strewn with strays).
+    pub fn without_isolated_points(&self, spacings: f64) -> Option<(Target, usize)> {
+        if !self.triangles.is_empty() || spacings.is_nan() || spacings <= 0.0 {
+            return None;
+        }
+        let spacing = crate::geometry::spatial::spacing::median_spacing(&self.points);
+        let isolated =
+            crate::geometry::spatial::isolated::isolated_points(&self.points, spacings * spacing);
+        let removed = isolated.iter().filter(|&&i| i).count();
+        if removed == 0 || removed as f64 > MOST_ISOLATED * self.points.len() as f64 {
+            return None;
+        }
+        let kept: Vec<DVec3> = self
+            .points
+            .iter()
+            .zip(&isolated)
+            .filter(|(_, &i)| !i)
+            .map(|(&p, _)| p)
+            .collect();
+        Target::new(kept, vec![]).ok().map(|t| (t, removed))
     }
 
     /// Refuses targets no wrap can make sense of, before any work: fewer than 4 distinct points,

@@ -94,6 +94,64 @@ fn clouds_and_open_inputs_wrap_valid() {
     }
 }
 
+/// A scan with stray returns: 1 % of a genus-3 torus cloud's count scattered over a box half as
+/// large again as the torus's. Every stray farther from the torus than the test's radius
+/// (`field.outlier_spacings` median spacings) is left out, no point of the torus is, and the
+/// wrap is valid with the torus's genus and stays on it. (With every point kept, the bunny
+/// cloud with 0.5 % strays diverged at step 98.)
+#[test]
+fn a_cloud_with_stray_points_wraps_without_them() {
+    let clean = target("torus-g3-cloud");
+    let (lo, size) = (clean.bbox.min, clean.bbox.size());
+    let n = clean.points.len() / 100;
+    let mut seed = 12345u64;
+    let mut unit = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let strays: Vec<glam::DVec3> = (0..n)
+        .map(|_| lo - 0.25 * size + 1.5 * size * glam::DVec3::new(unit(), unit(), unit()))
+        .collect();
+    let noisy = Target::new([clean.points.clone(), strays.clone()].concat(), vec![]).unwrap();
+    let spacings = WrapSettings::default().field.outlier_spacings;
+    let (kept, left_out) = noisy.without_isolated_points(spacings).unwrap();
+    let bits = |p: &glam::DVec3| p.to_array().map(f64::to_bits);
+    let kept_set: std::collections::HashSet<[u64; 3]> = kept.points.iter().map(bits).collect();
+    assert!(clean.points.iter().all(|p| kept_set.contains(&bits(p))));
+    let reach = spacings * lsw::geometry::spatial::spacing::median_spacing(&clean.points);
+    let far: Vec<&glam::DVec3> = strays
+        .iter()
+        .filter(|&&s| clean.points.iter().all(|&p| (p - s).length() > reach))
+        .collect();
+    assert!(far.iter().all(|p| !kept_set.contains(&bits(p))));
+    println!(
+        "{n} strays, {} beyond reach, {left_out} left out",
+        far.len()
+    );
+    assert!(
+        far.len() >= n / 4,
+        "the test's strays mostly landed near the torus"
+    );
+
+    // The default grid (this torus's holes close on the suite's coarser one, strays or not).
+    let mut settings = WrapSettings::default();
+    settings.remesh.min_edge_multiplier = 0.3;
+    let mut ev = Evolver::new(&noisy, settings).unwrap();
+    ev.run(|_| {}).unwrap();
+    assert_eq!(ev.isolated_points(), left_out);
+    let c = certify(&ev.positions(), &ev.triangles(), Some(&clean));
+    assert_valid("torus-g3-cloud with strays", &c);
+    assert_eq!((c.genus, c.components), (Some(3), Some(1)), "{c:?}");
+    let off = c.distance_max.unwrap() / clean.bbox.diagonal();
+    assert!(
+        off < 0.05,
+        "the wrap reaches {:.1} % of the diagonal off the torus",
+        100.0 * off
+    );
+}
+
 #[test]
 fn every_start_is_valid_on_a_genus_two_torus() {
     for start in [StartSurface::Icosphere, StartSurface::Isosurface] {

@@ -74,8 +74,8 @@ pub fn apply_overrides(
 /// Runs the wrap; JSON keys: input, output, preset, start, written, stop_reason, certificate
 /// {valid, closed, manifold, oriented, finite, genus, components, euler_characteristic,
 /// self_intersections, degenerate_faces, distance_min, distance_max, problem}, contacts,
-/// surgery [{step, kind, position, genus_before, genus_after}],
-/// vertices, faces, steps, stopped_early,
+/// surgery [{step, kind, position, genus_before, genus_after}], isolated_points_left_out (a
+/// cloud's stray points, see `field.outlier_spacings`), vertices, faces, steps, stopped_early,
 /// scale, result_hash, iso_level, times_ms {read, field, start, evolve, write, total}, evolve_ms {normals,
 /// assembly, solve, remesh, guard, fit, surgery}, distance_mean, distance_max; for volumes also iso (the iso-value
 /// wrapped) and volume (see [`super::volume::volume_json`]).
@@ -139,6 +139,7 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
             "settings": settings,
             "start": ev.start_surface(),
             "stop_reason": ev.stop_reason(),
+            "isolated_points_left_out": ev.isolated_points(),
             "certificate": certificate,
             "error_budget": error_budget(
                 &positions,
@@ -169,6 +170,7 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
             "remesh_reverted": reports.iter().filter(|r| r.remesh_reverted).count(),
         },
         "surgery": ev.surgery_events(),
+        "isolated_points_left_out": ev.isolated_points(),
         "vertices": positions.len(),
         "faces": triangles.len(),
         "steps": ev.steps_done(),

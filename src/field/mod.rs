@@ -81,6 +81,12 @@ pub struct FieldSettings {
     /// 0 turns it off. Range 0–10; default 2 (dense scans such as the bunny are below it and keep
     /// N cells per β_min; a 1 300-point cow gets a 3.6× coarser grid).
     pub min_cell_spacings: f64,
+    /// Point clouds only: a point is a stray return, left out of the field, the start and the
+    /// fit, when fewer than 6 points (itself included) lie within this many median spacings of
+    /// it (see [`crate::geometry::spatial::isolated`]); at most a tenth of the cloud is left out
+    /// (more is a sparse scan, not strays). 0 keeps every point. Range 0–100; default 6 (a
+    /// region 3× sparser than the median still has about 12 points within it).
+    pub outlier_spacings: f64,
 }
 
 impl Default for FieldSettings {
@@ -95,6 +101,7 @@ impl Default for FieldSettings {
             sweep_tolerance: 1e-4,
             memory_cap_bytes: 1 << 30,
             min_cell_spacings: 2.0,
+            outlier_spacings: 6.0,
         }
     }
 }
@@ -131,6 +138,9 @@ impl FieldSettings {
         }
         if !(0.0..=10.0).contains(&self.min_cell_spacings) {
             return bad("min_cell_spacings", self.min_cell_spacings, "0–10");
+        }
+        if !(0.0..=100.0).contains(&self.outlier_spacings) {
+            return bad("outlier_spacings", self.outlier_spacings, "0–100");
         }
         Ok(())
     }

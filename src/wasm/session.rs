@@ -193,6 +193,12 @@ impl WrapSession {
         self.evolver.stop_reason().map(str::to_owned)
     }
 
+    /// How many stray points of a cloud the wrap left out (`field.outlier_spacings`).
+    #[wasm_bindgen(js_name = isolatedPoints)]
+    pub fn isolated_points(&self) -> u32 {
+        self.evolver.isolated_points() as u32
+    }
+
     /// The start surface actually used ("icosphere" or "isosurface").
     #[wasm_bindgen(js_name = startSurface)]
     pub fn start_surface(&self) -> String {

@@ -57,6 +57,8 @@ export class WrapRun {
   private startedAt = 0;
   /** Working time of the last completed wrap (pauses excluded), as the worker measured it. */
   private workMs = 0;
+  /** Stray points of the last result's cloud that the wrap left out. */
+  private isolated = 0;
   private input: Input | null = null;
   /** Whether the worker holds a session of the current input: false after a cancel, an error or
    * a worker restart, when Play, Step and Reset first load the input again. */
@@ -265,6 +267,7 @@ export class WrapRun {
     this.d.kept.keep(msg, this.target);
     this.wasmBytes = msg.wasmBytes;
     this.workMs = msg.elapsedMs;
+    this.isolated = msg.isolated;
     this.lastDoneMs = performance.now() - this.startedAt;
     byId('hash').dataset.ms = String(Math.round(this.lastDoneMs));
     this.d.draw({ type: 'fit' });
@@ -276,7 +279,10 @@ export class WrapRun {
     if (this.replacing) return;
     const k = kept.result;
     if (reason === 'finished' && k && !k.valid) status.set('invalid', `Not valid — ${k.why}`);
-    else if (reason === 'finished') status.set('done', `Done — ${this.name} wrapped in ${(this.workMs / 1000).toFixed(1)} s`);
+    else if (reason === 'finished') {
+      const strays = this.isolated > 0 ? ` (${this.isolated} stray point${this.isolated === 1 ? '' : 's'} left out)` : '';
+      status.set('done', `Done — ${this.name} wrapped in ${(this.workMs / 1000).toFixed(1)} s${strays}`);
+    }
     else if (reason === 'cancelled') {
       this.live = false;
       status.set('idle', `Cancelled — Play wraps ${this.name} again`);

@@ -186,6 +186,8 @@ pub struct Evolver {
     /// The target's sharp creases for the final fit (stabilised frame): from dihedral angles
     /// on a mesh, from plane fits on a cloud; None with `fit.crease_angle_deg` = 0.
     creases: Option<Creases>,
+    /// Stray points of the cloud left out of the wrap (see [`Target::without_isolated_points`]).
+    isolated_points: usize,
     /// The schedule changed the target edge lengths since the last remesh.
     sizes_changed: bool,
     /// The start surface actually built.
@@ -260,6 +262,15 @@ impl Evolver {
     ) -> Result<Self, EvolveError> {
         settings.check()?;
         target.check_wrappable()?;
+        // A scan's stray points are left out of everything built from the target below.
+        let cleaned = target.without_isolated_points(settings.field.outlier_spacings);
+        let (target, isolated_points) = match &cleaned {
+            Some((t, n)) => {
+                t.check_wrappable()?;
+                (t, *n)
+            }
+            None => (target, 0),
+        };
         let field = DistanceField::new_with_progress(target, &settings.field, progress)?;
         let requested = settings.clone();
         let mut settings = settings.resolved_for(field.is_signed());
@@ -320,6 +331,7 @@ impl Evolver {
             gradients: vec![],
             fit_target,
             creases,
+            isolated_points,
             sizes_changed: true,
             start: start.kind,
             limits,
@@ -412,6 +424,11 @@ impl Evolver {
     /// The start surface actually built (`Auto` resolved).
     pub fn start_surface(&self) -> StartSurface {
         self.start
+    }
+
+    /// How many stray points of the cloud the wrap left out (0 for meshes).
+    pub fn isolated_points(&self) -> usize {
+        self.isolated_points
     }
 
     /// Every topology change so far, in order.

@@ -2,5 +2,6 @@
 //! metrics alike.
 
 pub mod bvh;
+pub mod isolated;
 pub mod point_grid;
 pub mod spacing;
