@@ -202,6 +202,9 @@ impl Explain for TargetError {
             | TargetError::Collinear { .. }
             | TargetError::Coplanar { .. }
             | TargetError::ZeroArea { .. } => TARGET_HINT,
+            TargetError::FarFromOrigin { .. } => {
+                "Translate the input near the origin (subtract its centre) and wrap it again."
+            }
         }
     }
 }
@@ -523,6 +526,11 @@ mod tests {
                 size: 1.0,
             },
             TargetError::ZeroArea { faces: 2 },
+            TargetError::FarFromOrigin {
+                distance: 1e4,
+                size: 1e-4,
+                step: 1e-3,
+            },
             TargetError::NoIsosurface {
                 iso: 9.0,
                 min: 0.0,
@@ -537,6 +545,7 @@ mod tests {
             TargetError::Collinear { .. } => "Collinear",
             TargetError::Coplanar { .. } => "Coplanar",
             TargetError::ZeroArea { .. } => "ZeroArea",
+            TargetError::FarFromOrigin { .. } => "FarFromOrigin",
             TargetError::NoIsosurface { .. } => "NoIsosurface",
         });
         let divergence = [

@@ -65,6 +65,12 @@ pub enum TargetError {
         thickness: f64,
         size: f64,
     },
+    /// The target lies so far from the origin, for its size, that 32-bit coordinates (what every
+    /// output format stores, and what the wrap is checked with) cannot resolve it: the wrap's
+    /// vertices would collapse onto a few representable positions (a bunny 2.5e-4 across at
+    /// 2e4 from the origin made every face meet every other). Fix: move it near the origin.
+    #[error("the target lies {distance:.3e} from the origin but is only {size:.3e} across: 32-bit output coordinates cannot resolve it (steps of {step:.1e}); move it near the origin")]
+    FarFromOrigin { distance: f64, size: f64, step: f64 },
     /// A mesh whose triangles all have zero area.
     #[error("all {faces} triangles of the mesh have zero area")]
     ZeroArea { faces: usize },
@@ -74,6 +80,10 @@ pub enum TargetError {
     #[error("the iso-surface at {iso} is empty: the volume's values span [{min}, {max}]")]
     NoIsosurface { iso: f64, min: f64, max: f64 },
 }
+
+/// The largest f32 step at a target's coordinates, as a fraction of its diagonal, that a wrap
+/// accepts (a target up to about 840 diagonals from the origin).
+pub const MOST_F32_STEP: f64 = 1e-4;
 
 /// The largest share of a cloud [`Target::without_isolated_points`] leaves out.
 pub const MOST_ISOLATED: f64 = 0.1;
@@ -137,7 +147,8 @@ impl Target {
 
     /// Refuses targets no wrap can make sense of, before any work: fewer than 4 distinct points,
     /// all points on a line or in a plane (relative tolerance 1e-9 of the diagonal, measured
-    /// along the principal axes so a tilted plane counts too), a mesh of zero total area.
+    /// along the principal axes so a tilted plane counts too), a target so far from the origin for
+    /// its size that 32-bit coordinates cannot resolve it, a mesh of zero total area.
     pub fn check_wrappable(&self) -> Result<(), TargetError> {
         let total = self.points.len();
         let mut keys: Vec<[u64; 3]> = self
@@ -182,6 +193,16 @@ impl Target {
                 count: total,
                 thickness,
                 size,
+            });
+        }
+        // One f32 step at the farthest coordinate must stay a small fraction of the target's size.
+        let distance = self.bbox.min.abs().max(self.bbox.max.abs()).max_element();
+        let step = distance * f64::from(f32::EPSILON);
+        if step > MOST_F32_STEP * size {
+            return Err(TargetError::FarFromOrigin {
+                distance,
+                size,
+                step,
             });
         }
         if !self.triangles.is_empty() {
@@ -253,6 +274,30 @@ mod tests {
         let t = Target::new(pts, vec![[0, 1, 2]]).unwrap();
         assert_eq!(t.kind(), TargetKind::Mesh);
         assert_eq!(t.bbox.max, DVec3::new(1.0, 1.0, 0.0));
+    }
+
+    /// A unit cube's corners 100 from the origin wrap (f32 steps of 1.2e-5); 1e5 away (steps of
+    /// 0.012, 0.7 % of the diagonal) they are refused, on either side of the origin.
+    #[test]
+    fn a_target_too_far_from_the_origin_for_its_size_is_refused() {
+        let cube = |offset: DVec3| {
+            let pts = (0..8)
+                .map(|i| offset + DVec3::new((i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2) as f64))
+                .collect();
+            Target::new(pts, vec![]).unwrap().check_wrappable()
+        };
+        assert_eq!(cube(DVec3::splat(100.0)), Ok(()));
+        for offset in [DVec3::new(1e5, 0.0, 0.0), DVec3::new(0.0, 0.0, -1e5)] {
+            match cube(offset) {
+                Err(TargetError::FarFromOrigin { distance, step, .. }) => {
+                    assert!(
+                        distance >= 1e5 && step > 1e-4 * 3f64.sqrt(),
+                        "{distance} {step}"
+                    )
+                }
+                other => panic!("{other:?}"),
+            }
+        }
     }
 
     #[test]
