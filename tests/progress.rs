@@ -1,5 +1,5 @@
-//! Progress of the long phases (issue 16, item 6): the field build, the start surface, a cloud's
-//! crease detection and the final fit report a phase name and a fraction, in order, each phase
+//! Progress of the long phases (issue 16, item 6): a cloud's stray-point test, the field build,
+//! the start surface, a cloud's crease detection and the final fit report a phase name and a fraction, in order, each phase
 //! reaching 100 %. Natively and in headless Chromium.
 
 use lsw::demo::shapes::generate;
@@ -36,6 +36,7 @@ fn phases_report_in_order_and_each_reaches_the_end() {
     assert_eq!(
         phases,
         [
+            "stray points",
             "distance field: near band",
             "distance field: sweeps",
             "start surface",

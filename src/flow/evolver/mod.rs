@@ -43,6 +43,9 @@ use serde::Serialize;
 /// The progress phase of a cloud's crease detection (before the steps; ~0.4 s natively on
 /// 1 M points).
 pub const CREASE_PHASE: &str = "sharp creases";
+/// The progress phase of a cloud's stray-point test (before the field; ~0.5 s natively on 1 M
+/// points).
+pub const STRAY_PHASE: &str = "stray points";
 /// The progress phase of the start surface.
 pub const START_PHASE: &str = "start surface";
 
@@ -263,7 +266,14 @@ impl Evolver {
         settings.check()?;
         target.check_wrappable()?;
         // A scan's stray points are left out of everything built from the target below.
+        let cloud = target.triangles.is_empty() && settings.field.outlier_spacings > 0.0;
+        if cloud {
+            progress.report(STRAY_PHASE, 0.0);
+        }
         let cleaned = target.without_isolated_points(settings.field.outlier_spacings);
+        if cloud {
+            progress.report(STRAY_PHASE, 1.0);
+        }
         let (target, isolated_points) = match &cleaned {
             Some((t, n)) => {
                 t.check_wrappable()?;
