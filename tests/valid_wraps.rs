@@ -104,13 +104,8 @@ fn a_cloud_with_stray_points_wraps_without_them() {
     let clean = target("torus-g3-cloud");
     let (lo, size) = (clean.bbox.min, clean.bbox.size());
     let n = clean.points.len() / 100;
-    let mut seed = 12345u64;
-    let mut unit = || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = lsw::demo::Rng::new(12345);
+    let mut unit = || rng.uniform();
     let strays: Vec<glam::DVec3> = (0..n)
         .map(|_| lo - 0.25 * size + 1.5 * size * glam::DVec3::new(unit(), unit(), unit()))
         .collect();
@@ -135,10 +130,10 @@ fn a_cloud_with_stray_points_wraps_without_them() {
         "the test's strays mostly landed near the torus"
     );
 
-    // The default grid (this torus's holes close on the suite's coarser one, strays or not).
-    let mut settings = WrapSettings::default();
-    settings.remesh.min_edge_multiplier = 0.3;
-    let mut ev = Evolver::new(&noisy, settings).unwrap();
+    // The defaults: with the coarser final edges of the other tests here, the strays left near
+    // the torus (within the radius) closed some of its holes in 4 of 6 random sets (the clean
+    // cloud keeps them); at the defaults all 6 keep genus 3 (benches/RESULTS.md).
+    let mut ev = Evolver::new(&noisy, WrapSettings::default()).unwrap();
     ev.run(|_| {}).unwrap();
     assert_eq!(ev.isolated_points(), left_out);
     let c = certify(&ev.positions(), &ev.triangles(), Some(&clean));

@@ -156,19 +156,7 @@ static OTHERS: std::sync::LazyLock<Vec<[i64; 3]>> = std::sync::LazyLock::new(|| 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Points on a unit sphere, evenly spread (a Fibonacci lattice).
-    fn sphere(n: usize) -> Vec<DVec3> {
-        let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-        (0..n)
-            .map(|i| {
-                let y = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
-                let r = (1.0 - y * y).sqrt();
-                let t = golden * i as f64;
-                DVec3::new(r * crate::fmath::cos(t), y, r * crate::fmath::sin(t))
-            })
-            .collect()
-    }
+    use crate::geometry::sphere::fibonacci_sphere as sphere;
 
     #[test]
     fn stray_points_and_specks_are_isolated_the_surface_is_not() {
