@@ -307,7 +307,7 @@ impl Evolver {
         let start = match build_start(target, &field, &settings) {
             // `auto` promises a start that works. Its isosurface start is tried again with the
             // isosurface preset's coarser edges (a voxel plate with nine holes intersected after
-            // the finer remesh, not after this one: genus 9 with 20 K vertices in 6 s, against
+            // the finer remesh, not after this one: genus 9 with 20 K vertices in 13 s, against
             // the icosphere's 95 K in 25 s); where the exterior leaked into gaps of the target
             // (noisy volumes, sparse clouds) the icosphere, which cannot leak, takes over.
             Err(EvolveError::StartIntersects { .. })
@@ -547,9 +547,9 @@ impl Evolver {
         let ends = self.ends(moved.settled_fraction);
         // On a cloud, the step that ends the run leaves the remesh to the final fit, whose
         // first pass remeshes to the same sizes anyway: remeshing first spent a sixth of the
-        // bunny's time on a surface that the fit's moves then distort, and the clouds' results
-        // came out the same or closer (cube cloud's Hausdorff 0.70 → 0.33 %, spotPts_4's
-        // 6.1 → 4.7 %). A mesh's fit sizes its edges by where it still misses the target, which
+        // bunny's time on a surface that the fit's moves then distort, and most clouds' results
+        // came out closer (cube cloud's Hausdorff 0.70 → 0.39 %, spotPts_4's 6.1 → 5.5 %; a
+        // thin plate's 5.2 → 5.4 %, benches/RESULTS.md). A mesh's fit sizes its edges by where it still misses the target, which
         // needs the fine surface from its first pass (without it the bust's sockets kept a 95th
         // percentile 0.72 of that with no error sizing, against under 0.6).
         let fits = ends && matches!(self.fit_target, Some(SnapTarget::Points(_)));
