@@ -244,7 +244,8 @@ fn auto_start_falls_back_to_the_icosphere_on_a_noisy_volume() {
 /// A voxel plate with nine square holes (a binary volume: a staircase iso-surface) keeps the
 /// isosurface start under `auto`: its start at `auto`'s fine edges intersects after the remesh,
 /// and the coarser isosurface start is tried before the icosphere (which took 95 K vertices and
-/// 25 s to open the nine handles). The start has the plate's genus.
+/// 25 s to open the nine handles). The start has the plate's genus. A coarser start with
+/// another topology than the target's is not taken.
 #[test]
 fn auto_retries_the_isosurface_start_with_coarser_edges() {
     use lsw::io::volume::{Inside, ScalarType, VoxelVolume};
@@ -281,4 +282,25 @@ fn auto_retries_the_isosurface_start_with_coarser_edges() {
     assert_eq!(ev.start_surface(), StartSurface::Isosurface);
     let report = ev.mesh().validate().unwrap();
     assert_eq!((report.genus, report.components), (9, 1));
+
+    // Two linked voxel tori: the coarser isosurface start is clean but has 5 components (the
+    // offsets merge where the tori link), not the target's 2, so `auto` takes the icosphere.
+    let n = 64;
+    let mut values = vec![0f32; n * n * n];
+    for (i, v) in values.iter_mut().enumerate() {
+        let (x, y, z) = (i % n, i / n % n, i / (n * n));
+        let p = glam::DVec3::new(x as f64 - 32.0, y as f64 - 32.0, z as f64 - 32.0) / 10.0;
+        let ring = |a: f64, b: f64, c: f64| lsw::fmath::hypot((a * a + b * b).sqrt() - 1.3, c);
+        if ring(p.x - 0.8, p.y, p.z) < 0.35 || ring(p.x + 0.8, p.z, p.y) < 0.35 {
+            *v = 1.0;
+        }
+    }
+    let linked = VoxelVolume {
+        dims: [n, n, n],
+        values,
+        ..vol
+    };
+    let target = Target::from_volume(&linked, 0.5, Inside::Bright).unwrap();
+    let ev = Evolver::new(&target, WrapSettings::default()).unwrap();
+    assert_eq!(ev.start_surface(), StartSurface::Icosphere);
 }

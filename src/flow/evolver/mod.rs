@@ -66,6 +66,20 @@ fn coarser_isosurface_start(
     })
 }
 
+/// Whether `mesh` has the Euler characteristic and the component count of `target`'s triangles
+/// (false when those do not form a manifold mesh). From connectivity alone: degenerate faces of
+/// an iso-surface do not matter here.
+fn same_topology(mesh: &HalfedgeMesh, target: &Target) -> bool {
+    let topology = |m: &HalfedgeMesh| {
+        (
+            m.n_vertices() as i64 - m.n_edges() as i64 + m.n_faces() as i64,
+            m.count_components(),
+        )
+    };
+    HalfedgeMesh::from_triangles(target.points.clone(), &target.triangles)
+        .is_ok_and(|t| topology(&t) == topology(mesh))
+}
+
 /// Why a wrap could not start or continue.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum EvolveError {
@@ -315,7 +329,9 @@ impl Evolver {
             {
                 let coarser = coarser_isosurface_start(&requested, &settings);
                 match coarser.map(|s| (build_start(target, &field, &s), s)) {
-                    Some((Ok(start), s)) => {
+                    // Only with the target's own topology: two linked voxel tori gave a clean
+                    // coarse start of 5 components (the offsets merge where they link).
+                    Some((Ok(start), s)) if same_topology(&start.mesh, target) => {
                         settings = s;
                         start
                     }
