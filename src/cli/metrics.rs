@@ -15,7 +15,8 @@
 //!   than in their shared vertices or edge, by exact predicates; folded neighbours count too)
 //! * `certificate`: {`valid`, `closed`, `manifold`, `oriented`, `finite`, `genus`,
 //!   `components`, `euler_characteristic`, `self_intersections`, `degenerate_faces`,
-//!   `distance_min`, `distance_max` (vertex → target, with `--target`), `problem`} (see
+//!   `distance_min`, `distance_max` (vertex → target, with `--target`), `problem`,
+//!   `target_genus`, `target_components` (a one-part closed mesh target's)} (see
 //!   [`crate::metrics::certificate`]), `certificate_ms`
 //! * with `--histograms`: `histograms` (see [`metrics_json_with`])
 //! * `--error-map FILE` / `--target-error-map FILE` (with `--target`) write the mesh / the target

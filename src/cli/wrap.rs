@@ -73,7 +73,8 @@ pub fn apply_overrides(
 
 /// Runs the wrap; JSON keys: input, output, preset, start, written, stop_reason, certificate
 /// {valid, closed, manifold, oriented, finite, genus, components, euler_characteristic,
-/// self_intersections, degenerate_faces, distance_min, distance_max, problem}, contacts,
+/// self_intersections, degenerate_faces, distance_min, distance_max, problem, target_genus,
+/// target_components}, contacts,
 /// surgery [{step, kind, position, genus_before, genus_after}], isolated_points_left_out (a
 /// cloud's stray points, see `field.outlier_spacings`), vertices, faces, steps, stopped_early,
 /// scale, result_hash, iso_level, times_ms {read, field, start, evolve, write, total}, evolve_ms {normals,

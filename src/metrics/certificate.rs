@@ -41,6 +41,15 @@ pub struct Certificate {
     pub distance_max: Option<f64>,
     /// The first broken property in words, or `None` when valid.
     pub problem: Option<String>,
+    /// Genus and components (1) of the target's triangles when they form one closed manifold
+    /// part (None for clouds, open or non-manifold meshes, and targets of several parts: a wrap
+    /// takes the outside of nested shells, of a noisy iso-surface's specks, of overlapping
+    /// parts). The wrap should have the same; a difference (a handle lost or added) is shown,
+    /// not part of `valid`.
+    #[serde(default)]
+    pub target_genus: Option<i64>,
+    #[serde(default)]
+    pub target_components: Option<usize>,
 }
 
 /// Cells of the cloud's grid along its bounding-box diagonal (refined where dense).
@@ -130,6 +139,7 @@ pub fn certify(
         }
         _ => (None, None),
     };
+    let target_topology = target.and_then(closed_topology);
     Certificate {
         valid,
         closed,
@@ -144,7 +154,29 @@ pub fn certify(
         distance_min,
         distance_max,
         problem: if valid { None } else { problem },
+        target_genus: target_topology.map(|t| t.genus),
+        target_components: target_topology.map(|t| t.components),
     }
+}
+
+/// Genus and components of a target of one closed manifold part (see
+/// [`Certificate::target_genus`]).
+fn closed_topology(target: &Target) -> Option<crate::mesh::MeshReport> {
+    if target.triangles.is_empty() || edge_counts(&target.triangles).boundary > 0 {
+        return None;
+    }
+    // Points no triangle uses would count as components of their own.
+    let mut used = vec![false; target.points.len()];
+    target
+        .triangles
+        .iter()
+        .flatten()
+        .for_each(|&v| used[v as usize] = true);
+    if used.contains(&false) {
+        return None;
+    }
+    let m = HalfedgeMesh::from_triangles(target.points.clone(), &target.triangles).ok()?;
+    Some(topology_only(&m)).filter(|t| t.components == 1)
 }
 
 /// Counts of a closed mesh whose only flaw is a degenerate face (validate stops there).
@@ -193,5 +225,32 @@ mod tests {
         let target = Target::new(p.clone(), vec![]).unwrap();
         let c = certify(&p, &t, Some(&target));
         assert_eq!((c.distance_min, c.distance_max), (Some(0.0), Some(0.0)));
+        assert_eq!((c.target_genus, c.target_components), (None, None));
+    }
+
+    /// A closed one-part mesh target's topology is reported beside the wrap's; an open one's
+    /// and a two-part one's are not.
+    #[test]
+    fn a_closed_targets_topology_is_reported() {
+        let m = icosphere(2, 1.0, DVec3::ZERO).unwrap();
+        let (p, t) = (m.positions().to_vec(), m.triangles());
+        let torus = crate::demo::shapes::generate("torus-g2").unwrap();
+        let target = Target::new(torus.0, torus.1).unwrap();
+        let c = certify(&p, &t, Some(&target));
+        assert_eq!((c.genus, c.components), (Some(0), Some(1)));
+        assert_eq!((c.target_genus, c.target_components), (Some(2), Some(1)));
+        assert!(
+            c.valid,
+            "a topology difference is shown, not part of `valid`"
+        );
+        let open = Target::new(p.clone(), t[1..].to_vec()).unwrap();
+        let c = certify(&p, &t, Some(&open));
+        assert_eq!((c.target_genus, c.target_components), (None, None));
+        let shifted: Vec<DVec3> = p.iter().map(|&q| q + DVec3::X * 3.0).collect();
+        let n = p.len() as u32;
+        let two_t = t.iter().copied().chain(t.iter().map(|f| f.map(|v| v + n)));
+        let two = Target::new([p.clone(), shifted].concat(), two_t.collect()).unwrap();
+        let c = certify(&p, &t, Some(&two));
+        assert_eq!((c.target_genus, c.target_components), (None, None));
     }
 }

@@ -12,9 +12,17 @@ export function showPending(el: HTMLElement, text: string): void {
   el.title = 'The certificate is computed when the wrap ends.';
 }
 
+/** Whether the wrap's genus or component count differs from a closed mesh target's. */
+export function topologyDiffers(c: Certificate): boolean {
+  return c.target_genus != null && (c.target_genus !== c.genus || c.target_components !== c.components);
+}
+
 /** One sentence on what is wrong with an invalid result, and what to try. */
 export function explain(c: Certificate, stopReason: string | null): string {
   if (stopReason) return `Stopped early (${stopReason}). Try a smaller time step τ.`;
+  if (c.valid && topologyDiffers(c)) {
+    return `Closed, manifold, no intersecting faces, but the target has genus ${c.target_genus} in ${c.target_components} part(s) and this wrap genus ${c.genus} in ${c.components}. Try the other start surface or a finer grid.`;
+  }
   if (c.valid) return 'Closed, manifold, oriented, no intersecting faces.';
   if (!c.finite) return 'Has non-finite coordinates. Try a smaller time step τ.';
   if (!c.closed) return 'Not closed. Report the share link: this is a bug.';
@@ -29,6 +37,7 @@ export function showCertificate(el: HTMLElement, c: Certificate, stopReason: str
   el.dataset.genus = c.genus === null ? '' : String(c.genus);
   el.dataset.si = String(c.self_intersections);
   el.dataset.state = ok ? 'valid' : 'invalid';
+  el.dataset.topology = topologyDiffers(c) ? 'differs' : '';
   const parts = [
     ok ? '✓ valid' : '✗ not valid',
     c.closed ? 'closed' : 'open',
@@ -36,6 +45,7 @@ export function showCertificate(el: HTMLElement, c: Certificate, stopReason: str
     c.genus === null ? 'genus ?' : `genus ${c.genus}`,
     `${c.self_intersections} SI`,
   ];
+  if (topologyDiffers(c)) parts.push(`⚠ target: genus ${c.target_genus}, ${c.target_components} part(s)`);
   if (c.distance_max !== null) parts.push(`max dist ${c.distance_max.toPrecision(3)}`);
   el.textContent = parts.join(' · ');
   el.title = explain(c, stopReason);

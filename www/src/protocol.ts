@@ -16,6 +16,9 @@ export interface Certificate {
   distance_min: number | null;
   distance_max: number | null;
   problem: string | null;
+  /** The target's genus and components when it is a closed manifold mesh (else null). */
+  target_genus: number | null;
+  target_components: number | null;
 }
 
 /** An error as produced by the Rust facade: stable code, message naming the problem, and a hint. */

@@ -3,7 +3,7 @@
 // the worker's answers that belong to it (target, frames, volume, result, stop).
 import { byId } from './dom';
 import type { FieldControls } from './field-view';
-import { showPending } from './health';
+import { showPending, topologyDiffers } from './health';
 import { revealView } from './layout';
 import type { KeptResult, TargetMesh } from './kept';
 import type { ModeSwitch } from './mode';
@@ -279,6 +279,7 @@ export class WrapRun {
     if (this.replacing) return;
     const k = kept.result;
     if (reason === 'finished' && k && !k.valid) status.set('invalid', `Not valid — ${k.why}`);
+    else if (reason === 'finished' && k && topologyDiffers(k.certificate)) status.set('invalid', `Done, but not the target's topology — ${k.why}`);
     else if (reason === 'finished') {
       const strays = this.isolated > 0 ? ` (${this.isolated} stray point${this.isolated === 1 ? '' : 's'} left out)` : '';
       status.set('done', `Done — ${this.name} wrapped in ${(this.workMs / 1000).toFixed(1)} s${strays}`);
