@@ -181,8 +181,8 @@ pub fn detect_creases(points: &[DVec3], triangles: &[[u32; 3]], min_turn: f64) -
 const CONE_DEFECT_PER_TURN: f64 = 0.5;
 
 /// Welded vertices (ids of the first copy) whose fan is closed (not in `open`: on a boundary or
-/// non-manifold edge), manifold and free of slivers (`normals[f]` None), that lie on no crease, and whose angle defect exceeds `min_defect`
-/// radians: the apexes of cones.
+/// non-manifold edge), manifold and free of slivers (`normals[f]` None), that lie on no crease,
+/// and whose angle defect exceeds `min_defect` radians: the apexes of cones.
 fn cone_points(
     points: &[DVec3],
     triangles: &[[u32; 3]],

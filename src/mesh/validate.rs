@@ -133,16 +133,23 @@ impl HalfedgeMesh {
                 return Err(ValidationError::DegenerateFace { face: f, area });
             }
         }
+        Ok(self.topology())
+    }
+
+    /// The counts, Euler characteristic, genus and components from the connectivity alone
+    /// (what [`Self::validate`] reports once the geometry passed; also for a closed mesh with a
+    /// degenerate face, such as an iso-surface).
+    pub fn topology(&self) -> MeshReport {
         let components = self.count_components();
         let chi = self.n_vertices() as i64 - self.n_edges() as i64 + self.n_faces() as i64;
-        Ok(MeshReport {
+        MeshReport {
             vertices: self.n_vertices(),
             edges: self.n_edges(),
             faces: self.n_faces(),
             euler_characteristic: chi,
             genus: (2 * components as i64 - chi) / 2,
             components,
-        })
+        }
     }
 
     /// Connected components over edges (union–find, deterministic).

@@ -86,7 +86,7 @@ pub fn certify(
                 Ok(r) => report = Some(r),
                 Err(ValidationError::NonManifoldVertex { .. }) => manifold = false,
                 Err(ValidationError::DegenerateFace { .. }) if closed && finite => {
-                    report = Some(topology_only(&m));
+                    report = Some(m.topology());
                 }
                 Err(e) => problem = Some(e.to_string()),
             }
@@ -176,21 +176,7 @@ fn closed_topology(target: &Target) -> Option<crate::mesh::MeshReport> {
         return None;
     }
     let m = HalfedgeMesh::from_triangles(target.points.clone(), &target.triangles).ok()?;
-    Some(topology_only(&m)).filter(|t| t.components == 1)
-}
-
-/// Counts of a closed mesh whose only flaw is a degenerate face (validate stops there).
-fn topology_only(m: &HalfedgeMesh) -> crate::mesh::MeshReport {
-    let chi = m.n_vertices() as i64 - m.n_edges() as i64 + m.n_faces() as i64;
-    let components = m.count_components();
-    crate::mesh::MeshReport {
-        vertices: m.n_vertices(),
-        edges: m.n_edges(),
-        faces: m.n_faces(),
-        euler_characteristic: chi,
-        genus: (2 * components as i64 - chi) / 2,
-        components,
-    }
+    Some(m.topology()).filter(|t| t.components == 1)
 }
 
 #[cfg(test)]

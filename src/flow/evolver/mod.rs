@@ -71,10 +71,8 @@ fn coarser_isosurface_start(
 /// an iso-surface do not matter here.
 fn same_topology(mesh: &HalfedgeMesh, target: &Target) -> bool {
     let topology = |m: &HalfedgeMesh| {
-        (
-            m.n_vertices() as i64 - m.n_edges() as i64 + m.n_faces() as i64,
-            m.count_components(),
-        )
+        let t = m.topology();
+        (t.euler_characteristic, t.components)
     };
     HalfedgeMesh::from_triangles(target.points.clone(), &target.triangles)
         .is_ok_and(|t| topology(&t) == topology(mesh))
