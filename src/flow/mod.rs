@@ -9,6 +9,7 @@ pub mod evolver;
 pub mod guard;
 pub mod mcf;
 pub mod mcf_mesh;
+pub mod reach;
 pub mod scaling;
 pub mod settings;
 pub mod snap;

@@ -122,6 +122,22 @@ pub fn segment_meets_triangle(p: DVec3, q: DVec3, t: [DVec3; 3]) -> bool {
     ])
 }
 
+/// Segment `[p, q]` passes through triangle `t` from one side of its plane to the other: the
+/// ends lie strictly on opposite sides, and the line meets the closed triangle. A segment that
+/// only touches the plane (an end on it, or lying in it) does not cross. Exact.
+pub fn segment_crosses_triangle(p: DVec3, q: DVec3, t: [DVec3; 3]) -> bool {
+    let [a, b, c] = t;
+    let (sp, sq) = (orient3d_sign(a, b, c, p), orient3d_sign(a, b, c, q));
+    if sp == Ordering::Equal || sq == Ordering::Equal || sp == sq {
+        return false;
+    }
+    same_side([
+        orient3d_sign(p, q, a, b),
+        orient3d_sign(p, q, b, c),
+        orient3d_sign(p, q, c, a),
+    ])
+}
+
 /// Closed triangles `t` and `u` intersect (any configuration, coplanar included). Exact.
 ///
 /// The intersection of two triangles, when not empty, has a point on an edge of one of them, so

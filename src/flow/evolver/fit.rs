@@ -1,8 +1,10 @@
 //! Phase 7 of a step, *final fit* (last step only): the settled surface, at the offset level set
 //! d = d₀, moves onto the target along its normals (plane fits to the cloud or closest points on
-//! the mesh, [`crate::flow::snap`]), each pass through the contact guard.
+//! the mesh, [`crate::flow::snap`]), each pass through the contact guard. On a mesh target, the
+//! passes after the first also refine where target vertices are still missed
+//! ([`crate::flow::error_sizing`]) and move wrap vertices onto them ([`crate::flow::reach`]).
 
-use super::{round_as_written, Evolver, PhaseTimes};
+use super::{round_as_written, written, Evolver, PhaseTimes};
 use crate::clock::now_ms;
 use crate::progress::Progress;
 
@@ -11,6 +13,7 @@ pub const FIT_PHASE: &str = "final fit";
 use crate::flow::crease_fit::snap_to_creases;
 use crate::flow::error_sizing::error_caps;
 use crate::flow::guard::resolve_contacts;
+use crate::flow::reach::{reach_into_misses, settle_flap_tips};
 use crate::flow::snap::{snap_to_target, SnapParams, SnapTarget};
 use crate::geometry::creases::Creases;
 use crate::geometry::operators::normals::angle_weighted_normals;
@@ -97,16 +100,31 @@ impl Evolver {
             snap_to_target(mesh, normals, target, &params, creases, progress)
         };
         let mut missed = true;
+        // Reaching into concavities tests its way for the target's inside when it has one.
+        let closed = self.field.signedness() == crate::field::sign::Signedness::Signed;
+        let (mut reached_any, mut reached_last) = (false, false);
         for pass in 0..most {
-            if pass >= passes && !missed {
+            // (A pass after a reach puts the dents' new vertices on the target.)
+            if pass >= passes && !missed && !reached_last {
                 break;
             }
+            reached_last = false;
             at(pass, 0.0);
             // The surface here is certified; keep it to redo the pass with the guard if needed.
             let clean = contact.then(|| self.mesh.clone());
             let start_of_pass = self.creases.is_some().then(|| self.mesh.clone());
             let normals = angle_weighted_normals(&self.mesh);
             moved = snap(&mut self.mesh, &normals, &mut |f| at(pass, 0.5 * f));
+            // Into the concavities the moves bridge, once the first pass has found the misses.
+            let reach_now = self.settings.fit.reach && pass > 0 && pass + 1 < most;
+            if let (Some(samples), SnapTarget::Triangles(bvh), true) = (refine, target, reach_now) {
+                let (tol, reach) = (refine_tol, params.max_move);
+                let reached =
+                    reach_into_misses(&mut self.mesh, bvh, samples, &check, tol, reach, closed);
+                reached_last = reached > 0;
+                reached_any |= reached_last;
+                moved += reached;
+            }
             // The moves, kept for a redo of the pass (the snap only moves vertices).
             let snap_moves = clean.is_some().then(|| self.mesh.positions().to_vec());
             // Undo the moves that made faces intersect before anything else: the crease snap
@@ -133,7 +151,7 @@ impl Evolver {
                     // earlier surface, rather than round the creases off again.
                     None if creases_placed => {
                         round_as_written(&mut self.mesh, self.phi, self.center);
-                        if contact && has_intersections(&self.mesh) {
+                        if contact && intersects_as_written(&self.mesh, self.phi, self.center) {
                             if let Some(m) = start_of_pass {
                                 self.mesh = m;
                             }
@@ -181,7 +199,7 @@ impl Evolver {
             round_as_written(&mut self.mesh, self.phi, self.center);
             at(pass, 0.75);
             let Some(clean) = clean else { continue };
-            let intersects = has_intersections;
+            let intersects = |m: &HalfedgeMesh| intersects_as_written(m, self.phi, self.center);
             if !intersects(&self.mesh) {
                 creases_placed |= features.is_some();
                 continue;
@@ -212,9 +230,25 @@ impl Evolver {
                 let unremeshed = self.mesh.clone();
                 let _ = remesh(&mut self.mesh, &rs);
                 round_as_written(&mut self.mesh, self.phi, self.center);
-                if count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) > 0 {
+                if intersects_as_written(&self.mesh, self.phi, self.center) {
                     self.mesh = unremeshed;
                 }
+            }
+        }
+        // The last pass's reach left dents whose remeshed sides no pass has put on the target,
+        // and any pass may leave a flap in a concavity: one more round of moves, without a
+        // remesh.
+        if let (true, SnapTarget::Triangles(bvh)) = (reached_any, target) {
+            let clean = self.mesh.clone();
+            let normals = angle_weighted_normals(&self.mesh);
+            snap(&mut self.mesh, &normals, &mut |_| {});
+            settle_flap_tips(&mut self.mesh, bvh, refine_tol, params.max_move);
+            if contact {
+                resolve_contacts(&mut self.mesh, clean.positions(), &self.settings.guard);
+            }
+            round_as_written(&mut self.mesh, self.phi, self.center);
+            if contact && intersects_as_written(&self.mesh, self.phi, self.center) {
+                self.mesh = clean;
             }
         }
         self.mesh.remove_vertex_scalar_layer(CAP_LAYER);
@@ -232,8 +266,17 @@ const CAP_LAYER: &str = "fit_cap";
 /// "No cap" in [`CAP_LAYER`]: finite, because a split vertex gets the mean of its ends' values.
 const NO_CAP: f64 = 1e300;
 
-fn has_intersections(m: &HalfedgeMesh) -> bool {
-    count_self_intersections(m.positions(), &m.triangles()) > 0
+/// True when faces of `m` intersect as written (in the target's frame, rounded to f32): the
+/// certificate's check. The same check in the stabilised frame can differ where faces nearly
+/// touch (the frame's scaling rounds), and a fit that passed it was certified invalid (a bust
+/// whose flap tips moved onto the target: 4 pairs).
+fn intersects_as_written(m: &HalfedgeMesh, phi: f64, center: DVec3) -> bool {
+    let written: Vec<DVec3> = m
+        .positions()
+        .iter()
+        .map(|&p| written(p, phi, center))
+        .collect();
+    count_self_intersections(&written, &m.triangles()) > 0
 }
 
 /// [`snap_to_creases`] kept intersection-free: a try that makes faces intersect is undone and

@@ -461,6 +461,7 @@ mod tests {
                 crease_angle_deg: 40.0,
                 refine_error_cells: 0.25,
                 refine_passes: 3,
+                reach: true,
             },
             stop: StopSettings {
                 steps: 30,

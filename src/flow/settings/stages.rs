@@ -212,6 +212,10 @@ pub struct FitSettings {
     /// Most extra passes the error-adaptive sizing may add after `passes` (each halves the
     /// edges that still miss). Range 0–10; default 3.
     pub refine_passes: u32,
+    /// Reaching into concavities on mesh targets (with the error-adaptive sizing): after a pass, the wrap vertex nearest to a target vertex still missed moves onto
+    /// it when the way there is clear of the target — a slit narrower than a grid cell (a mouth,
+    /// the gap under an ear) is lined instead of bridged (see `flow::reach`). Default true.
+    pub reach: bool,
 }
 
 impl Default for FitSettings {
@@ -225,6 +229,7 @@ impl Default for FitSettings {
             crease_angle_deg: 40.0,
             refine_error_cells: 0.25,
             refine_passes: 3,
+            reach: true,
         }
     }
 }

@@ -205,6 +205,13 @@ impl Bvh {
         self.nodes.is_empty()
     }
 
+    /// The box around every primitive (the root's; zero-sized when empty).
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        self.nodes
+            .first()
+            .map_or((DVec3::ZERO, DVec3::ZERO), |n| (n.min, n.max))
+    }
+
     /// Nearest primitive to `p` under `dist2(id, p)` (an exact squared distance that is at least
     /// the squared distance to the primitive's box). Returns `(id, squared distance)`.
     pub fn nearest(&self, p: DVec3, dist2: impl FnMut(u32) -> f64) -> Option<(u32, f64)> {

@@ -1,0 +1,335 @@
+//! Final fit on mesh targets: reaching into the concavities that the fit bridged (issue 15).
+//!
+//! The fit moves each vertex along its normal towards its closest target point. A vertex on a
+//! surface that spans a slit narrower than a grid cell (a mouth, the gap under a cupped ear) has
+//! its closest point on the slit's lip, so no pass of that fit ever enters the slit, however
+//! fine the edges there: the target's samples inside stay missed, and they are the Hausdorff
+//! distance. Here the miss is answered from the target's side: the wrap vertex nearest to a
+//! missed sample moves onto that sample, when the way there is clear of the target (a sample
+//! inside the target's material, under another part, stays missed). The pass's remesh then
+//! splits the long edges of that dent and the next pass's moves put the new vertices on the
+//! slit's walls.
+
+use crate::geometry::predicates::{segment_crosses_triangle, segment_meets_triangle};
+use crate::geometry::spatial::bvh::TriangleBvh;
+use crate::mesh::HalfedgeMesh;
+use glam::DVec3;
+
+/// Moves wrap vertices onto target samples the wrap misses by more than `tol`; returns how many
+/// moved.
+///
+/// `samples` are the target's points (a mesh's vertices), `misses` the indices to try (the
+/// previous pass's misses). Each missed sample proposes a move of the nearest vertex of the
+/// wrap face nearest to it, no longer than `max_move` and along a segment that meets no target
+/// triangle except at its ends; each vertex takes its farthest proposal (the deepest point of
+/// the concavity, so that the dent's sides lie along the walls). The moves are not checked for
+/// self-intersections here: the fit's contact guard does that.
+pub fn reach_into_misses(
+    mesh: &mut HalfedgeMesh,
+    target: &TriangleBvh,
+    samples: &[DVec3],
+    misses: &[u32],
+    tol: f64,
+    max_move: f64,
+    closed: bool,
+) -> usize {
+    if misses.is_empty() {
+        return 0;
+    }
+    mesh.garbage_collect();
+    let tris = mesh.triangles();
+    let positions = mesh.positions();
+    let wrap = TriangleBvh::new(positions, &tris);
+    let proposals: Vec<Option<(u32, f64)>> = crate::parallel::map(misses.len(), |i| {
+        let s = samples[misses[i] as usize];
+        if wrap.closest_point_within(s, tol).is_some() {
+            return None;
+        }
+        let hit = wrap.closest_point(s)?;
+        let t = tris[hit.triangle as usize];
+        // Only a sample under the wrap is in a bridged concavity; one outside it is a sharp tip
+        // that the wrap cut (the crease fit's to place).
+        let [a, b, c] = t.map(|v| positions[v as usize]);
+        if (s - hit.point).dot((b - a).cross(c - a)) >= 0.0 {
+            return None;
+        }
+        let v = nearest_corner(t, positions, s);
+        let p = positions[v as usize];
+        let inside = || closed && is_inside(target, 0.5 * (p + s));
+        ((s - p).length() <= max_move && clear_of(target, p, s) && !inside())
+            .then_some((v, hit.distance_squared))
+    });
+    // Per vertex, the farthest sample; ties go to the earlier sample (the same mesh each run).
+    let mut best: Vec<Option<(f64, u32)>> = vec![None; positions.len()];
+    for (i, p) in proposals.iter().enumerate() {
+        if let Some((v, d2)) = *p {
+            let slot = &mut best[v as usize];
+            if slot.is_none_or(|(b, _)| d2 > b) {
+                *slot = Some((d2, misses[i]));
+            }
+        }
+    }
+    let mut moved = 0;
+    for (q, b) in mesh.positions_mut().iter_mut().zip(&best) {
+        if let Some((_, s)) = b {
+            *q = samples[*s as usize];
+            moved += 1;
+        }
+    }
+    moved
+}
+
+/// Moves the tips of the thin flaps that reaching leaves onto the target; returns how many moved.
+///
+/// A vertex pulled into a concavity drags a dent whose sides the next passes put on the walls;
+/// where a pass's moves and its remesh disagree, a flap remains: a vertex farther than `tol`
+/// from the target, standing in the concavity's air, while all its neighbours lie on the walls.
+/// Its move along its own normal (the fit's rule) hardly shortens the way, because that normal
+/// is the flap's, so such a vertex moves to its closest target point itself (no farther than
+/// `max_move`). A vertex of a surface that spans a hole of the target has neighbours off the
+/// target too and stays where it is.
+pub fn settle_flap_tips(
+    mesh: &mut HalfedgeMesh,
+    target: &TriangleBvh,
+    tol: f64,
+    max_move: f64,
+) -> usize {
+    let positions = mesh.positions();
+    let closest: Vec<Option<DVec3>> = crate::parallel::map(positions.len(), |i| {
+        target.closest_point(positions[i]).map(|h| h.point)
+    });
+    let off =
+        |v: u32| closest[v as usize].is_none_or(|q| (q - positions[v as usize]).length() > tol);
+    let moves: Vec<Option<DVec3>> = (0..positions.len() as u32)
+        .map(|v| {
+            let q = closest[v as usize]?;
+            let tip = off(v)
+                && (q - positions[v as usize]).length() <= max_move
+                && mesh.neighbors(v).all(|u| !off(u));
+            tip.then_some(q)
+        })
+        .collect();
+    let mut moved = 0;
+    for (p, m) in mesh.positions_mut().iter_mut().zip(moves) {
+        if let Some(q) = m {
+            *p = q;
+            moved += 1;
+        }
+    }
+    moved
+}
+
+/// The corner of triangle `t` nearest to `s` (the lower index on a tie).
+fn nearest_corner(t: [u32; 3], positions: &[DVec3], s: DVec3) -> u32 {
+    let d = |v: u32| (positions[v as usize] - s).length_squared();
+    t.into_iter()
+        .fold(t[0], |b, v| if d(v) < d(b) { v } else { b })
+}
+
+/// True when the way from `p` to `s` passes through no target triangle. Both ends lie on the
+/// target, so the test is of crossings from side to side (touching is no crossing), over the
+/// segment begun a hundredth behind `p` and ended a hundredth before `s`: a vertex on a roof
+/// whose way goes down through it crosses the roof just behind its start, while one on a lip
+/// that starts down the wall it stands on only touches.
+fn clear_of(target: &TriangleBvh, p: DVec3, s: DVec3) -> bool {
+    let (a, b) = (p - STRETCH * (s - p), s - STRETCH * (s - p));
+    let mut clear = true;
+    let (pos, tris) = (target.positions(), target.triangles());
+    target.bvh().for_each_overlap(a.min(b), a.max(b), |f| {
+        if clear && segment_crosses_triangle(a, b, tris[f as usize].map(|v| pos[v as usize])) {
+            clear = false;
+        }
+    });
+    clear
+}
+
+/// The share of the way by which [`clear_of`] moves its ends (back from `p`, back from `s`).
+const STRETCH: f64 = 0.01;
+
+/// True when `m` lies inside the closed `target`: a ray from it crosses the target an odd number
+/// of times. This catches the way [`clear_of`] cannot see: from a vertex on the line where two
+/// overlapping parts of a target meet (two spheres that interpenetrate, a self-intersecting
+/// model) straight into one part's material, towards the other part's buried surface. The ray
+/// runs nearly along the axis to the nearest side of the target's box, so that its box is thin
+/// and the query cheap; slightly off the axis, so that it does not run along the edges of a
+/// grid-aligned target.
+fn is_inside(target: &TriangleBvh, m: DVec3) -> bool {
+    let (lo, hi) = target.bvh().bounds();
+    let gaps = [
+        m.x - lo.x,
+        hi.x - m.x,
+        m.y - lo.y,
+        hi.y - m.y,
+        m.z - lo.z,
+        hi.z - m.z,
+    ];
+    let side = (0..6).fold(0, |b, i| if gaps[i] < gaps[b] { i } else { b });
+    let axis = side / 2;
+    let sign = if side % 2 == 0 { -1.0 } else { 1.0 };
+    let mut dir = DVec3::new(RAY_SKEW[0], RAY_SKEW[1], RAY_SKEW[2]);
+    dir[axis] = sign;
+    let end = m + dir * (gaps[side].max(0.0) + (hi - lo).max_element());
+    let (pos, tris) = (target.positions(), target.triangles());
+    let mut crossings = 0usize;
+    target.bvh().for_each_overlap(m.min(end), m.max(end), |f| {
+        if segment_meets_triangle(m, end, tris[f as usize].map(|v| pos[v as usize])) {
+            crossings += 1;
+        }
+    });
+    crossings % 2 == 1
+}
+
+/// The ray's tilt off its axis in [`is_inside`] (irrational-looking, small).
+const RAY_SKEW: [f64; 3] = [
+    1.3e-3 * std::f64::consts::SQRT_2,
+    1.1e-3 * std::f64::consts::E,
+    0.9e-3 * std::f64::consts::PI,
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::icosphere::icosphere;
+
+    /// A floor at z = −1 under a roof at z = 0 with a slot of width 0.2 along x = 0.
+    fn slot() -> (Vec<DVec3>, TriangleBvh) {
+        let pos = vec![
+            DVec3::new(-2.0, -1.0, -1.0),
+            DVec3::new(2.0, -1.0, -1.0),
+            DVec3::new(2.0, 1.0, -1.0),
+            DVec3::new(-2.0, 1.0, -1.0),
+            DVec3::new(0.1, -1.0, 0.0),
+            DVec3::new(2.0, -1.0, 0.0),
+            DVec3::new(2.0, 1.0, 0.0),
+            DVec3::new(0.1, 1.0, 0.0),
+            DVec3::new(-2.0, -1.0, 0.0),
+            DVec3::new(-0.1, -1.0, 0.0),
+            DVec3::new(-0.1, 1.0, 0.0),
+            DVec3::new(-2.0, 1.0, 0.0),
+            // Samples: the slot's floor, the floor under the roof.
+            DVec3::new(0.0, 0.0, -1.0),
+            DVec3::new(1.0, 0.0, -1.0),
+        ];
+        let tris = vec![
+            [0, 1, 2],
+            [0, 2, 3],
+            [4, 5, 6],
+            [4, 6, 7],
+            [8, 9, 10],
+            [8, 10, 11],
+        ];
+        let bvh = TriangleBvh::new(&pos, &tris);
+        (pos, bvh)
+    }
+
+    /// A small ball turned inside out: near its bottom it is a wrap over the slot, with the
+    /// target under it (on the inner side of its faces).
+    fn ball(center: DVec3) -> HalfedgeMesh {
+        let b = icosphere(2, 0.3, center).unwrap();
+        let flipped: Vec<[u32; 3]> = b.triangles().iter().map(|&[a, b, c]| [a, c, b]).collect();
+        HalfedgeMesh::from_triangles(b.positions().to_vec(), &flipped).unwrap()
+    }
+
+    #[test]
+    fn a_vertex_over_a_slot_moves_to_its_floor() {
+        let (pos, target) = slot();
+        let mut mesh = ball(DVec3::new(0.0, 0.0, 0.3));
+        let bottom = (0..mesh.n_vertices() as u32)
+            .min_by(|&a, &b| mesh.position(a).z.total_cmp(&mesh.position(b).z))
+            .unwrap();
+        let moved = reach_into_misses(&mut mesh, &target, &pos, &[12, 13], 0.05, 2.0, false);
+        assert_eq!(moved, 1);
+        assert_eq!(mesh.position(bottom), pos[12]);
+    }
+
+    #[test]
+    fn no_vertex_moves_through_the_target_or_farther_than_allowed() {
+        let (pos, target) = slot();
+        // Over the roof: the floor beneath is behind it.
+        let mut mesh = ball(DVec3::new(1.0, 0.0, 0.3));
+        let before = mesh.positions().to_vec();
+        assert_eq!(
+            reach_into_misses(&mut mesh, &target, &pos, &[13], 0.05, 2.0, false),
+            0
+        );
+        assert_eq!(mesh.positions(), &before[..]);
+        // Over the slot, but the floor is farther than the longest move.
+        let mut mesh = ball(DVec3::new(0.0, 0.0, 0.3));
+        assert_eq!(
+            reach_into_misses(&mut mesh, &target, &pos, &[12], 0.05, 0.5, false),
+            0
+        );
+        // A sample the wrap already touches is no miss.
+        assert_eq!(
+            reach_into_misses(&mut mesh, &target, &pos, &[12], 1.5, 2.0, false),
+            0
+        );
+    }
+
+    /// A missed sample outside the wrap is a tip the wrap cut, not a concavity: left alone.
+    #[test]
+    fn a_sample_outside_the_wrap_is_left_to_the_crease_fit() {
+        let (pos, target) = slot();
+        let mut mesh = icosphere(2, 0.3, DVec3::new(0.0, 0.0, 0.3)).unwrap();
+        assert_eq!(
+            reach_into_misses(&mut mesh, &target, &pos, &[12], 0.05, 2.0, false),
+            0
+        );
+    }
+
+    #[test]
+    fn inside_means_an_odd_number_of_crossings() {
+        let cube = icosphere(1, 1.0, DVec3::ZERO).unwrap();
+        let bvh = TriangleBvh::new(cube.positions(), &cube.triangles());
+        assert!(is_inside(&bvh, DVec3::ZERO));
+        assert!(is_inside(&bvh, DVec3::new(0.5, -0.3, 0.2)));
+        assert!(!is_inside(&bvh, DVec3::new(1.5, 0.0, 0.0)));
+        assert!(!is_inside(&bvh, DVec3::new(0.0, -2.0, 0.3)));
+    }
+
+    /// Into a closed target's material is refused: the way crosses the surface the vertex
+    /// stands on, and its middle is inside.
+    #[test]
+    fn no_vertex_moves_into_a_closed_targets_material() {
+        // Target: a ball of radius 1; its sample at the centre stands for a buried part's.
+        let target_mesh = icosphere(2, 1.0, DVec3::ZERO).unwrap();
+        let mut pos = target_mesh.positions().to_vec();
+        pos.push(DVec3::new(0.0, 0.0, 0.9));
+        let bvh = TriangleBvh::new(&pos, &target_mesh.triangles());
+        let sample = pos.len() as u32 - 1;
+        let mut mesh = ball(DVec3::new(0.0, 0.0, 1.3));
+        assert_eq!(
+            reach_into_misses(&mut mesh, &bvh, &pos, &[sample], 0.05, 2.0, true),
+            0
+        );
+        let mut mesh = ball(DVec3::new(0.0, 0.0, 1.3));
+        assert_eq!(
+            reach_into_misses(&mut mesh, &bvh, &pos, &[sample], 0.05, 2.0, false),
+            0
+        );
+    }
+
+    #[test]
+    fn a_flap_tip_moves_onto_the_target_and_a_spanning_surface_stays() {
+        // Target: the plane z = 0 as two big triangles.
+        let pos = vec![
+            DVec3::new(-9.0, -9.0, 0.0),
+            DVec3::new(9.0, -9.0, 0.0),
+            DVec3::new(0.0, 9.0, 0.0),
+        ];
+        let bvh = TriangleBvh::new(&pos, &[[0, 1, 2]]);
+        // An octahedron-like wrap flattened onto the plane but for one raised tip.
+        let mut mesh = icosphere(0, 1.0, DVec3::ZERO).unwrap();
+        for p in mesh.positions_mut() {
+            p.z = 0.0;
+        }
+        mesh.positions_mut()[0].z = 0.5;
+        assert_eq!(settle_flap_tips(&mut mesh, &bvh, 0.1, 1.0), 1);
+        assert_eq!(mesh.position(0).z, 0.0);
+        // Two raised neighbours: neither is a tip.
+        let v = mesh.neighbors(0).next().unwrap();
+        mesh.positions_mut()[0].z = 0.5;
+        mesh.positions_mut()[v as usize].z = 0.5;
+        assert_eq!(settle_flap_tips(&mut mesh, &bvh, 0.1, 1.0), 0);
+    }
+}
