@@ -4,7 +4,7 @@
 //! ≤ 1 % of the diagonal, mean distance ≤ 0.15 % both ways, ≤ 80 K vertices. The fit's
 //! error-adaptive sizing is what brings a bust's eye sockets and mouth in: with it off
 //! (`fit.refine_error_cells` = 0) the 95th percentile of the target's distances to the wrap is
-//! about twice as large. Reaching into what the fit still bridges (`fit.reach`) lines the bust's
+//! about 1.5 times as large. Reaching into what the fit still bridges (`fit.reach`) lines the bust's
 //! mouth, a slit narrower than a grid cell. (The bust itself is still above the bar: a flap of
 //! the wrap stands in an eye socket, see benches/RESULTS.md.)
 
@@ -57,8 +57,10 @@ fn sculpted_shapes_meet_the_detail_bar() {
 fn error_adaptive_sizing_reaches_into_the_eye_sockets() {
     let (n1, h1, _, _, with) = wrap("bust", WrapSettings::default().fit.refine_error_cells);
     let (n0, h0, _, _, without) = wrap("bust", 0.0);
+    // (0.6 until the fit's last round of moves without a remesh, which also brings the
+    // unrefined wrap closer: p95 0.056 against 0.082 % now.)
     assert!(
-        with < 0.6 * without,
+        with < 0.75 * without,
         "p95 {with} % with against {without} % without"
     );
     assert!(h1 < h0, "Hausdorff {h1} % with against {h0} % without");

@@ -235,16 +235,21 @@ impl Evolver {
                 }
             }
         }
-        // The last pass's reach left dents whose remeshed sides no pass has put on the target,
-        // and any pass may leave a flap in a concavity: one more round of moves, without a
-        // remesh.
-        if let (true, SnapTarget::Triangles(bvh)) = (reached_any, target) {
+        // Every pass ends with a remesh, whose new and smoothed vertices lie on the surface
+        // before it, not on the target: a mesh target gets one more round of moves without a
+        // remesh (cad-part's Hausdorff 0.26 → 0.08 %, cube-hole's rim creases 137 → 139 of 140
+        // within 10°). After a reach it also settles the tips of flaps left in concavities.
+        if let SnapTarget::Triangles(bvh) = target {
             let clean = self.mesh.clone();
             let normals = angle_weighted_normals(&self.mesh);
             snap(&mut self.mesh, &normals, &mut |_| {});
-            settle_flap_tips(&mut self.mesh, bvh, refine_tol, params.max_move);
+            if reached_any {
+                settle_flap_tips(&mut self.mesh, bvh, refine_tol, params.max_move);
+            }
             if contact {
-                resolve_contacts(&mut self.mesh, clean.positions(), &self.settings.guard);
+                // As written: snapped faces that lie in one target plane are exactly coplanar
+                // there, and only there do the ones that overlap show (cube-hole: 5 pairs).
+                self.resolve_contacts_as_written(clean.positions());
             }
             round_as_written(&mut self.mesh, self.phi, self.center);
             if contact && intersects_as_written(&self.mesh, self.phi, self.center) {
@@ -258,6 +263,24 @@ impl Evolver {
             return Some(0);
         }
         Some(moved)
+    }
+}
+
+impl Evolver {
+    /// [`resolve_contacts`] on the positions as written (see [`intersects_as_written`]); the
+    /// mesh is left at its written positions, mapped back into the stabilised frame.
+    fn resolve_contacts_as_written(&mut self, old: &[DVec3]) -> crate::flow::guard::ContactReport {
+        let (phi, center) = (self.phi, self.center);
+        let mut w = self.mesh.clone();
+        for p in w.positions_mut() {
+            *p = written(*p, phi, center);
+        }
+        let old: Vec<DVec3> = old.iter().map(|&p| written(p, phi, center)).collect();
+        let report = resolve_contacts(&mut w, &old, &self.settings.guard);
+        for (p, q) in self.mesh.positions_mut().iter_mut().zip(w.positions()) {
+            *p = (*q - center) * phi;
+        }
+        report
     }
 }
 
