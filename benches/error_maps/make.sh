@@ -4,7 +4,9 @@
 # - the crease fit: each CAD shape (and the clouds sampled from two of them) wrapped with it off
 #   (fit.crease_angle_deg=0, "before") and on (the default, "after");
 # - curved splits: clouds wrapped with chord-midpoint splits (remesh.curved_splits=false,
-#   "chord") and with the default curved ones ("curved").
+#   "chord") and with the default curved ones ("curved");
+# - reaching into concavities: the bust's face, seen from the front, with fit.reach off
+#   ("before") and on (the default, "after").
 # Usage: benches/error_maps/make.sh LSW_BIN OUT_DIR  (optional: LSW_BEFORE=… SHARED=… for the fold maps)
 set -euo pipefail
 LSW=$1
@@ -12,16 +14,17 @@ OUT=$2
 HERE=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$OUT"
 # input:the mesh it samples (the same shape for meshes)
-# wrap_and_map INPUT REF MODE SETTING: wraps $OUT/INPUT.ply with SETTING, maps its error.
+# wrap_and_map INPUT REF MODE SETTING [BOX VIEW]: wraps $OUT/INPUT.ply with SETTING, maps its
+# error (only the points in BOX, seen from VIEW: see render_points.py).
 wrap_and_map() {
-    local s=$1 ref=$2 mode=$3 setting=$4
+    local s=$1 ref=$2 mode=$3 setting=$4 view=("${@:5}")
     "$LSW" demo "$s" -o "$OUT/$s.ply" >/dev/null
     "$LSW" demo "$ref" -o "$OUT/$ref.obj" >/dev/null
     [ -f "$OUT/$ref-dense.ply" ] || python3 "$HERE/../peers/sample_obj.py" "$OUT/$ref.obj" 300000 "$OUT/$ref-dense.ply" 1 >/dev/null
     "$LSW" wrap "$OUT/$s.ply" -o "$OUT/$s-$mode.ply" --set "$setting" >/dev/null
     "$LSW" metrics "$OUT/$s-$mode.ply" --target "$OUT/$ref-dense.ply" \
         --target-error-map "$OUT/$s-$mode.vtk" >/dev/null
-    python3 "$HERE/render_points.py" "$OUT/$s-$mode.vtk" "$OUT/$s-$mode.png" 1.0
+    python3 "$HERE/render_points.py" "$OUT/$s-$mode.vtk" "$OUT/$s-$mode.png" 1.0 "${view[@]}"
 }
 for pair in cube-hole:cube-hole cad-part:cad-part cube-cloud:cube cad-part-cloud:cad-part; do
     wrap_and_map "${pair%%:*}" "${pair##*:}" before fit.crease_angle_deg=0
@@ -31,6 +34,9 @@ for pair in thin-plate-cloud:thin-plate cube-cloud:cube; do
     wrap_and_map "${pair%%:*}" "${pair##*:}" chord remesh.curved_splits=false
     wrap_and_map "${pair%%:*}" "${pair##*:}" curved remesh.curved_splits=true
 done
+FACE=-0.2,0.2,-0.4,0.0,-0.05,0.4
+wrap_and_map bust bust reach-before fit.reach=false "$FACE" front
+wrap_and_map bust bust reach-after fit.reach=true "$FACE" front
 # The fit's fold rule (2026-11-26): LSW_BEFORE = an lsw built at fbe6c32 (moves that fold a
 # face undone with those of all its vertices), against LSW (halved, one vertex blamed). No
 # setting selects the old rule, hence the second binary. DoubleWedge.stl from $SHARED (the

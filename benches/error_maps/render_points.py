@@ -1,18 +1,25 @@
 # Renders a legacy-VTK point set with the scalar error_percent (a dense sample of the target,
 # coloured by its distance to the wrap) to a PNG: orthographic, z-buffered 2×2 splats,
-# 0 % blue → 0.5·max white → max red. Usage: render_pts.py IN.vtk OUT.png MAX_PERCENT TITLE
+# 0 % blue → 0.5·max white → max red. Usage: render_points.py IN.vtk OUT.png MAX_PERCENT [BOX [VIEW]]
+# BOX = "x0,x1,y0,y1,z0,z1": only the points inside it (target units), scaled to fill the image;
+# VIEW = "front": looking along +y (a face at −y), instead of the default oblique view.
 import sys, math, struct, zlib
 s=open(sys.argv[1]).read().split()
 i=s.index('POINTS'); n=int(s[i+1]); v=list(map(float,s[i+3:i+3+3*n]))
 i=s.index('error_percent'); k=i+3
 while s[k] in ('LOOKUP_TABLE','default'): k+=1
 err=list(map(float,s[k:k+n])); vmax=float(sys.argv[3])
+if len(sys.argv)>4:
+    b=list(map(float,sys.argv[4].split(',')))
+    keep=[j for j in range(n) if all(b[2*a]<=v[3*j+a]<=b[2*a+1] for a in range(3))]
+    v=[c for j in keep for c in v[3*j:3*j+3]]; err=[err[j] for j in keep]; n=len(keep)
 def colour(t):
     t=max(0.0,min(1.0,t)); stops=[(0,(40,60,200)),(0.5,(240,240,240)),(1,(210,30,30))]
     for (a,ca),(b,cb) in zip(stops,stops[1:]):
         if t<=b:
             u=(t-a)/(b-a); return [int(ca[j]+(cb[j]-ca[j])*u) for j in range(3)]
 W=H=480; ay,ax=math.radians(35),math.radians(-30)
+if len(sys.argv)>5 and sys.argv[5]=='front': ay,ax=0.0,math.radians(-90)
 R=[]
 for j in range(n):
     x,y,z=v[3*j:3*j+3]; x,z=x*math.cos(ay)+z*math.sin(ay),-x*math.sin(ay)+z*math.cos(ay)

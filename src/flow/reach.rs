@@ -19,11 +19,12 @@ use glam::DVec3;
 /// moved.
 ///
 /// `samples` are the target's points (a mesh's vertices), `misses` the indices to try (the
-/// previous pass's misses). Each missed sample proposes a move of the nearest vertex of the
-/// wrap face nearest to it, no longer than `max_move` and along a segment that meets no target
-/// triangle except at its ends; each vertex takes its farthest proposal (the deepest point of
-/// the concavity, so that the dent's sides lie along the walls). The moves are not checked for
-/// self-intersections here: the fit's contact guard does that.
+/// previous pass's misses). Each missed sample under the wrap proposes a move of the nearest
+/// vertex of the wrap face nearest to it, no longer than `max_move` and along a segment that
+/// crosses no target triangle (nor, on a `closed` target, runs inside it); each vertex takes its
+/// farthest proposal (the deepest point of the concavity, so that the dent's sides lie along the
+/// walls), and its other neighbours follow by [`DENT_SHARE`] of it where their way is as clear.
+/// The moves are not checked for self-intersections here: the fit's contact guard does that.
 pub fn reach_into_misses(
     mesh: &mut HalfedgeMesh,
     target: &TriangleBvh,
@@ -69,15 +70,41 @@ pub fn reach_into_misses(
             }
         }
     }
-    let mut moved = 0;
-    for (q, b) in mesh.positions_mut().iter_mut().zip(&best) {
+    // The moved vertices' other neighbours follow by a share of the mean move, so that the dent
+    // starts with sloped sides rather than a spike whose remeshed sides fold into a flap
+    // (the bust's eye socket: Hausdorff 1.42 % with spikes, 1.02 % with dents).
+    let mut follow = vec![(DVec3::ZERO, 0u32); positions.len()];
+    for (v, b) in best.iter().enumerate() {
         if let Some((_, s)) = b {
-            *q = samples[*s as usize];
-            moved += 1;
+            let d = samples[*s as usize] - positions[v];
+            for u in mesh.neighbors(v as u32) {
+                if best[u as usize].is_none() {
+                    let f = &mut follow[u as usize];
+                    *f = (f.0 + d, f.1 + 1);
+                }
+            }
         }
     }
+    let mut new = positions.to_vec();
+    let mut moved = 0;
+    for (v, q) in new.iter_mut().enumerate() {
+        if let Some((_, s)) = best[v] {
+            *q = samples[s as usize];
+            moved += 1;
+        } else if let (sum, k @ 1..) = follow[v] {
+            let to = *q + DENT_SHARE * sum / k as f64;
+            if clear_of(target, *q, to) && !(closed && is_inside(target, to)) {
+                *q = to;
+            }
+        }
+    }
+    mesh.positions_mut().copy_from_slice(&new);
     moved
 }
+
+/// The share of a moved vertex's move that its neighbours follow (see [`reach_into_misses`]);
+/// 0.2–0.5 all lined the bust's socket, 0.3 best.
+const DENT_SHARE: f64 = 0.3;
 
 /// Moves the tips of the thin flaps that reaching leaves onto the target; returns how many moved.
 ///
