@@ -17,6 +17,7 @@ use crate::flow::reach::{reach_into_misses, settle_flap_tips};
 use crate::flow::snap::{snap_to_target, SnapParams, SnapTarget};
 use crate::geometry::creases::Creases;
 use crate::geometry::operators::normals::angle_weighted_normals;
+use crate::geometry::spatial::bvh::TriangleBvh;
 use crate::mesh::HalfedgeMesh;
 use crate::metrics::intersections::{count_self_intersections, self_intersecting_pairs};
 use crate::remesh::adaptive::{remesh, remesh_capped, remesh_with_features, RemeshSettings};
@@ -144,6 +145,10 @@ impl Evolver {
                     cloud.then_some(&|m: &mut HalfedgeMesh| {
                         round_as_written(m, self.phi, self.center)
                     }),
+                    match target {
+                        SnapTarget::Triangles(bvh) => Some(bvh),
+                        SnapTarget::Points(_) => None,
+                    },
                 ) {
                     Some(f) => Some(f),
                     // An earlier pass placed the creases: keep this pass's moves without a
@@ -316,12 +321,13 @@ fn snap_creases_checked(
     creases: &Creases,
     reach: f64,
     round: Option<&dyn Fn(&mut HalfedgeMesh)>,
+    triangles: Option<&TriangleBvh>,
 ) -> Option<Features> {
     mesh.garbage_collect();
     let before = mesh.clone();
     let mut banned = vec![false; before.n_vertices()];
     for _ in 0..CREASE_TRIES {
-        let (features, _) = snap_to_creases(mesh, creases, reach, &banned);
+        let (features, _) = snap_to_creases(mesh, creases, reach, &banned, triangles);
         if let Some(round) = round {
             round(mesh);
         }

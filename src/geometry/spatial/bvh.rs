@@ -9,6 +9,7 @@
 // `!(x > y)` is used deliberately: it is also true when x is NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use crate::geometry::predicates::{segment_crosses_triangle, segment_meets_triangle};
 use glam::DVec3;
 
 const LEAF_SIZE: usize = 4;
@@ -468,7 +469,56 @@ impl TriangleBvh {
         self.closest_point(p)
             .map_or(f64::INFINITY, |h| h.distance_squared.sqrt())
     }
+
+    /// True when segment `[a, b]` passes through a triangle from one side to the other (see
+    /// [`segment_crosses_triangle`]: touching is no crossing). Exact.
+    pub fn crosses(&self, a: DVec3, b: DVec3) -> bool {
+        let mut crossed = false;
+        self.bvh.for_each_overlap(a.min(b), a.max(b), |f| {
+            crossed = crossed || segment_crosses_triangle(a, b, self.corners(f));
+        });
+        crossed
+    }
+
+    /// True when `m` lies inside the triangles, taken as a closed surface: a ray from it crosses
+    /// them an odd number of times. The ray runs nearly along the axis to the nearest side of
+    /// the box, so that its box is thin and the query cheap; slightly off the axis, so that it
+    /// does not run along the edges of a grid-aligned mesh. (Meaningless for an open mesh; a
+    /// ray through an edge or vertex counts it twice, rare off the axes.)
+    pub fn encloses(&self, m: DVec3) -> bool {
+        let (lo, hi) = self.bvh.bounds();
+        let gaps = [
+            m.x - lo.x,
+            hi.x - m.x,
+            m.y - lo.y,
+            hi.y - m.y,
+            m.z - lo.z,
+            hi.z - m.z,
+        ];
+        let side = (0..6).fold(0, |b, i| if gaps[i] < gaps[b] { i } else { b });
+        let mut dir = DVec3::from_array(RAY_SKEW);
+        dir[side / 2] = if side % 2 == 0 { -1.0 } else { 1.0 };
+        let end = m + dir * (gaps[side].max(0.0) + (hi - lo).max_element());
+        let mut crossings = 0usize;
+        self.bvh.for_each_overlap(m.min(end), m.max(end), |f| {
+            if segment_meets_triangle(m, end, self.corners(f)) {
+                crossings += 1;
+            }
+        });
+        crossings % 2 == 1
+    }
+
+    fn corners(&self, f: u32) -> [DVec3; 3] {
+        self.triangles[f as usize].map(|v| self.positions[v as usize])
+    }
 }
+
+/// The ray's tilt off its axis in [`TriangleBvh::encloses`] (irrational-looking, small).
+const RAY_SKEW: [f64; 3] = [
+    1.3e-3 * std::f64::consts::SQRT_2,
+    1.1e-3 * std::f64::consts::E,
+    0.9e-3 * std::f64::consts::PI,
+];
 
 /// A BVH over points, for nearest-neighbour distances to a point cloud.
 #[derive(Clone, Debug, Default)]
@@ -509,6 +559,21 @@ impl PointBvh {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn inside_means_an_odd_number_of_crossings_and_touching_is_no_crossing() {
+        let ball = crate::geometry::icosphere::icosphere(1, 1.0, DVec3::ZERO).unwrap();
+        let bvh = TriangleBvh::new(ball.positions(), &ball.triangles());
+        assert!(bvh.encloses(DVec3::ZERO));
+        assert!(bvh.encloses(DVec3::new(0.5, -0.3, 0.2)));
+        assert!(!bvh.encloses(DVec3::new(1.5, 0.0, 0.0)));
+        assert!(!bvh.encloses(DVec3::new(0.0, -2.0, 0.3)));
+        assert!(bvh.crosses(DVec3::ZERO, DVec3::new(0.0, 0.0, 2.0)));
+        assert!(!bvh.crosses(DVec3::ZERO, DVec3::new(0.1, 0.2, 0.3)));
+        // From a vertex of the mesh outwards: it touches, it does not cross.
+        let v = ball.position(0);
+        assert!(!bvh.crosses(v, 2.0 * v));
+    }
 
     fn rng(seed: u64) -> impl FnMut() -> f64 {
         let mut s = seed;
