@@ -8,6 +8,7 @@
 //! mouth, a slit narrower than a grid cell. (The bust itself is still above the bar: a flap of
 //! the wrap stands in an eye socket, see benches/RESULTS.md.)
 
+use glam::DVec3;
 use lsw::demo::shapes::generate;
 use lsw::flow::{Evolver, WrapSettings};
 use lsw::geometry::spatial::bvh::TriangleBvh;
@@ -15,21 +16,28 @@ use lsw::metrics::certificate::certify;
 use lsw::metrics::distance::{distances_to_triangles, two_sided_distances};
 use lsw::target::Target;
 
-/// Wraps shape `name` (defaults, error-adaptive sizing at `refine` cells) and returns
-/// (vertices, Hausdorff %, mean wrap → target %, mean target → wrap %, p95 target → wrap %).
-fn wrap(name: &str, refine: f64) -> (usize, f64, f64, f64, f64) {
+/// Wraps shape `name` with `settings`; checks the result is valid and of genus 0, and returns
+/// the target's points, the target and the wrap (positions, triangles).
+fn wrapped(name: &str, settings: WrapSettings) -> (Vec<DVec3>, Target, Vec<DVec3>, Vec<[u32; 3]>) {
     let (p, t) = generate(name).unwrap();
-    let target = Target::new(p.clone(), t.clone()).unwrap();
-    let mut settings = WrapSettings::default();
-    settings.fit.refine_error_cells = refine;
+    let target = Target::new(p.clone(), t).unwrap();
     let mut ev = Evolver::new(&target, settings).unwrap();
     ev.run(|_| {}).unwrap();
     let (pos, tris) = (ev.positions(), ev.triangles());
     let c = certify(&pos, &tris, Some(&target));
     assert!(c.valid && c.self_intersections == 0, "{name}: {c:?}");
     assert_eq!(c.genus, Some(0), "{name}");
+    (p, target, pos, tris)
+}
+
+/// Wraps shape `name` (defaults, error-adaptive sizing at `refine` cells) and returns
+/// (vertices, Hausdorff %, mean wrap → target %, mean target → wrap %, p95 target → wrap %).
+fn wrap(name: &str, refine: f64) -> (usize, f64, f64, f64, f64) {
+    let mut settings = WrapSettings::default();
+    settings.fit.refine_error_cells = refine;
+    let (p, target, pos, tris) = wrapped(name, settings);
     let diag = target.bbox.diagonal();
-    let d = two_sided_distances(&pos, &tris, &p, &t);
+    let d = two_sided_distances(&pos, &tris, &p, &target.triangles);
     let pc = |x: f64| 100.0 * x / diag;
     let out = (
         pos.len(),
@@ -70,15 +78,9 @@ fn error_adaptive_sizing_reaches_into_the_eye_sockets() {
 /// The bust's mouth (a slit 0.012 wide and 0.05 deep, under a grid cell of ~0.016): the
 /// farthest target vertex in it from the wrap, in % of the diagonal, with `fit.reach` on or off.
 fn mouth_miss(reach: bool) -> f64 {
-    let (p, t) = generate("bust").unwrap();
-    let target = Target::new(p.clone(), t.clone()).unwrap();
     let mut settings = WrapSettings::default();
     settings.fit.reach = reach;
-    let mut ev = Evolver::new(&target, settings).unwrap();
-    ev.run(|_| {}).unwrap();
-    let (pos, tris) = (ev.positions(), ev.triangles());
-    let c = certify(&pos, &tris, Some(&target));
-    assert!(c.valid && c.genus == Some(0), "reach {reach}: {c:?}");
+    let (p, target, pos, tris) = wrapped("bust", settings);
     let mouth: Vec<_> = p
         .iter()
         .copied()
