@@ -118,6 +118,33 @@ pub fn snap_to_target(
     moved
 }
 
+/// Moves every vertex of `mesh` farther than `min_off` from the mesh target `bvh` onto its closest
+/// point (moves longer than `max_move` are not made); returns how many moved. For a *closed*
+/// target only, after the fit's moves along the normals: there every vertex belongs on the
+/// target (no hole to bridge), and one the normal move left off — beside a crease, where its
+/// normal leans towards the other face — is put on it (cad-part's Hausdorff 0.075 → 0.000 %).
+pub fn snap_to_closest(
+    mesh: &mut HalfedgeMesh,
+    bvh: &TriangleBvh,
+    min_off: f64,
+    max_move: f64,
+) -> usize {
+    let pos = mesh.positions();
+    let moves: Vec<Option<DVec3>> = crate::parallel::map(pos.len(), |i| {
+        let q = bvh.closest_point(pos[i])?.point;
+        let d = (q - pos[i]).length();
+        (d > min_off && d <= max_move).then_some(q)
+    });
+    let mut moved = 0;
+    for (p, m) in mesh.positions_mut().iter_mut().zip(moves) {
+        if let Some(q) = m {
+            *p = q;
+            moved += 1;
+        }
+    }
+    moved
+}
+
 /// The share of its move each vertex of `mesh` (at `old`) makes towards `moves`. A face that
 /// the moves would fold (turn its normal by more than 60°) halves the move of its vertex that
 /// strays most from the face's mean move, up to three times, then undoes it: the fit must not
