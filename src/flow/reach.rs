@@ -10,6 +10,7 @@
 //! splits the long edges of that dent and the next pass's moves put the new vertices on the
 //! slit's walls.
 
+use crate::flow::snap::move_onto_closest;
 use crate::geometry::spatial::bvh::TriangleBvh;
 use crate::mesh::HalfedgeMesh;
 use glam::DVec3;
@@ -43,10 +44,10 @@ pub fn reach_into_misses(
     let floor = MOVE_FLOOR * max_move;
     let proposals: Vec<Option<(u32, f64)>> = crate::parallel::map(misses.len(), |i| {
         let s = samples[misses[i] as usize];
-        if wrap.closest_point_within(s, tol).is_some() {
+        let hit = wrap.closest_point(s)?;
+        if hit.distance_squared <= tol * tol {
             return None;
         }
-        let hit = wrap.closest_point(s)?;
         let t = tris[hit.triangle as usize];
         // Only a sample under the wrap is in a bridged concavity; one outside it is a sharp tip
         // that the wrap cut (the crease fit's to place).
@@ -132,29 +133,9 @@ pub fn settle_flap_tips(
     tol: f64,
     max_move: f64,
 ) -> usize {
-    let positions = mesh.positions();
-    let closest: Vec<Option<DVec3>> = crate::parallel::map(positions.len(), |i| {
-        target.closest_point(positions[i]).map(|h| h.point)
-    });
-    let off =
-        |v: u32| closest[v as usize].is_none_or(|q| (q - positions[v as usize]).length() > tol);
-    let moves: Vec<Option<DVec3>> = (0..positions.len() as u32)
-        .map(|v| {
-            let q = closest[v as usize]?;
-            let tip = off(v)
-                && (q - positions[v as usize]).length() <= max_move
-                && mesh.neighbors(v).all(|u| !off(u));
-            tip.then_some(q)
-        })
-        .collect();
-    let mut moved = 0;
-    for (p, m) in mesh.positions_mut().iter_mut().zip(moves) {
-        if let Some(q) = m {
-            *p = q;
-            moved += 1;
-        }
-    }
-    moved
+    move_onto_closest(mesh, target, max_move, |mesh, v, off| {
+        off(v) > tol && mesh.neighbors(v).all(|u| off(u) <= tol)
+    })
 }
 
 /// The corner of triangle `t` nearest to `s` (the lower index on a tie).

@@ -129,12 +129,30 @@ pub fn snap_to_closest(
     min_off: f64,
     max_move: f64,
 ) -> usize {
+    move_onto_closest(mesh, bvh, max_move, |_, v, off| off(v) > min_off)
+}
+
+/// Moves the vertices `pick` chooses onto their closest points of the mesh target `bvh` (no
+/// farther than `max_move`); returns how many moved. `pick(mesh, v, off)` sees every vertex's
+/// distance to its closest point through `off` (∞ where there is none), as the mesh was before
+/// any of these moves.
+pub fn move_onto_closest(
+    mesh: &mut HalfedgeMesh,
+    bvh: &TriangleBvh,
+    max_move: f64,
+    pick: impl Fn(&HalfedgeMesh, u32, &dyn Fn(u32) -> f64) -> bool,
+) -> usize {
     let pos = mesh.positions();
-    let moves: Vec<Option<DVec3>> = crate::parallel::map(pos.len(), |i| {
-        let q = bvh.closest_point(pos[i])?.point;
-        let d = (q - pos[i]).length();
-        (d > min_off && d <= max_move).then_some(q)
-    });
+    let closest: Vec<Option<DVec3>> =
+        crate::parallel::map(pos.len(), |i| bvh.closest_point(pos[i]).map(|h| h.point));
+    let off =
+        |v: u32| closest[v as usize].map_or(f64::INFINITY, |q| (q - pos[v as usize]).length());
+    let moves: Vec<Option<DVec3>> = (0..pos.len() as u32)
+        .map(|v| {
+            let q = closest[v as usize]?;
+            (off(v) <= max_move && pick(mesh, v, &off)).then_some(q)
+        })
+        .collect();
     let mut moved = 0;
     for (p, m) in mesh.positions_mut().iter_mut().zip(moves) {
         if let Some(q) = m {

@@ -249,11 +249,11 @@ impl Evolver {
             let clean = self.mesh.clone();
             let normals = angle_weighted_normals(&self.mesh);
             snap(&mut self.mesh, &normals, &mut |_| {});
-            if reached_any {
-                settle_flap_tips(&mut self.mesh, bvh, refine_tol, params.max_move);
-            }
+            // (On a closed target the second move covers the flap tips too.)
             if closed {
                 snap_to_closest(&mut self.mesh, bvh, SETTLED_CELLS * c, params.max_move);
+            } else if reached_any {
+                settle_flap_tips(&mut self.mesh, bvh, refine_tol, params.max_move);
             }
             if contact {
                 // As written: snapped faces that lie in one target plane are exactly coplanar
