@@ -240,6 +240,8 @@ struct Work<'a> {
     /// Target edge length per vertex.
     h: Vec<f64>,
     locked: Vec<bool>,
+    /// Vertices whose edges are not edited either (see [`Features::frozen`]).
+    frozen: Vec<bool>,
     vfeat: Vec<bool>,
     efeat: Vec<bool>,
     upd: Vec<DVec3>,
@@ -298,7 +300,9 @@ fn remesh_impl(
             .filter(|&h| features.edges[(h >> 1) as usize])
             .count();
         let pinned = features.pinned.get(v as usize).copied().unwrap_or(false);
-        locked[v as usize] = boundary || pinned || (features.vertices[v as usize] && nfe != 2);
+        let frozen = features.frozen.get(v as usize).copied().unwrap_or(false);
+        locked[v as usize] =
+            boundary || pinned || frozen || (features.vertices[v as usize] && nfe != 2);
     }
     report.feature_vertices = features.n_vertices();
     report.feature_edges = features.n_edges();
@@ -324,6 +328,11 @@ fn remesh_impl(
         s,
         h,
         locked,
+        frozen: {
+            let mut f = features.frozen.clone();
+            f.resize(nv, false);
+            f
+        },
         vfeat: features.vertices,
         efeat: features.edges,
         upd: Vec::new(),
@@ -386,6 +395,9 @@ fn split_long_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
                 continue;
             }
             let (a, b) = ends(mesh, e);
+            if w.frozen[a as usize] || w.frozen[b as usize] {
+                continue;
+            }
             let (pa, pb) = (mesh.position(a), mesh.position(b));
             let hmax = 4.0 / 3.0 * w.h[a as usize].min(w.h[b as usize]);
             if (pb - pa).length_squared() <= hmax * hmax {
@@ -415,6 +427,7 @@ fn split_long_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
             mesh.split_edge(e, p);
             w.h.push(hm);
             w.locked.push(false);
+            w.frozen.push(false);
             w.vfeat.push(feature);
             w.efeat.extend([feature, false, false]);
             w.report.splits += 1;
@@ -471,6 +484,9 @@ fn collapse_short_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
             let (h0, h1) = (w.h[v0 as usize], w.h[v1 as usize]);
             let hmin = 0.8 * h0.min(h1);
             if (mesh.position(v1) - mesh.position(v0)).length_squared() >= hmin * hmin {
+                continue;
+            }
+            if w.frozen[v0 as usize] || w.frozen[v1 as usize] {
                 continue;
             }
             let (h01, h10) = (2 * e, 2 * e + 1);
@@ -538,6 +554,7 @@ fn collapse_short_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
     let maps = mesh.garbage_collect();
     remap(&mut w.h, &maps.vertices);
     remap(&mut w.locked, &maps.vertices);
+    remap(&mut w.frozen, &maps.vertices);
     remap(&mut w.vfeat, &maps.vertices);
     remap(&mut w.efeat, &maps.edges);
 }

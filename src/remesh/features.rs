@@ -82,6 +82,10 @@ pub struct Features {
     /// Vertices the remesher must not move whatever their feature edges (the target's corners,
     /// placed by the final fit). Empty: none.
     pub pinned: Vec<bool>,
+    /// Vertices the remesher leaves as they are, with their edges: not moved, and no edge at one
+    /// of them split, collapsed or flipped (a region where a remesh made faces intersect, tried
+    /// again without it). Empty: none.
+    pub frozen: Vec<bool>,
 }
 
 impl Features {
@@ -91,6 +95,7 @@ impl Features {
             vertices: vec![false; mesh.n_vertices()],
             edges: vec![false; mesh.n_edges()],
             pinned: Vec::new(),
+            frozen: Vec::new(),
         }
     }
     /// Number of feature vertices.

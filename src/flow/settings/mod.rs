@@ -200,6 +200,7 @@ pub const RANGES: &[SettingRange] = &[
     SettingRange::new("fit.crease_angle_deg", 0.0, 180.0, false, "0–180"),
     SettingRange::new("fit.refine_error_cells", 0.0, 1e6, false, "≥ 0"),
     SettingRange::new("fit.refine_passes", 0.0, 10.0, false, "0–10"),
+    SettingRange::new("fit.refine_max_vertices", 100.0, 1e9, false, "≥ 100"),
     SettingRange::new("surgery.check_every", 1.0, 1e6, false, "≥ 1"),
     SettingRange::new("surgery.empty_cells", 0.0, 1e6, false, "≥ 0"),
     SettingRange::new("surgery.empty_spacings", 0.0, 1e6, false, "≥ 0"),
@@ -461,6 +462,7 @@ mod tests {
                 crease_angle_deg: 40.0,
                 refine_error_cells: 0.25,
                 refine_passes: 3,
+                refine_max_vertices: 80_000,
                 reach: true,
             },
             stop: StopSettings {

@@ -210,8 +210,12 @@ pub struct FitSettings {
     /// have none. Range ≥ 0; default 0.25.
     pub refine_error_cells: f64,
     /// Most extra passes the error-adaptive sizing may add after `passes` (each halves the
-    /// edges that still miss). Range 0–10; default 3.
+    /// edges that still miss). Range 0–10; default 5 (3 left the sculpted bust's mouth slit at
+    /// 0.81 % of the diagonal against 0.54 %; shapes that stop missing stop earlier).
     pub refine_passes: u32,
+    /// The error-adaptive sizing's vertex budget: a pass whose new caps could take the wrap
+    /// past this many vertices (four per capped vertex) adds none. Range ≥ 100; default 80 000.
+    pub refine_max_vertices: usize,
     /// Reaching into concavities on mesh targets (with the error-adaptive sizing): after a pass, the wrap vertex nearest to a target vertex still missed moves onto
     /// it when the way there is clear of the target — a slit narrower than a grid cell (a mouth,
     /// the gap under an ear) is lined instead of bridged (see `flow::reach`). Default true.
@@ -228,7 +232,8 @@ impl Default for FitSettings {
             max_points: 256,
             crease_angle_deg: 40.0,
             refine_error_cells: 0.25,
-            refine_passes: 3,
+            refine_passes: 5,
+            refine_max_vertices: 80_000,
             reach: true,
         }
     }
