@@ -194,3 +194,60 @@ fn flat_smooth_and_concave_vertices_are_not_marked() {
     );
     assert_eq!(f.n_edges(), 12 * 6);
 }
+
+/// A frozen region (`Features::frozen`) comes out of a remesh as it went in: its vertices where
+/// they were, the faces between them kept, while the rest of a coarse sphere is refined.
+#[test]
+#[wasm_bindgen_test]
+fn a_frozen_region_is_left_as_it_was() {
+    use lsw::remesh::{remesh_with_features, Features};
+    let mut mesh = icosphere(2, 1.0, DVec3::ZERO).unwrap();
+    let before = mesh.clone();
+    // Frozen: the vertices above z = 0.6 and their faces.
+    let mut f = Features::none(&mesh);
+    f.frozen = (0..mesh.n_vertices() as u32)
+        .map(|v| mesh.position(v).z > 0.6)
+        .collect();
+    let frozen: Vec<u32> = (0..mesh.n_vertices() as u32)
+        .filter(|&v| f.frozen[v as usize])
+        .collect();
+    assert!(frozen.len() >= 5);
+    let rs = RemeshSettings {
+        min_edge_length: 0.05,
+        max_edge_length: 0.15,
+        approx_error: 0.01,
+        ..Default::default()
+    };
+    remesh_with_features(&mut mesh, &rs, &f).unwrap();
+    assert!(
+        mesh.n_vertices() > 2 * before.n_vertices(),
+        "the rest is refined"
+    );
+    // Each frozen vertex is still where it was, and each face between three frozen vertices is
+    // still a face.
+    let key = |p: DVec3| p.to_array().map(f64::to_bits);
+    let now: std::collections::HashSet<[[u64; 3]; 3]> = mesh
+        .triangles()
+        .iter()
+        .map(|t| {
+            let mut k = t.map(|v| key(mesh.position(v)));
+            k.sort_unstable();
+            k
+        })
+        .collect();
+    for v in &frozen {
+        let p = before.position(*v);
+        assert!((0..mesh.n_vertices() as u32).any(|u| mesh.position(u) == p));
+    }
+    let inside: Vec<[u32; 3]> = before
+        .triangles()
+        .into_iter()
+        .filter(|t| t.iter().all(|&v| f.frozen[v as usize]))
+        .collect();
+    assert!(!inside.is_empty());
+    for t in inside {
+        let mut k = t.map(|v| key(before.position(v)));
+        k.sort_unstable();
+        assert!(now.contains(&k), "a face inside the frozen region changed");
+    }
+}

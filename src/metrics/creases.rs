@@ -45,21 +45,11 @@ pub fn crease_fidelity(
         return None;
     }
     let bvh = TriangleBvh::new(positions, triangles);
-    let normal_near = |q: DVec3| {
-        let hit = bvh.closest_point(q)?;
-        let [a, b, c] = triangles[hit.triangle as usize].map(|v| positions[v as usize]);
-        Some((b - a).cross(c - a).normalize_or_zero())
-    };
-    let errors: Vec<(f64, DVec3)> = crate::parallel::map(creases.edges.len(), |i| {
-        let e = &creases.edges[i];
-        let mid = 0.5 * (e.ends[0] + e.ends[1]);
-        let side = |k: usize| normal_near(mid + offset.min(0.5 * e.heights[k]) * e.inward[k]);
-        let wrap = match (side(0), side(1)) {
-            (Some(n0), Some(n1)) => crate::fmath::acos(n0.dot(n1).clamp(-1.0, 1.0)),
-            _ => 0.0,
-        };
-        ((wrap - e.turn).abs().to_degrees(), mid)
-    });
+    let errors: Vec<(f64, DVec3)> = crease_errors(positions, triangles, &bvh, creases, offset)
+        .into_iter()
+        .zip(&creases.edges)
+        .map(|(e, c)| (e.error.to_degrees(), 0.5 * (c.ends[0] + c.ends[1])))
+        .collect();
     let worst = errors
         .iter()
         .copied()
@@ -74,6 +64,47 @@ pub fn crease_fidelity(
         mean_error_deg: errors.iter().map(|e| e.0).sum::<f64>() / errors.len() as f64,
         max_error_deg: worst.0,
         worst_at: worst.1.to_array(),
+    })
+}
+
+/// How one crease edge of the target is reproduced (see [`crease_errors`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CreaseError {
+    /// |mesh dihedral − target dihedral|, radians.
+    pub error: f64,
+    /// The mesh faces read beside the edge, one per side (None: no face).
+    pub faces: [Option<u32>; 2],
+}
+
+/// Per crease edge of `creases`, in order: the mesh's dihedral error there, read `offset`
+/// beside the edge (see the module's doc) on the mesh `(positions, triangles)` whose tree is
+/// `bvh`. (The measure of [`crease_fidelity`], and the final fit's test of where a crease is
+/// still bevelled.)
+pub fn crease_errors(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    bvh: &TriangleBvh,
+    creases: &Creases,
+    offset: f64,
+) -> Vec<CreaseError> {
+    let face_near = |q: DVec3| {
+        let f = bvh.closest_point(q)?.triangle;
+        let [a, b, c] = triangles[f as usize].map(|v| positions[v as usize]);
+        Some((f, (b - a).cross(c - a).normalize_or_zero()))
+    };
+    crate::parallel::map(creases.edges.len(), |i| {
+        let e = &creases.edges[i];
+        let mid = 0.5 * (e.ends[0] + e.ends[1]);
+        let side = |k: usize| face_near(mid + offset.min(0.5 * e.heights[k]) * e.inward[k]);
+        let (s0, s1) = (side(0), side(1));
+        let wrap = match (s0, s1) {
+            (Some((_, n0)), Some((_, n1))) => crate::fmath::acos(n0.dot(n1).clamp(-1.0, 1.0)),
+            _ => 0.0,
+        };
+        CreaseError {
+            error: (wrap - e.turn).abs(),
+            faces: [s0.map(|s| s.0), s1.map(|s| s.0)],
+        }
     })
 }
 

@@ -461,7 +461,7 @@ mod tests {
                 max_points: 256,
                 crease_angle_deg: 40.0,
                 refine_error_cells: 0.25,
-                refine_passes: 3,
+                refine_passes: 5,
                 refine_max_vertices: 80_000,
                 reach: true,
             },

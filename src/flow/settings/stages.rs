@@ -214,7 +214,9 @@ pub struct FitSettings {
     /// 0.81 % of the diagonal against 0.54 %; shapes that stop missing stop earlier).
     pub refine_passes: u32,
     /// The error-adaptive sizing's vertex budget: a pass whose new caps could take the wrap
-    /// past this many vertices (four per capped vertex) adds none. Range ≥ 100; default 80 000.
+    /// past this many vertices (four per capped vertex) adds none. (The remesh of each pass
+    /// refines beside the creases it sharpened, caps or not: a wrap that starts its fit near
+    /// the budget may end a few per cent above it.) Range ≥ 100; default 80 000.
     pub refine_max_vertices: usize,
     /// Reaching into concavities on mesh targets (with the error-adaptive sizing): after a pass, the wrap vertex nearest to a target vertex still missed moves onto
     /// it when the way there is clear of the target — a slit narrower than a grid cell (a mouth,
