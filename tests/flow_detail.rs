@@ -5,8 +5,9 @@
 //! error-adaptive sizing is what brings a bust's eye sockets and mouth in: with it off
 //! (`fit.refine_error_cells` = 0) the 95th percentile of the target's distances to the wrap is
 //! about 1.5 times as large. Reaching into what the fit still bridges (`fit.reach`) lines the bust's
-//! mouth, a slit narrower than a grid cell. (The bust itself is still above the bar: a flap of
-//! the wrap stands in an eye socket, see benches/RESULTS.md.)
+//! mouth, a slit narrower than a grid cell, and the bust meets the bar too. (Only as generated
+//! here: from its f32 PLY, its OBJ or turned, its Hausdorff distance was 0.64–1.06 %, the mouth's
+//! far corners; see benches/RESULTS.md.)
 
 use glam::DVec3;
 use lsw::demo::shapes::generate;
@@ -53,7 +54,7 @@ fn wrap(name: &str, refine: f64) -> (usize, f64, f64, f64, f64) {
 #[test]
 fn sculpted_shapes_meet_the_detail_bar() {
     let refine = WrapSettings::default().fit.refine_error_cells;
-    for name in ["creature", "fish"] {
+    for name in ["creature", "fish", "bust"] {
         let (n, h, m1, m2, _) = wrap(name, refine);
         assert!(n <= 80_000, "{name}: {n} vertices");
         assert!(h <= 1.0, "{name}: Hausdorff {h} %");
@@ -100,12 +101,12 @@ fn mouth_miss(reach: bool) -> f64 {
 fn reaching_lines_a_slit_narrower_than_a_cell() {
     let (with, without) = (mouth_miss(true), mouth_miss(false));
     println!("mouth: farthest target vertex {with} % with reach, {without} % without");
-    // Measured: 1.80 % with, 3.05 % without (the CLI, from the f32 PLY: 1.29 and 3.05 %). The
-    // slit's far corners are still missed: a vertex's way there from the lips runs through
-    // them, and is refused.
+    // Measured: 0.91 % with, 3.05 % without (the CLI, from the f32 PLY: 1.06 and 3.05 %). What
+    // is left is the slit's far corners: a vertex's way there from the lips runs through them,
+    // and is refused, until the dents of earlier passes come near.
     assert!(
-        with < 0.7 * without,
+        with < 0.5 * without,
         "{with} % with against {without} % without"
     );
-    assert!(with < 2.0, "{with} %");
+    assert!(with < 1.2, "{with} %");
 }
