@@ -37,6 +37,17 @@ done
 FACE=-0.2,0.2,-0.4,0.0,-0.05,0.4
 wrap_and_map bust bust reach-before fit.reach=false "$FACE" front
 wrap_and_map bust bust reach-after fit.reach=true "$FACE" front
+# The fit's crease sizing and remesh retries (2026-11-26, fifth session): LSW_BEFORE_FIT = an
+# lsw built at 8206345, against LSW: cube-hole on a coarser grid (32 cells per side), and the
+# bust's face.
+if [ -n "${LSW_BEFORE_FIT:-}" ]; then
+    for side in before after; do
+        if [ "$side" = before ]; then LSW_NOW=$LSW; LSW=$LSW_BEFORE_FIT; fi
+        wrap_and_map cube-hole cube-hole "fit-$side" field.cells_per_min_dimension=32
+        wrap_and_map bust bust "fit-$side" fit.reach=true "$FACE" front
+        if [ "$side" = before ]; then LSW=$LSW_NOW; fi
+    done
+fi
 # The fit's fold rule (2026-11-26): LSW_BEFORE = an lsw built at fbe6c32 (moves that fold a
 # face undone with those of all its vertices), against LSW (halved, one vertex blamed). No
 # setting selects the old rule, hence the second binary. DoubleWedge.stl from $SHARED (the
