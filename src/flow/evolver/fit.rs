@@ -282,20 +282,37 @@ impl Evolver {
             // region of those faces left as it was, rather than lost everywhere (the bust's
             // passes after a reach lost every remesh to a few faces in its mouth slit). (A
             // cloud's fit gained nothing by it: spotPts_4's mean target → wrap 0.50 → 0.55 %.)
-            if let (Some(before), false) = (&unremeshed, cloud) {
-                let mut frozen = vec![false; before.n_vertices()];
-                for _ in 0..REMESH_TRIES {
-                    if !freeze_where_intersecting(&self.mesh, before, phi, center, &mut frozen) {
+            let lost = match (&unremeshed, cloud) {
+                (Some(before), false) => {
+                    let mut frozen = vec![false; before.n_vertices()];
+                    let mut lost = true;
+                    for tries_left in (0..=REMESH_TRIES).rev() {
+                        match freeze_where_intersecting(
+                            &self.mesh,
+                            before,
+                            phi,
+                            center,
+                            &mut frozen,
+                        ) {
+                            None => lost = false,
+                            Some(true) if tries_left > 0 => {
+                                let mut f =
+                                    features.clone().unwrap_or_else(|| Features::none(before));
+                                f.frozen.clone_from(&frozen);
+                                self.mesh = before.clone();
+                                remesh_now(&mut self.mesh, Some(&f));
+                                continue;
+                            }
+                            Some(_) => {}
+                        }
                         break;
                     }
-                    let mut f = features.clone().unwrap_or_else(|| Features::none(before));
-                    f.frozen.clone_from(&frozen);
-                    self.mesh = before.clone();
-                    remesh_now(&mut self.mesh, Some(&f));
+                    lost
                 }
-            }
+                _ => intersects(&self.mesh),
+            };
             rs_now = &rs;
-            if intersects(&self.mesh) {
+            if lost {
                 remeshes_lost += 1;
             } else {
                 remeshes_lost = 0;
@@ -396,15 +413,15 @@ const MAX_FROZEN_PAIRS: usize = 64;
 
 /// Marks in `frozen` the vertices of `before` (a mesh before its remesh into `after`) around the
 /// faces of `after` that intersect as written: the vertex of `before` nearest to each corner of
-/// such a face and its neighbours two rings out. Returns false when there is nothing to freeze
-/// (no intersection, or too many).
+/// such a face and its neighbours two rings out. Returns None when no faces intersect, and
+/// whether it froze any (false: too many pairs to freeze) otherwise.
 fn freeze_where_intersecting(
     after: &HalfedgeMesh,
     before: &HalfedgeMesh,
     phi: f64,
     center: DVec3,
     frozen: &mut [bool],
-) -> bool {
+) -> Option<bool> {
     let pos: Vec<DVec3> = after
         .positions()
         .iter()
@@ -412,8 +429,11 @@ fn freeze_where_intersecting(
         .collect();
     let tris = after.triangles();
     let pairs = self_intersecting_pairs(&pos, &tris);
-    if pairs.is_empty() || pairs.len() > MAX_FROZEN_PAIRS {
-        return false;
+    if pairs.is_empty() {
+        return None;
+    }
+    if pairs.len() > MAX_FROZEN_PAIRS {
+        return Some(false);
     }
     let old = before.positions();
     let mut ring: Vec<u32> = Vec::new();
@@ -438,7 +458,7 @@ fn freeze_where_intersecting(
     for v in ring {
         frozen[v as usize] = true;
     }
-    true
+    Some(true)
 }
 
 /// How many rings around an intersection a remesh retry leaves alone.
