@@ -55,15 +55,49 @@ pub fn reach_into_misses(
         if (s - hit.point).dot((b - a).cross(c - a)) >= 0.0 {
             return None;
         }
+        // `strict`: a way that crosses the target at all is refused, not only one through its
+        // material.
+        let clear = |v: u32, strict: bool| {
+            let p = positions[v as usize];
+            // (From a vertex where two overlapping parts of a target meet, the way into one
+            // part's material, towards the other's buried surface, may cross nothing: its
+            // middle is inside.)
+            let inside = || closed && target.encloses(0.5 * (p + s));
+            let through = || match strict {
+                true => target.crosses(p - STRETCH * (s - p), s - STRETCH * (s - p)),
+                false => through_material(target, p, s, floor),
+            };
+            (s - p).length() <= max_move && !through() && !inside()
+        };
         let v = nearest_corner(t, positions, s);
-        let p = positions[v as usize];
-        // (From a vertex where two overlapping parts of a target meet, the way into one part's
-        // material, towards the other's buried surface, may cross nothing: its middle is
-        // inside.)
-        let inside = || closed && target.encloses(0.5 * (p + s));
-        let through = || through_material(target, p, s, floor);
-        ((s - p).length() <= max_move && !through() && !inside())
-            .then_some((v, hit.distance_squared))
+        if clear(v, false) {
+            return Some((v, hit.distance_squared));
+        }
+        // The nearest corner's way is blocked (a lip between it and a slit's far corner): the
+        // vertex two rings around the face nearest to the sample whose way is clear (the bust
+        // from eight encodings: 0.50–1.36 % of the diagonal, seven under 1 %, against
+        // 0.64–1.40 %, three). On an open target, with no inside to test, its way must cross
+        // nothing at all (with the sliver allowed, such a way dipped under a sheet to a sample
+        // behind it; required everywhere, four of the eight busts stayed above 1 %).
+        let mut ring: Vec<u32> = t.to_vec();
+        for _ in 0..2 {
+            let grown: Vec<u32> = ring.iter().flat_map(|&v| mesh.neighbors(v)).collect();
+            ring.extend(grown);
+            ring.sort_unstable();
+            ring.dedup();
+        }
+        ring.sort_by(|&a, &b| {
+            let d = |v: u32| (positions[v as usize] - s).length_squared();
+            d(a).total_cmp(&d(b)).then(a.cmp(&b))
+        });
+        ring.into_iter()
+            .find(|&u| {
+                // (On a closed target it must also arrive from outside: a sample on a buried
+                // surface is reached only through the material.)
+                let arrives = || !target.encloses(s - ARRIVAL * (s - positions[u as usize]));
+                u != v && clear(u, !closed) && (!closed || arrives())
+            })
+            .map(|u| (u, hit.distance_squared))
     });
     // Per vertex, the farthest sample; ties go to the earlier sample (the same mesh each run).
     let mut best: Vec<Option<(f64, u32)>> = vec![None; positions.len()];
@@ -158,6 +192,10 @@ pub(crate) fn through_material(target: &TriangleBvh, p: DVec3, s: DVec3, floor: 
     crosses && target.distance(0.5 * (p + s)) > (SLIVER * (s - p).length()).max(floor)
 }
 
+/// How far before its end (as a share of the way) a way found around a blocked one must be
+/// outside a closed target.
+const ARRIVAL: f64 = 0.02;
+
 /// The share of the way by which [`through_material`] moves its ends (back from `p`, back
 /// from `s`).
 const STRETCH: f64 = 0.01;
@@ -218,8 +256,10 @@ mod tests {
             .min_by(|&a, &b| mesh.position(a).z.total_cmp(&mesh.position(b).z))
             .unwrap();
         let moved = reach_into_misses(&mut mesh, &target, &pos, &[12, 13], 0.05, 2.0, false);
-        assert_eq!(moved, 1);
         assert_eq!(mesh.position(bottom), pos[12]);
+        // The floor under the roof is reached too, by a vertex whose way runs down the slot.
+        assert_eq!(moved, 2);
+        assert!((0..mesh.n_vertices() as u32).any(|v| mesh.position(v) == pos[13]));
     }
 
     #[test]
@@ -244,6 +284,24 @@ mod tests {
             reach_into_misses(&mut mesh, &target, &pos, &[12], 1.5, 2.0, false),
             0
         );
+    }
+
+    /// The nearest vertex's way to a sample beside the slot's floor runs through the roof; a
+    /// vertex two rings out, over the slot, has a clear way and moves instead.
+    #[test]
+    fn a_blocked_way_goes_to_a_neighbour_with_a_clear_one() {
+        let (mut pos, target) = slot();
+        pos.push(DVec3::new(0.12, 0.0, -1.0));
+        let sample = pos.len() as u32 - 1;
+        let mut mesh = ball(DVec3::new(0.2, 0.0, 0.3));
+        let before = mesh.positions().to_vec();
+        let moved = reach_into_misses(&mut mesh, &target, &pos, &[sample], 0.05, 2.0, false);
+        assert_eq!(moved, 1);
+        let v = (0..mesh.n_vertices())
+            .find(|&v| mesh.position(v as u32) == pos[sample as usize])
+            .unwrap();
+        // It stood over the slot (|x| < 0.1), not over the roof like the nearest vertex.
+        assert!(before[v].x.abs() < 0.1, "{:?}", before[v]);
     }
 
     /// A missed sample outside the wrap is a tip the wrap cut, not a concavity: left alone.

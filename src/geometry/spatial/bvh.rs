@@ -481,7 +481,9 @@ impl TriangleBvh {
     }
 
     /// True when `m` lies inside the triangles, taken as a closed surface: a ray from it crosses
-    /// them an odd number of times. The ray runs nearly along the axis to the nearest side of
+    /// them an odd number of times, or its winding number (crossings outwards less crossings
+    /// inwards) is not zero — where two parts of a self-intersecting surface overlap, the ray
+    /// leaves both and the parity is even. The ray runs nearly along the axis to the nearest side of
     /// the box, so that its box is thin and the query cheap; slightly off the axis, so that it
     /// does not run along the edges of a grid-aligned mesh. (Meaningless for an open mesh; a
     /// ray through an edge or vertex counts it twice, rare off the axes.)
@@ -499,13 +501,19 @@ impl TriangleBvh {
         let mut dir = DVec3::from_array(RAY_SKEW);
         dir[side / 2] = if side % 2 == 0 { -1.0 } else { 1.0 };
         let end = m + dir * (gaps[side].max(0.0) + (hi - lo).max_element());
-        let mut crossings = 0usize;
+        let (mut crossings, mut winding) = (0usize, 0i64);
         self.bvh.for_each_overlap(m.min(end), m.max(end), |f| {
-            if segment_meets_triangle(m, end, self.corners(f)) {
+            let [a, b, c] = self.corners(f);
+            if segment_meets_triangle(m, end, [a, b, c]) {
                 crossings += 1;
+                winding += if (b - a).cross(c - a).dot(dir) > 0.0 {
+                    1
+                } else {
+                    -1
+                };
             }
         });
-        crossings % 2 == 1
+        crossings % 2 == 1 || winding != 0
     }
 
     fn corners(&self, f: u32) -> [DVec3; 3] {
@@ -561,13 +569,33 @@ mod tests {
     use super::*;
 
     #[test]
-    fn inside_means_an_odd_number_of_crossings_and_touching_is_no_crossing() {
+    fn inside_means_an_odd_number_of_crossings_or_a_winding_and_touching_is_no_crossing() {
         let ball = crate::geometry::icosphere::icosphere(1, 1.0, DVec3::ZERO).unwrap();
         let bvh = TriangleBvh::new(ball.positions(), &ball.triangles());
         assert!(bvh.encloses(DVec3::ZERO));
         assert!(bvh.encloses(DVec3::new(0.5, -0.3, 0.2)));
         assert!(!bvh.encloses(DVec3::new(1.5, 0.0, 0.0)));
         assert!(!bvh.encloses(DVec3::new(0.0, -2.0, 0.3)));
+        // Two overlapping balls: in the overlap a ray leaves both (even parity), but the
+        // winding number is 2.
+        let other =
+            crate::geometry::icosphere::icosphere(1, 1.0, DVec3::new(1.2, 0.0, 0.0)).unwrap();
+        let n = ball.n_vertices() as u32;
+        let pos: Vec<DVec3> = ball
+            .positions()
+            .iter()
+            .chain(other.positions())
+            .copied()
+            .collect();
+        let tris: Vec<[u32; 3]> = ball
+            .triangles()
+            .into_iter()
+            .chain(other.triangles().into_iter().map(|t| t.map(|v| v + n)))
+            .collect();
+        let both = TriangleBvh::new(&pos, &tris);
+        assert!(both.encloses(DVec3::new(0.6, 0.05, -0.02)));
+        assert!(both.encloses(DVec3::new(-0.5, 0.0, 0.1)));
+        assert!(!both.encloses(DVec3::new(0.6, 1.5, 0.0)));
         assert!(bvh.crosses(DVec3::ZERO, DVec3::new(0.0, 0.0, 2.0)));
         assert!(!bvh.crosses(DVec3::ZERO, DVec3::new(0.1, 0.2, 0.3)));
         // From a vertex of the mesh outwards: it touches, it does not cross.
