@@ -75,8 +75,8 @@ pub fn reach_into_misses(
         }
         // The nearest corner's way is blocked (a lip between it and a slit's far corner): the
         // vertex two rings around the face nearest to the sample whose way is clear (the bust
-        // from eight encodings: 0.50–1.36 % of the diagonal, seven under 1 %, against
-        // 0.64–1.40 %, three). On an open target, with no inside to test, its way must cross
+        // from eight encodings: 0.59–1.36 % of the diagonal, seven under 1 %, against
+        // 0.64–1.40 %, four). On an open target, with no inside to test, its way must cross
         // nothing at all (with the sliver allowed, such a way dipped under a sheet to a sample
         // behind it; required everywhere, four of the eight busts stayed above 1 %).
         let mut ring: Vec<u32> = t.to_vec();
