@@ -21,9 +21,11 @@ use glam::DVec3;
 /// `samples` are the target's points (a mesh's vertices), `misses` the indices to try (the
 /// previous pass's misses). Each missed sample under the wrap proposes a move of the nearest
 /// vertex of the wrap face nearest to it, no longer than `max_move` and along a segment that
-/// crosses no target triangle (nor, on a `closed` target, runs inside it); each vertex takes its
-/// farthest proposal (the deepest point of the concavity, so that the dent's sides lie along the
-/// walls), and its other neighbours follow by [`DENT_SHARE`] of it where their way is as clear.
+/// does not run through the target's material (nor, on a `closed` target, inside it) — or, when
+/// that way is blocked, of the nearest vertex two rings around whose way is clear; each vertex
+/// takes its farthest proposal (the deepest point of the concavity, so that the dent's sides lie
+/// along the walls), and its other neighbours follow by [`DENT_SHARE`] of it where their way is
+/// as clear.
 /// The moves are not checked for self-intersections here: the fit's contact guard does that.
 pub fn reach_into_misses(
     mesh: &mut HalfedgeMesh,
