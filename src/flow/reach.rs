@@ -81,13 +81,7 @@ pub fn reach_into_misses(
         // 0.64–1.40 %, four). On an open target, with no inside to test, its way must cross
         // nothing at all (with the sliver allowed, such a way dipped under a sheet to a sample
         // behind it; required everywhere, four of the eight busts stayed above 1 %).
-        let mut ring: Vec<u32> = t.to_vec();
-        for _ in 0..2 {
-            let grown: Vec<u32> = ring.iter().flat_map(|&v| mesh.neighbors(v)).collect();
-            ring.extend(grown);
-            ring.sort_unstable();
-            ring.dedup();
-        }
+        let mut ring = mesh.rings_around(&t, 2);
         ring.sort_by(|&a, &b| {
             let d = |v: u32| (positions[v as usize] - s).length_squared();
             d(a).total_cmp(&d(b)).then(a.cmp(&b))

@@ -295,6 +295,20 @@ impl HalfedgeMesh {
         self.outgoing(v).map(|h| self.to(h))
     }
 
+    /// `seeds` and every vertex within `rings` edges of one, sorted, each once.
+    pub fn rings_around(&self, seeds: &[u32], rings: usize) -> Vec<u32> {
+        let mut set = seeds.to_vec();
+        set.sort_unstable();
+        set.dedup();
+        for _ in 0..rings {
+            let grown: Vec<u32> = set.iter().flat_map(|&v| self.neighbors(v)).collect();
+            set.extend(grown);
+            set.sort_unstable();
+            set.dedup();
+        }
+        set
+    }
+
     /// Number of edges at `v`.
     pub fn valence(&self, v: u32) -> usize {
         self.outgoing(v).count()

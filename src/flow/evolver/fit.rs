@@ -449,13 +449,7 @@ fn freeze_where_intersecting(
             ring.push(nearest);
         }
     }
-    for _ in 0..FROZEN_RINGS {
-        let grown: Vec<u32> = ring.iter().flat_map(|&v| before.neighbors(v)).collect();
-        ring.extend(grown);
-        ring.sort_unstable();
-        ring.dedup();
-    }
-    for v in ring {
+    for v in before.rings_around(&ring, FROZEN_RINGS) {
         frozen[v as usize] = true;
     }
     Some(true)
