@@ -221,6 +221,7 @@ fn bad_inputs_give_typed_errors() {
         points: vec![],
         triangles: vec![],
         bbox: lsw::geometry::aabb::Aabb::EMPTY,
+        sampled: false,
     };
     assert_eq!(
         DistanceField::new(&empty, &s).unwrap_err(),

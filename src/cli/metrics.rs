@@ -237,7 +237,7 @@ pub fn metrics_json_with(
                 "volume_ratio": tvol.map(|tv| volume / tv),
             }),
         );
-        let creases = (tg.kind() == TargetKind::Mesh).then(|| {
+        let creases = tg.has_creases().then(|| {
             let c = detect_creases(&tg.points, &tg.triangles, CREASE_ANGLE_DEG.to_radians());
             crease_fidelity(p, t, &c, CREASE_OFFSET * diag)
         });

@@ -69,7 +69,7 @@ pub fn error_budget(
         distances_to_points(positions, &PointBvh::new(&target.points))
     };
     let on_tol = if is_mesh { 0.01 * cell } else { 0.25 * cell };
-    let creases = (is_mesh && crease_angle_deg > 0.0).then(|| {
+    let creases = (target.has_creases() && crease_angle_deg > 0.0).then(|| {
         detect_creases(
             &target.points,
             &target.triangles,

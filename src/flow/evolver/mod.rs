@@ -347,7 +347,10 @@ impl Evolver {
         let field = field.scaled(center, phi);
         let fit_target = (settings.fit.enabled && settings.flow.use_target)
             .then(|| SnapTarget::new(target, center, phi, settings.fit.radius_cells * c * phi));
-        let creases = (fit_target.is_some() && settings.fit.crease_angle_deg > 0.0)
+        // (None on a volume's iso-surface: see `Target::sampled`.)
+        let creases = (fit_target.is_some()
+            && settings.fit.crease_angle_deg > 0.0
+            && !target.sampled)
             .then(|| {
                 let pts: Vec<DVec3> = target.points.iter().map(|&p| phi * (p - center)).collect();
                 let angle = settings.fit.crease_angle_deg.to_radians();
