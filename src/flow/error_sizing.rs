@@ -36,14 +36,12 @@ pub fn error_caps(
         let [a, b, c] = tris[f as usize].map(|v| mesh.position(v));
         0.5 * (b - a).length().max((c - b).length()).max((a - c).length())
     };
+    let hits =
+        wrap.closest_points_within(check.len(), |i| samples[check[i] as usize], f64::INFINITY);
     let nearest: Vec<Option<u32>> = crate::parallel::map(check.len(), |i| {
-        let p = samples[check[i] as usize];
-        // Most samples are on the wrap: a search bounded by the tolerance ends at once.
-        if wrap.closest_point_within(p, tol).is_some() {
-            return None;
-        }
-        let f = wrap.closest_point(p)?.triangle;
-        (half_longest(f) >= floor).then_some(f)
+        let hit = hits[i].as_ref()?;
+        let f = hit.triangle;
+        (hit.distance_squared > tol * tol && half_longest(f) >= floor).then_some(f)
     });
     let mut caps = vec![f64::INFINITY; mesh.n_vertices()];
     let mut missed = Vec::new();

@@ -47,9 +47,11 @@ pub fn reach_into_misses(
     let floor = MOVE_FLOOR * max_move;
     // The samples under the wrap farther than `tol`: only there is a concavity bridged (one
     // outside it is a sharp tip that the wrap cut, the crease fit's to place).
+    let hits =
+        wrap.closest_points_within(misses.len(), |i| samples[misses[i] as usize], f64::INFINITY);
     let under: Vec<Option<(u32, f64)>> = crate::parallel::map(misses.len(), |i| {
         let s = samples[misses[i] as usize];
-        let hit = wrap.closest_point(s)?;
+        let hit = hits[i]?;
         if hit.distance_squared <= tol * tol {
             return None;
         }

@@ -85,7 +85,10 @@ impl TwoSidedDistances {
 
 /// Exact distance from every point in `points` to the triangle set.
 pub fn distances_to_triangles(points: &[DVec3], tris: &TriangleBvh) -> Vec<f64> {
-    crate::parallel::map(points.len(), |i| tris.distance(points[i]))
+    let hits = tris.closest_points_within(points.len(), |i| points[i], f64::INFINITY);
+    hits.iter()
+        .map(|h| h.map_or(f64::INFINITY, |h| h.distance_squared.sqrt()))
+        .collect()
 }
 
 /// Distance from every point in `points` to its nearest point of a cloud.

@@ -464,6 +464,37 @@ impl TriangleBvh {
         })
     }
 
+    /// [`Self::closest_point_within`] for the points `point(0..n)`, in index order. Each run of
+    /// [`WARM_RUN`] consecutive points bounds a point's search by its distance to the previous
+    /// point's triangle: where neighbouring points lie near each other (a mesh's vertices in file
+    /// order) that prunes most of the tree before the search starts. The hits are those of one
+    /// query each: the bound only skips triangles farther than one already in reach.
+    pub fn closest_points_within(
+        &self,
+        n: usize,
+        point: impl Fn(usize) -> DVec3 + Sync + Send,
+        max_distance: f64,
+    ) -> Vec<Option<ClosestHit>> {
+        let runs = crate::parallel::map(n.div_ceil(WARM_RUN), |k| {
+            let mut last: Option<u32> = None;
+            (k * WARM_RUN..(n.min((k + 1) * WARM_RUN)))
+                .map(|i| {
+                    let p = point(i);
+                    let bound = last.map_or(max_distance, |t| {
+                        let [a, b, c] = self.corners(t);
+                        (closest_point_on_triangle(p, a, b, c).0 - p)
+                            .length()
+                            .min(max_distance)
+                    });
+                    let hit = self.closest_point_within(p, bound);
+                    last = hit.as_ref().map(|h| h.triangle);
+                    hit
+                })
+                .collect::<Vec<_>>()
+        });
+        runs.into_iter().flatten().collect()
+    }
+
     /// Exact distance to the triangle set (∞ if it is empty).
     pub fn distance(&self, p: DVec3) -> f64 {
         self.closest_point(p)
@@ -520,6 +551,10 @@ impl TriangleBvh {
         self.triangles[f as usize].map(|v| self.positions[v as usize])
     }
 }
+
+/// How many consecutive points of [`TriangleBvh::closest_points_within`] share one warm start
+/// (the runs are spread over the threads).
+const WARM_RUN: usize = 32;
 
 /// The ray's tilt off its axis in [`TriangleBvh::encloses`] (irrational-looking, small).
 const RAY_SKEW: [f64; 3] = [
@@ -658,5 +693,36 @@ mod tests {
             closest_point_on_triangle(DVec3::new(1.0, 1.0, 0.0), a, b, c).0,
             DVec3::new(0.5, 0.5, 0.0)
         );
+    }
+
+    /// The warm-started batch gives each point the hit of its own query, ties included: on a
+    /// grid of unit squares (two triangles each, many at equal distance from a query) queried
+    /// along a path and at random, without a bound and with one.
+    #[test]
+    fn batched_closest_points_are_the_single_queries() {
+        let n = 12u32;
+        let pts: Vec<DVec3> = (0..=n)
+            .flat_map(|j| (0..=n).map(move |i| DVec3::new(i as f64, j as f64, 0.0)))
+            .collect();
+        let at = |i: u32, j: u32| j * (n + 1) + i;
+        let tris: Vec<[u32; 3]> = (0..n)
+            .flat_map(|j| (0..n).map(move |i| (i, j)))
+            .flat_map(|(i, j)| {
+                let q = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)];
+                [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]
+            })
+            .collect();
+        let grid = TriangleBvh::new(&pts, &tris);
+        let mut r = rng(3);
+        let mut queries: Vec<DVec3> = (0..200)
+            .map(|k| DVec3::new(0.05 * k as f64, 0.5 * (k % 7) as f64, 0.5))
+            .collect();
+        queries.extend((0..200).map(|_| DVec3::new(14.0 * r() - 1.0, 14.0 * r() - 1.0, r())));
+        for (bvh, bound) in [(&grid, f64::INFINITY), (&grid, 0.7)] {
+            let batch = bvh.closest_points_within(queries.len(), |i| queries[i], bound);
+            for (q, hit) in queries.iter().zip(&batch) {
+                assert_eq!(*hit, bvh.closest_point_within(*q, bound));
+            }
+        }
     }
 }
