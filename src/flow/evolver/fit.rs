@@ -113,7 +113,7 @@ impl Evolver {
         let mut over_budget = false;
         // What a pass left to refine (target samples still missed, wrap vertices beside bevelled
         // creases); an extra pass that left no less than the one before and reached nothing is
-        // the last (fish: the same 22 misses through seven passes, unreachable; 1.2 s of fit).
+        // the last (fish: the same 22 unreachable misses through seven passes; now three).
         let (mut left_before, mut stalled) = ((usize::MAX, usize::MAX), false);
         let cloud = matches!(target, SnapTarget::Points(_));
         // The moves onto the target (a cloud's near its crease lines onto their faces' planes).
