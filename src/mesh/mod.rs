@@ -12,5 +12,5 @@ mod validate;
 
 pub use edit::GarbageMaps;
 pub use halfedge::{HalfedgeMesh, MeshBuildError, INVALID};
-pub use soup::{edge_counts, EdgeCounts};
+pub use soup::{closed_topology, edge_counts, EdgeCounts};
 pub use validate::{MeshReport, ValidationError};

@@ -162,21 +162,8 @@ pub fn certify(
 /// Genus and components of a target of one closed manifold part (see
 /// [`Certificate::target_genus`]).
 fn closed_topology(target: &Target) -> Option<crate::mesh::MeshReport> {
-    if target.triangles.is_empty() || edge_counts(&target.triangles).boundary > 0 {
-        return None;
-    }
-    // Points no triangle uses would count as components of their own.
-    let mut used = vec![false; target.points.len()];
-    target
-        .triangles
-        .iter()
-        .flatten()
-        .for_each(|&v| used[v as usize] = true);
-    if used.contains(&false) {
-        return None;
-    }
-    let m = HalfedgeMesh::from_triangles(target.points.clone(), &target.triangles).ok()?;
-    Some(m.topology()).filter(|t| t.components == 1)
+    crate::mesh::closed_topology(target.points.len(), &target.triangles)
+        .filter(|t| t.components == 1)
 }
 
 #[cfg(test)]

@@ -3,7 +3,8 @@
 //! ([`crate::geometry::predicates::faces_intersect`]) — the definition of CGAL's
 //! `does_self_intersect`, so adjacent faces folded onto each other count too.
 //!
-//! Broad phase: a BVH over the face boxes; every pair of overlapping boxes is tested once. A
+//! Broad phase: a uniform grid over the face boxes (a BVH where their sizes vary too much);
+//! every pair of overlapping boxes is tested once. A
 //! cheap floating-point plane-side filter with a safe margin rejects most pairs before the exact
 //! test (it only ever says "certainly apart").
 
@@ -11,6 +12,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use crate::geometry::predicates::faces_intersect;
+use crate::geometry::spatial::box_grid;
 use crate::geometry::spatial::bvh::Bvh;
 use glam::DVec3;
 
@@ -91,14 +93,18 @@ fn face_boxes(positions: &[DVec3], triangles: &[[u32; 3]]) -> (Vec<DVec3>, Vec<D
         .unzip()
 }
 
-/// Calls `f(i, j)` (`i < j`) for every pair of faces whose boxes overlap, each pair once, in a
-/// fixed order.
+/// Calls `f(i, j)` (`i < j`) for every pair of faces whose boxes overlap, each pair once, in no
+/// particular order: by a uniform grid ([`box_grid`]), or by a BVH where the faces' sizes vary
+/// too much for one.
 pub fn for_each_overlapping_pair(
     positions: &[DVec3],
     triangles: &[[u32; 3]],
     mut f: impl FnMut(usize, usize),
 ) {
     let (mins, maxs) = face_boxes(positions, triangles);
+    if box_grid::for_each_overlapping_pair(&mins, &maxs, |i, j| f(i as usize, j as usize)) {
+        return;
+    }
     let bvh = Bvh::new_morton(&mins, &maxs, 2);
     // Boxes in tree order, so the leaf pairs read neighbouring memory.
     let order = bvh.order();

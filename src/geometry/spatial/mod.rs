@@ -1,6 +1,7 @@
 //! Spatial indices over points and triangles, used by the field, the flow, the remesher and the
 //! metrics alike.
 
+pub mod box_grid;
 pub mod bvh;
 pub mod isolated;
 pub mod point_grid;
