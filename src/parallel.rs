@@ -57,6 +57,32 @@ pub fn for_each_chunk_mut<T, F>(
     }
 }
 
+/// `(side(), main())`: natively `side` runs on a thread of its own while `main` runs on this
+/// one (for work that only `main`'s result will need, done while an idle core waits out the
+/// sequential parts of `main`); in wasm one after the other.
+pub fn beside<S, RS, M, RM>(side: S, main: M) -> (RS, RM)
+where
+    S: FnOnce() -> RS + Send,
+    RS: Send,
+    M: FnOnce() -> RM,
+{
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        std::thread::scope(|scope| {
+            let handle = scope.spawn(side);
+            let main = main();
+            match handle.join() {
+                Ok(side) => (side, main),
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        })
+    }
+    #[cfg(target_arch = "wasm32")]
+    {
+        (side(), main())
+    }
+}
+
 #[cfg(not(target_arch = "wasm32"))]
 fn for_each_in_group<T: Send, F: Fn(usize, &mut [T]) + Sync + Send>(
     part: &mut [T],
@@ -118,6 +144,13 @@ mod tests {
         assert_eq!(seen, vec![1024, 2048, 3072, 4096, 5000]);
         assert_eq!(map(3, |i| i + 1), vec![1, 2, 3]);
         assert!(map_chunked(0, 8, |i| i, &mut |_| panic!("no chunk")).is_empty());
+    }
+
+    #[test]
+    fn beside_returns_both_results() {
+        let data = vec![1, 2, 3];
+        let (a, b) = beside(|| data.iter().sum::<i32>(), || data.len());
+        assert_eq!((a, b), (6, 3));
     }
 
     #[test]
