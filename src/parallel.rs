@@ -148,7 +148,7 @@ mod tests {
 
     #[test]
     fn beside_returns_both_results() {
-        let data = vec![1, 2, 3];
+        let data = [1, 2, 3];
         let (a, b) = beside(|| data.iter().sum::<i32>(), || data.len());
         assert_eq!((a, b), (6, 3));
     }
