@@ -7,7 +7,8 @@
 #   "chord") and with the default curved ones ("curved");
 # - reaching into concavities: the bust's face, seen from the front, with fit.reach off
 #   ("before") and on (the default, "after").
-# Usage: benches/error_maps/make.sh LSW_BIN OUT_DIR  (optional: LSW_BEFORE=… SHARED=… for the fold maps)
+# Usage: benches/error_maps/make.sh LSW_BIN OUT_DIR  (optional: LSW_BEFORE=… SHARED=… for the fold maps,
+# LSW_BEFORE_FLAP=… for the turned bust's flap)
 set -euo pipefail
 LSW=$1
 OUT=$2
@@ -86,5 +87,21 @@ PY
                 --target-error-map "$OUT/$s-fold-$mode.vtk" >/dev/null
             python3 "$HERE/render_points.py" "$OUT/$s-fold-$mode.vtk" "$OUT/$s-fold-$mode.png" 1.0
         done
+    done
+fi
+# The fit's last round, partial moves (2026-11-26, seventh session): LSW_BEFORE_FLAP = an lsw
+# built at 820e643 (a move the contact guard put back stayed put), against LSW (moved half, a
+# quarter, an eighth of the way). The bust turned 30° about z, then 45° about x; the wrap's own
+# vertices coloured by their distance to the target, around the flap that stayed off it.
+if [ -n "${LSW_BEFORE_FLAP:-}" ]; then
+    "$LSW" demo bust -o "$OUT/bust.ply" >/dev/null
+    python3 "$HERE/turn_ply.py" "$OUT/bust.ply" "$OUT/bust-30-45.ply" 30 45
+    for mode in before after; do
+        bin=$LSW; [ "$mode" = before ] && bin=$LSW_BEFORE_FLAP
+        "$bin" wrap "$OUT/bust-30-45.ply" -o "$OUT/bust-30-45-$mode.ply" >/dev/null
+        "$LSW" metrics "$OUT/bust-30-45-$mode.ply" --target "$OUT/bust-30-45.ply" \
+            --error-map "$OUT/bust-30-45-$mode.vtk" >/dev/null
+        SPLAT=5 python3 "$HERE/render_points.py" "$OUT/bust-30-45-$mode.vtk" \
+            "$OUT/bust-turned-flap-$mode.png" 1.0 0.05,0.32,-0.42,-0.18,-0.05,0.22
     done
 fi

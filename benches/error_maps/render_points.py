@@ -3,7 +3,8 @@
 # 0 % blue → 0.5·max white → max red. Usage: render_points.py IN.vtk OUT.png MAX_PERCENT [BOX [VIEW]]
 # BOX = "x0,x1,y0,y1,z0,z1": only the points inside it (target units), scaled to fill the image;
 # VIEW = "front": looking along +y (a face at −y), instead of the default oblique view.
-import sys, math, struct, zlib
+# SPLAT (environment, default 2): splat size in pixels, larger for a wrap's sparser vertices.
+import os, sys, math, struct, zlib
 s=open(sys.argv[1]).read().split()
 i=s.index('POINTS'); n=int(s[i+1]); v=list(map(float,s[i+3:i+3+3*n]))
 i=s.index('error_percent'); k=i+3
@@ -18,6 +19,7 @@ def colour(t):
     for (a,ca),(b,cb) in zip(stops,stops[1:]):
         if t<=b:
             u=(t-a)/(b-a); return [int(ca[j]+(cb[j]-ca[j])*u) for j in range(3)]
+SPLAT=int(os.environ.get('SPLAT','2'))
 W=H=480; ay,ax=math.radians(35),math.radians(-30)
 if len(sys.argv)>5 and sys.argv[5]=='front': ay,ax=0.0,math.radians(-90)
 R=[]
@@ -29,8 +31,8 @@ cx,cy=(min(xs)+max(xs))/2,(min(ys)+max(ys))/2; sc=0.9*W/max(max(xs)-min(xs),max(
 zb=[[-1e30]*W for _ in range(H)]; img=[[(255,255,255)]*W for _ in range(H)]
 for j,(x,y,z) in enumerate(R):
     px,py=int((x-cx)*sc+W/2),int((cy-y)*sc+H/2)
-    for dy in (0,1):
-        for dx in (0,1):
+    for dy in range(SPLAT):
+        for dx in range(SPLAT):
             X,Y=px+dx,py+dy
             if 0<=X<W and 0<=Y<H and z>zb[Y][X]:
                 zb[Y][X]=z; img[Y][X]=tuple(colour(err[j]/vmax))
