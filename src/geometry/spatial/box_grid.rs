@@ -8,8 +8,9 @@
 //! is a sort of a few entries a box and short runs of box tests.
 //!
 //! Boxes much larger than the typical one (a long sliver, a stray triangle) would fill many
-//! cells; up to [`MAX_BIG`] of them are tested against every box instead. With more, the grid
-//! declines and the caller takes the BVH.
+//! cells; up to [`MAX_BIG`] of them are tested against every box instead. With more, or with
+//! many boxes far smaller than the typical one crowding into a few cells, the grid declines and
+//! the caller takes the BVH.
 
 // `!(x > y)` is used deliberately: it is also true when x is NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -20,6 +21,8 @@ use glam::DVec3;
 const MAX_CELLS: i64 = 64;
 /// Most big boxes tested one by one against all (each costs a pass over every box).
 pub const MAX_BIG: usize = 64;
+/// Box-pair tests per box at most (a wrap of 17 K faces needs 26), see the crowding check.
+const TESTS_PER_BOX: usize = 256;
 /// Cells per axis at most (so a cell's key packs into 63 bits).
 const MAX_DIM: i64 = 1 << 20;
 
@@ -31,7 +34,8 @@ fn overlap(amin: DVec3, amax: DVec3, bmin: DVec3, bmax: DVec3) -> bool {
 
 /// Calls `f(i, j)`, `i < j`, once for every pair of boxes `[mins[i], maxs[i]]` that overlap
 /// (closed boxes: touching counts), in no particular order; returns false, having called
-/// nothing, when the boxes do not suit a grid (more than [`MAX_BIG`] big or non-finite ones).
+/// nothing, when the boxes do not suit a grid (more than [`MAX_BIG`] big or non-finite ones,
+/// or a crowd of small ones).
 pub fn for_each_overlapping_pair(
     mins: &[DVec3],
     maxs: &[DVec3],
@@ -89,6 +93,16 @@ pub fn for_each_overlapping_pair(
         }
     }
     entries.sort_unstable();
+    // Boxes far smaller than the median crowd into few cells (a CAD mesh's fine fillets among
+    // its large faces), where every pair in a cell is tested: beyond a budget proportional to
+    // the boxes, decline (the BVH separates them).
+    let mut tests = 0usize;
+    for run in entries.chunk_by(|a, b| a.0 == b.0) {
+        tests += run.len() * (run.len() - 1) / 2;
+        if tests > TESTS_PER_BOX * n {
+            return false;
+        }
+    }
     // The boxes in entry order: a run's tests then read contiguous memory (scattered reads
     // took most of the time).
     let boxes: Vec<(DVec3, DVec3)> = entries
@@ -183,6 +197,24 @@ mod tests {
         assert!(want.len() > 300, "{}", want.len());
         assert!(want.contains(&(600, 601)) && want.contains(&(600, 602)));
         assert_eq!(grid(&mins, &maxs), Some(want));
+    }
+
+    #[test]
+    fn declines_a_crowd_of_small_boxes_among_large_ones() {
+        // 5 000 unit boxes on a line (the median size: a cell of 2), and 4 000 boxes a
+        // thousandth that size within half a unit, in one cell: 8 M pairs to test there.
+        let mut mins: Vec<DVec3> = (0..5000)
+            .map(|k| DVec3::new(2.0 * k as f64, 0.0, 0.0))
+            .collect();
+        let mut maxs: Vec<DVec3> = mins.iter().map(|&m| m + 1.0).collect();
+        let mut rng = Rng::new(5);
+        for _ in 0..4000 {
+            let c = 0.5 * DVec3::new(rng.uniform(), rng.uniform(), rng.uniform()) + 0.2;
+            mins.push(c);
+            maxs.push(c + 0.001);
+        }
+        assert_eq!(grid(&mins, &maxs), None);
+        assert_eq!(grid(&mins[..5000], &maxs[..5000]).map(|p| p.len()), Some(0));
     }
 
     #[test]
