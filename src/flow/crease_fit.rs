@@ -99,12 +99,13 @@ pub fn snap_to_creases(
     //    within half its edge length of its landing point, so the line gets one vertex per
     //    edge length, from the row of vertices nearest to it. A vertex facing an edge that
     //    already lies on a crease (an earlier pass put it there) stays: it would land on it.
-    let on_line: Vec<bool> = (0..nv as u32)
-        .map(|v| {
-            let tol = 1e-9 * spacing[v as usize];
-            creases.closest_edge_point(mesh.position(v), tol).is_some()
-        })
-        .collect();
+    // (Independent queries: in parallel natively, collected in vertex order.)
+    let on_line: Vec<bool> = crate::parallel::map(nv, |v| {
+        let tol = 1e-9 * spacing[v];
+        creases
+            .closest_edge_point(mesh.position(v as u32), tol)
+            .is_some()
+    });
     let faces_lined_edge = |v: u32| {
         mesh.outgoing(v).any(|h| {
             !mesh.is_boundary_halfedge(h)
@@ -112,15 +113,19 @@ pub fn snap_to_creases(
                 && on_line[mesh.to(mesh.next(h)) as usize]
         })
     };
-    let mut candidates: Vec<(f64, u32, DVec3)> = (0..nv as u32)
-        .filter(|&v| !features.vertices[v as usize] && free(v))
-        .filter(|&v| on_line[v as usize] || !faces_lined_edge(v))
-        .filter_map(|v| {
-            let p = mesh.position(v);
-            let hit = creases.closest_edge_point(p, (REACH * spacing[v as usize]).max(reach))?;
-            Some((hit.distance, v, hit.point))
-        })
-        .collect();
+    let hits = crate::parallel::map(nv, |v| {
+        let v = v as u32;
+        if features.vertices[v as usize]
+            || !free(v)
+            || !(on_line[v as usize] || !faces_lined_edge(v))
+        {
+            return None;
+        }
+        let reach = (REACH * spacing[v as usize]).max(reach);
+        let hit = creases.closest_edge_point(mesh.position(v), reach)?;
+        Some((hit.distance, v, hit.point))
+    });
+    let mut candidates: Vec<(f64, u32, DVec3)> = hits.into_iter().flatten().collect();
     candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     let cell = candidates
         .iter()
