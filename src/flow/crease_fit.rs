@@ -115,10 +115,9 @@ pub fn snap_to_creases(
     };
     let hits = crate::parallel::map(nv, |v| {
         let v = v as u32;
-        if features.vertices[v as usize]
-            || !free(v)
-            || !(on_line[v as usize] || !faces_lined_edge(v))
-        {
+        // (A vertex facing a lined edge stays unless it is on the line itself.)
+        let facing_lined = !on_line[v as usize] && faces_lined_edge(v);
+        if features.vertices[v as usize] || !free(v) || facing_lined {
             return None;
         }
         let reach = (REACH * spacing[v as usize]).max(reach);
