@@ -80,7 +80,8 @@ godunov!(
 
 /// Sweeps `values` in place; `frozen` nodes are fixed. Stops after the first pass in which no
 /// value dropped by more than `tolerance·h`, or after `max_passes` passes (the reference does
-/// exactly 8).
+/// exactly 8). `pass_done(k / max_passes)` hears after each pass `k` (a big grid's sweeps take
+/// seconds in the browser).
 ///
 /// The sweep runs on an f32 copy: it is bound by memory traffic (three z planes of the grid are
 /// live at once), f32 halves it, and its rounding (6e-8 relative) is far below the scheme's O(h)
@@ -91,6 +92,7 @@ pub fn fast_sweep(
     frozen: &[bool],
     max_passes: u32,
     tolerance: f64,
+    pass_done: &mut dyn FnMut(f64),
 ) -> SweepReport {
     let [nx, ny, nz] = grid.dims;
     assert!(
@@ -169,6 +171,7 @@ pub fn fast_sweep(
                 ky += len;
             }
         }
+        pass_done(passes as f64 / max_passes.max(1) as f64);
         if !changed {
             // No node dropped, so none was re-activated: every later pass would be a no-op.
             write_back(values, &work, frozen);
@@ -345,8 +348,12 @@ mod tests {
                 f[i] = true;
             }
         }
-        let rep = fast_sweep(&g, &mut v, &f, 64, 0.0);
+        let mut heard = Vec::new();
+        let rep = fast_sweep(&g, &mut v, &f, 64, 0.0, &mut |x| heard.push(x));
         assert!(rep.converged);
+        // One report a pass, k / 64 after pass k.
+        let want: Vec<f64> = (1..=rep.passes).map(|k| k as f64 / 64.0).collect();
+        assert_eq!(heard, want);
         for (i, &x) in v.iter().enumerate() {
             assert!((x - g.position_of(i).x).abs() < 1e-12);
         }

@@ -295,6 +295,7 @@ impl DistanceField {
             &frozen,
             settings.max_sweep_passes,
             settings.sweep_tolerance,
+            &mut |f| progress.report("distance field: sweeps", f),
         );
         let t3 = crate::clock::now_ms();
         let signedness = match (&nearest_triangle, settings.sign) {
