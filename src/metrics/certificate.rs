@@ -56,7 +56,7 @@ pub struct Certificate {
 const CLOUD_GRID_DIVISIONS: f64 = 200.0;
 
 /// What the certificate needs of a target, built once: its nearest-point structure and its
-/// topology (on a 329 K-face mesh 0.15 and 0.06 s; the CLI builds it beside the wrap).
+/// topology (on a 329 K-face mesh 0.15 and 0.06 s; the CLI builds it beside the steps).
 pub struct CertificateTarget {
     near: Near,
     topology: Option<crate::mesh::MeshReport>,
@@ -68,6 +68,7 @@ enum Near {
 }
 
 impl CertificateTarget {
+    /// A point grid for a cloud, a BVH for a mesh, and the topology of a closed one.
     pub fn new(t: &Target) -> Self {
         let near = if t.triangles.is_empty() {
             // A counting-sort grid builds in a fraction of a tree's time on millions of points.
