@@ -61,9 +61,29 @@ pub fn closed_topology(n_vertices: usize, tris: &[[u32; 3]]) -> Option<MeshRepor
         .map(|(a, b)| (((a.min(b) as u64) << 32) | a.max(b) as u64, a < b))
         .collect();
     e.sort_unstable();
-    if e.len() % 2 != 0 {
+    // Each edge: its backward use, then its forward one; anything else (a boundary, a third use,
+    // two uses the same way) breaks the pairing.
+    let paired = e.len() % 2 == 0
+        && e.chunks_exact(2)
+            .all(|p| p[0].0 == p[1].0 && !p[0].1 && p[1].1);
+    if !paired {
         return None;
     }
+    let edges = e
+        .chunks_exact(2)
+        .map(|p| ((p[0].0 >> 32) as u32, p[0].0 as u32));
+    let components = count_components(n_vertices, edges);
+    Some(MeshReport::from_counts(
+        n_vertices,
+        e.len() / 2,
+        tris.len(),
+        components,
+    ))
+}
+
+/// Connected components of `n_vertices` vertices joined by `edges` (union–find; isolated
+/// vertices count as components of their own).
+pub fn count_components(n_vertices: usize, edges: impl IntoIterator<Item = (u32, u32)>) -> usize {
     let mut parent: Vec<u32> = (0..n_vertices as u32).collect();
     fn find(p: &mut [u32], mut x: u32) -> u32 {
         while p[x as usize] != x {
@@ -72,32 +92,15 @@ pub fn closed_topology(n_vertices: usize, tris: &[[u32; 3]]) -> Option<MeshRepor
         }
         x
     }
-    for pair in e.chunks_exact(2) {
-        let ((k, forward), (k2, forward2)) = (pair[0], pair[1]);
-        if k != k2 || forward || !forward2 {
-            return None;
-        }
-        let (a, b) = (
-            find(&mut parent, (k >> 32) as u32),
-            find(&mut parent, k as u32),
-        );
+    for (a, b) in edges {
+        let (a, b) = (find(&mut parent, a), find(&mut parent, b));
         if a != b {
             parent[a.max(b) as usize] = a.min(b);
         }
     }
-    let edges = e.len() / 2;
-    let components = (0..n_vertices as u32)
+    (0..n_vertices as u32)
         .filter(|&v| find(&mut parent, v) == v)
-        .count();
-    let chi = n_vertices as i64 - edges as i64 + tris.len() as i64;
-    Some(MeshReport {
-        vertices: n_vertices,
-        edges,
-        faces: tris.len(),
-        euler_characteristic: chi,
-        genus: (2 * components as i64 - chi) / 2,
-        components,
-    })
+        .count()
 }
 
 #[cfg(test)]

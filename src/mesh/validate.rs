@@ -20,6 +20,21 @@ pub struct MeshReport {
     pub components: usize,
 }
 
+impl MeshReport {
+    /// The report of a closed surface with these counts.
+    pub fn from_counts(vertices: usize, edges: usize, faces: usize, components: usize) -> Self {
+        let chi = vertices as i64 - edges as i64 + faces as i64;
+        MeshReport {
+            vertices,
+            edges,
+            faces,
+            euler_characteristic: chi,
+            genus: (2 * components as i64 - chi) / 2,
+            components,
+        }
+    }
+}
+
 /// The first broken invariant found by [`HalfedgeMesh::validate`].
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ValidationError {
@@ -141,39 +156,18 @@ impl HalfedgeMesh {
     /// degenerate face, such as an iso-surface).
     pub fn topology(&self) -> MeshReport {
         let components = self.count_components();
-        let chi = self.n_vertices() as i64 - self.n_edges() as i64 + self.n_faces() as i64;
-        MeshReport {
-            vertices: self.n_vertices(),
-            edges: self.n_edges(),
-            faces: self.n_faces(),
-            euler_characteristic: chi,
-            genus: (2 * components as i64 - chi) / 2,
+        MeshReport::from_counts(
+            self.n_vertices(),
+            self.n_edges(),
+            self.n_faces(),
             components,
-        }
+        )
     }
 
-    /// Connected components over edges (union–find, deterministic).
+    /// Connected components over edges (see [`crate::mesh::soup::count_components`]).
     pub fn count_components(&self) -> usize {
-        let mut parent: Vec<u32> = (0..self.n_vertices() as u32).collect();
-        fn find(p: &mut [u32], mut x: u32) -> u32 {
-            while p[x as usize] != x {
-                p[x as usize] = p[p[x as usize] as usize];
-                x = p[x as usize];
-            }
-            x
-        }
-        for e in 0..self.n_edges() as u32 {
-            let (a, b) = (
-                find(&mut parent, self.to(2 * e)),
-                find(&mut parent, self.to(2 * e + 1)),
-            );
-            if a != b {
-                parent[a.max(b) as usize] = a.min(b);
-            }
-        }
-        (0..self.n_vertices() as u32)
-            .filter(|&v| find(&mut parent, v) == v)
-            .count()
+        let edges = (0..self.n_edges() as u32).map(|e| (self.to(2 * e), self.to(2 * e + 1)));
+        super::soup::count_components(self.n_vertices(), edges)
     }
 }
 

@@ -110,9 +110,8 @@ pub fn for_each_overlapping_pair(
         .map(|&(_, i)| (mins[i as usize], maxs[i as usize]))
         .collect();
     let mut start = 0;
-    while start < entries.len() {
-        let here = entries[start].0;
-        let end = start + entries[start..].partition_point(|e| e.0 == here);
+    for run in entries.chunk_by(|a, b| a.0 == b.0) {
+        let (here, end) = (run[0].0, start + run.len());
         for a in start..end {
             let (imin, imax) = boxes[a];
             for b in a + 1..end {
