@@ -35,8 +35,11 @@ where
 }
 
 /// `f(k, chunk)` for the consecutive chunks of `chunk_len` items of `data` (the last may be
-/// shorter), `group` chunks at a time (each group spread over the threads); `done(k)` hears after
-/// each group how many chunks are done. For loops that scatter into disjoint parts of one array.
+/// shorter); `done(k)` hears, every `group` chunks and at the end, how many chunks are done. For
+/// loops that scatter into disjoint parts of one array. Natively the chunks are spread over the
+/// threads all at once — not group by group, which left a core idle whenever a group's busy
+/// chunks fell to one thread (a mesh's band: the surface fills a few slabs of the grid) — and the
+/// counts come to this thread as chunks finish; in wasm they run in order.
 pub fn for_each_chunk_mut<T, F>(
     data: &mut [T],
     chunk_len: usize,
@@ -48,12 +51,41 @@ pub fn for_each_chunk_mut<T, F>(
     F: Fn(usize, &mut [T]) + Sync + Send,
 {
     let chunk_len = chunk_len.max(1);
-    let mut first = 0;
-    for part in data.chunks_mut(chunk_len * group.max(1)) {
-        let n = part.len().div_ceil(chunk_len);
-        for_each_in_group(part, chunk_len, first, &f);
-        first += n;
-        done(first);
+    let (total, group) = (data.len().div_ceil(chunk_len), group.max(1));
+    let mut count = 0;
+    let mut finished = |count: usize| {
+        if count % group == 0 || count == total {
+            done(count);
+        }
+    };
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        use rayon::prelude::*;
+        let (tx, rx) = std::sync::mpsc::channel::<()>();
+        std::thread::scope(|scope| {
+            let work = scope.spawn(move || {
+                data.par_chunks_mut(chunk_len)
+                    .enumerate()
+                    .for_each_with(tx, |tx, (k, c)| {
+                        f(k, c);
+                        // (The receiver lives until every sender is gone.)
+                        let _ = tx.send(());
+                    });
+            });
+            for () in rx {
+                count += 1;
+                finished(count);
+            }
+            if let Err(panic) = work.join() {
+                std::panic::resume_unwind(panic);
+            }
+        });
+    }
+    #[cfg(target_arch = "wasm32")]
+    for (k, c) in data.chunks_mut(chunk_len).enumerate() {
+        f(k, c);
+        count += 1;
+        finished(count);
     }
 }
 
@@ -80,31 +112,6 @@ where
     #[cfg(target_arch = "wasm32")]
     {
         (side(), main())
-    }
-}
-
-#[cfg(not(target_arch = "wasm32"))]
-fn for_each_in_group<T: Send, F: Fn(usize, &mut [T]) + Sync + Send>(
-    part: &mut [T],
-    chunk_len: usize,
-    first: usize,
-    f: &F,
-) {
-    use rayon::prelude::*;
-    part.par_chunks_mut(chunk_len)
-        .enumerate()
-        .for_each(|(k, c)| f(first + k, c));
-}
-
-#[cfg(target_arch = "wasm32")]
-fn for_each_in_group<T: Send, F: Fn(usize, &mut [T]) + Sync + Send>(
-    part: &mut [T],
-    chunk_len: usize,
-    first: usize,
-    f: &F,
-) {
-    for (k, c) in part.chunks_mut(chunk_len).enumerate() {
-        f(first + k, c);
     }
 }
 
