@@ -34,6 +34,25 @@ fn certainly_apart(t: [DVec3; 3], u: [DVec3; 3]) -> bool {
 
 /// True when `p` and `q` lie strictly on the same side of the plane through `o` with normal `n`,
 /// by a margin far above rounding error.
+/// True when a plane through an edge of `t`, square to `t`, has all of `u` strictly on the far
+/// side (by a margin over rounding): then they cannot meet. Faces in one plane — a CAD part's
+/// flat sides — are never apart by [`certainly_apart`], and took the exact coplanar test.
+#[inline]
+fn apart_across_an_edge(t: [DVec3; 3], u: [DVec3; 3]) -> bool {
+    let n = (t[1] - t[0]).cross(t[2] - t[0]);
+    (0..3).any(|k| {
+        let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+        // Points towards `c`'s side.
+        let m = n.cross(b - a);
+        let scale = m.length() * {
+            let d = u.map(|q| (q - a).abs().max_element());
+            d[0].max(d[1]).max(d[2]).max((c - a).abs().max_element())
+        };
+        let eps = 1e-12 * scale;
+        m.dot(c - a) > eps && u.iter().all(|&q| m.dot(q - a) < -eps)
+    })
+}
+
 #[inline]
 fn same_side_certainly(n: DVec3, o: DVec3, p: DVec3, q: DVec3) -> bool {
     let (sp, sq) = (n.dot(p - o), n.dot(q - o));
@@ -51,7 +70,11 @@ pub fn pair_intersects(positions: &[DVec3], triangles: &[[u32; 3]], i: usize, j:
     match si.iter().filter(|&&b| b).count() {
         0 => {
             let (pi, pj) = (fi.map(p), fj.map(p));
-            if certainly_apart(pi, pj) || certainly_apart(pj, pi) {
+            if certainly_apart(pi, pj)
+                || certainly_apart(pj, pi)
+                || apart_across_an_edge(pi, pj)
+                || apart_across_an_edge(pj, pi)
+            {
                 return false;
             }
         }
@@ -305,5 +328,46 @@ mod tests {
         let fast = self_intersecting_pairs(&p, &t);
         assert!(!fast.is_empty());
         assert_eq!(fast, self_intersecting_pairs_brute_force(&p, &t));
+    }
+
+    #[test]
+    fn agrees_with_brute_force_on_faces_in_one_plane() {
+        // A flat grid (a CAD part's side), its vertices jittered within the plane: untouched,
+        // faces apart across their edges; jittered far, some fold over their neighbours. Then
+        // the plane tilted, so that its points are not exactly coplanar in floating point.
+        let n = 8;
+        let mut t = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                let v = |a: usize, b: usize| (a * (n + 1) + b) as u32;
+                t.push([v(i, j), v(i + 1, j), v(i + 1, j + 1)]);
+                t.push([v(i, j), v(i + 1, j + 1), v(i, j + 1)]);
+            }
+        }
+        let mut rng = Rng::new(11);
+        let mut folded = false;
+        let tilted = (
+            DVec3::new(1.0, 0.3, 0.2).normalize(),
+            DVec3::new(-0.2, 1.0, 0.4).normalize(),
+        );
+        for (u, w) in [(DVec3::X, DVec3::Y), tilted] {
+            for amp in [0.0, 0.2, 0.5, 1.0, 1.6] {
+                let p: Vec<DVec3> = (0..(n + 1) * (n + 1))
+                    .map(|k| {
+                        let (a, b) = ((k / (n + 1)) as f64, (k % (n + 1)) as f64);
+                        let x = a + amp * (rng.uniform() - 0.5);
+                        let y = b + amp * (rng.uniform() - 0.5);
+                        0.1 * (x * u + y * w)
+                    })
+                    .collect();
+                let fast = self_intersecting_pairs(&p, &t);
+                assert_eq!(fast, self_intersecting_pairs_brute_force(&p, &t), "{amp}");
+                if amp == 0.0 {
+                    assert!(fast.is_empty());
+                }
+                folded |= !fast.is_empty();
+            }
+        }
+        assert!(folded, "no jitter folded a face over another");
     }
 }
