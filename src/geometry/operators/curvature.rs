@@ -68,14 +68,13 @@ pub fn principal_curvatures(
     let mut normals = Vec::new();
     vertex_normals(mesh, &mut normals);
 
-    // Symmetric tensor per vertex: xx, xy, xz, yy, yz, zz.
-    let mut t = vec![[0.0f64; 6]; nv];
-    let mut dihedral = vec![0.0; ne];
-    for e in 0..ne as u32 {
-        let (h0, h1) = (2 * e, 2 * e + 1);
+    // Per edge (in parallel natively): its signed dihedral angle and its tensor term, then summed
+    // into its ends in edge order (the same sums whatever the thread count).
+    let per_edge = crate::parallel::map(ne, |e| {
+        let (h0, h1) = (2 * e as u32, 2 * e as u32 + 1);
         let (f0, f1) = (mesh.face(h0), mesh.face(h1));
         if f0 == INVALID || f1 == INVALID {
-            continue;
+            return (0.0, None);
         }
         let (n0, n1) = (fnormals[f0 as usize], fnormals[f1 as usize]);
         let (a, b) = (mesh.from(h0), mesh.to(h0));
@@ -84,11 +83,10 @@ pub fn principal_curvatures(
         let angle = crate::fmath::atan2(n0.cross(n1).length(), n0.dot(n1));
         let convex = (mesh.position(d) - pa).dot(n0) <= 0.0;
         let beta = if convex { angle } else { -angle };
-        dihedral[e as usize] = beta;
         let ev = pb - pa;
         let len = ev.length();
         if len <= 0.0 {
-            continue;
+            return (beta, None);
         }
         let u = ev / len;
         let w = beta * 0.5 * len;
@@ -100,6 +98,14 @@ pub fn principal_curvatures(
             w * u.y * u.z,
             w * u.z * u.z,
         ];
+        (beta, Some((a, b, m)))
+    });
+    // Symmetric tensor per vertex: xx, xy, xz, yy, yz, zz.
+    let mut t = vec![[0.0f64; 6]; nv];
+    let mut dihedral = vec![0.0; ne];
+    for (e, (beta, term)) in per_edge.into_iter().enumerate() {
+        dihedral[e] = beta;
+        let Some((a, b, m)) = term else { continue };
         for v in [a, b] {
             let tv = &mut t[v as usize];
             for k in 0..6 {
@@ -107,13 +113,11 @@ pub fn principal_curvatures(
             }
         }
     }
-    let mut kmin = vec![0.0; nv];
-    let mut kmax = vec![0.0; nv];
-    for v in 0..nv {
+    let (mut kmin, mut kmax): (Vec<f64>, Vec<f64>) = crate::parallel::map(nv, |v| {
         let area = lap.covolumes[v];
         let n = normals[v];
         if !(area > 0.0) || n == DVec3::ZERO {
-            continue;
+            return (0.0, 0.0);
         }
         let (t1, t2) = n.any_orthonormal_pair();
         let tv = &t[v];
@@ -128,29 +132,34 @@ pub fn principal_curvatures(
         let (a11, a12, a22) = (t1.dot(tt1), t1.dot(tt2), t2.dot(tt2));
         let mean = 0.5 * (a11 + a22);
         let r = (0.25 * (a11 - a22) * (a11 - a22) + a12 * a12).sqrt();
-        kmin[v] = (mean - r) / area;
-        kmax[v] = (mean + r) / area;
-    }
+        ((mean - r) / area, (mean + r) / area)
+    })
+    .into_iter()
+    .unzip();
     let cotan: Vec<f64> = lap.edge_weights.iter().map(|w| w.max(0.0)).collect();
     for _ in 0..smoothing_passes {
-        let (old_min, old_max) = (kmin.clone(), kmax.clone());
-        for v in 0..nv as u32 {
-            if fixed.is_some_and(|f| f[v as usize]) {
-                continue;
+        // Jacobi: every vertex reads the previous values only.
+        (kmin, kmax) = crate::parallel::map(nv, |v| {
+            let keep = (kmin[v], kmax[v]);
+            if fixed.is_some_and(|f| f[v]) {
+                return keep;
             }
             let (mut ww, mut smin, mut smax) = (0.0, 0.0, 0.0);
-            for h in mesh.outgoing(v) {
+            for h in mesh.outgoing(v as u32) {
                 let w = cotan[(h >> 1) as usize];
                 let u = mesh.to(h) as usize;
                 ww += w;
-                smin += w * old_min[u];
-                smax += w * old_max[u];
+                smin += w * kmin[u];
+                smax += w * kmax[u];
             }
             if ww > 0.0 {
-                kmin[v as usize] = smin / ww;
-                kmax[v as usize] = smax / ww;
+                (smin / ww, smax / ww)
+            } else {
+                keep
             }
-        }
+        })
+        .into_iter()
+        .unzip();
     }
     Curvatures {
         kmin,
