@@ -22,16 +22,16 @@ use glam::DVec3;
 /// first; a later pass can test only the previous misses). A sample farther than `tol` from the
 /// wrap caps the three vertices of the nearest wrap face at half its longest edge. Caps never go
 /// below `floor` (the finest edge the settings allow); a face already that fine counts as no
-/// miss, so the refinement stops there.
+/// miss, so the refinement stops there. `wrap` is the tree over `mesh`'s faces ([`wrap_faces`]).
 pub fn error_caps(
     mesh: &HalfedgeMesh,
+    wrap: &TriangleBvh,
     samples: &[DVec3],
     check: &[u32],
     tol: f64,
     floor: f64,
 ) -> Option<(Vec<f64>, Vec<u32>)> {
-    let tris = mesh.triangles();
-    let wrap = TriangleBvh::new(mesh.positions(), &tris);
+    let tris = wrap.triangles();
     let half_longest = |f: u32| {
         let [a, b, c] = tris[f as usize].map(|v| mesh.position(v));
         0.5 * (b - a).length().max((c - b).length()).max((a - c).length())
@@ -75,20 +75,20 @@ pub const BEVEL_TOL_DEG: f64 = 2.0;
 /// off, a quarter of that tolerance).
 pub fn crease_caps(
     mesh: &HalfedgeMesh,
+    wrap: &TriangleBvh,
     creases: &Creases,
     offset: f64,
     tol: f64,
     floor: f64,
 ) -> Option<Vec<f64>> {
-    let tris = mesh.triangles();
-    let wrap = TriangleBvh::new(mesh.positions(), &tris);
+    let tris = wrap.triangles();
     let half_longest = |f: u32| {
         let [a, b, c] = tris[f as usize].map(|v| mesh.position(v));
         0.5 * (b - a).length().max((c - b).length()).max((a - c).length())
     };
     let mut caps = vec![f64::INFINITY; mesh.n_vertices()];
     let mut any = false;
-    for e in crease_errors(mesh.positions(), &tris, &wrap, creases, offset) {
+    for e in crease_errors(mesh.positions(), tris, wrap, creases, offset) {
         if e.error <= tol {
             continue;
         }
@@ -103,6 +103,11 @@ pub fn crease_caps(
         }
     }
     any.then_some(caps)
+}
+
+/// The tree over a wrap's faces that [`error_caps`] and [`crease_caps`] read (one per pass).
+pub fn wrap_faces(mesh: &HalfedgeMesh) -> TriangleBvh {
+    TriangleBvh::new(mesh.positions(), &mesh.triangles())
 }
 
 #[cfg(test)]
@@ -122,18 +127,58 @@ mod tests {
         let edge = (coarse.position(coarse.to(0)) - coarse.position(coarse.to(1))).length();
         // The icosahedron's inradius: the farthest a sphere point lies from it is 1 − r_in.
         let gap = 1.0 - 0.794_654_472_291_766;
-        let (caps, missed) = error_caps(&coarse, &samples, &all, 0.5 * gap, 0.0).unwrap();
+        let (caps, missed) = error_caps(
+            &coarse,
+            &wrap_faces(&coarse),
+            &samples,
+            &all,
+            0.5 * gap,
+            0.0,
+        )
+        .unwrap();
         assert!(!missed.is_empty() && missed.len() < samples.len());
         for c in caps {
             assert!((c - 0.5 * edge).abs() < 1e-9, "{c} vs {}", 0.5 * edge);
         }
         // Only the misses are rechecked, with the same answer.
-        let (_, again) = error_caps(&coarse, &samples, &missed, 0.5 * gap, 0.0).unwrap();
+        let (_, again) = error_caps(
+            &coarse,
+            &wrap_faces(&coarse),
+            &samples,
+            &missed,
+            0.5 * gap,
+            0.0,
+        )
+        .unwrap();
         assert_eq!(again, missed);
-        assert!(error_caps(&coarse, &samples, &all, 1.01 * gap, 0.0).is_none());
-        assert!(error_caps(&coarse, &samples, &all, 0.5 * gap, 0.6 * edge).is_none());
+        assert!(error_caps(
+            &coarse,
+            &wrap_faces(&coarse),
+            &samples,
+            &all,
+            1.01 * gap,
+            0.0
+        )
+        .is_none());
+        assert!(error_caps(
+            &coarse,
+            &wrap_faces(&coarse),
+            &samples,
+            &all,
+            0.5 * gap,
+            0.6 * edge
+        )
+        .is_none());
         // The floor bounds every cap from below.
-        let (caps, _) = error_caps(&coarse, &samples, &all, 0.5 * gap, 0.45 * edge).unwrap();
+        let (caps, _) = error_caps(
+            &coarse,
+            &wrap_faces(&coarse),
+            &samples,
+            &all,
+            0.5 * gap,
+            0.45 * edge,
+        )
+        .unwrap();
         assert!(caps.iter().all(|&c| c >= 0.45 * edge));
     }
 
@@ -147,9 +192,9 @@ mod tests {
         let creases = detect_creases(&p, &t, 40f64.to_radians());
         let cube = HalfedgeMesh::from_triangles(p.clone(), &t).unwrap();
         let tol = BEVEL_TOL_DEG.to_radians();
-        assert!(crease_caps(&cube, &creases, 0.005, tol, 0.0).is_none());
+        assert!(crease_caps(&cube, &wrap_faces(&cube), &creases, 0.005, tol, 0.0).is_none());
         let ball = icosphere(2, 0.7, DVec3::ZERO).unwrap();
-        let caps = crease_caps(&ball, &creases, 0.005, tol, 0.0).unwrap();
+        let caps = crease_caps(&ball, &wrap_faces(&ball), &creases, 0.005, tol, 0.0).unwrap();
         let longest = ball
             .triangles()
             .iter()
@@ -159,6 +204,6 @@ mod tests {
         let capped: Vec<f64> = caps.into_iter().filter(|c| c.is_finite()).collect();
         assert!(capped.len() > 10, "{}", capped.len());
         assert!(capped.iter().all(|&c| c <= 0.5 * longest + 1e-12));
-        assert!(crease_caps(&ball, &creases, 0.005, tol, longest).is_none());
+        assert!(crease_caps(&ball, &wrap_faces(&ball), &creases, 0.005, tol, longest).is_none());
     }
 }

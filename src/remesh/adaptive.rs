@@ -213,7 +213,6 @@ pub fn remesh_capped(
 
 /// The surface at the start of the call, for back-projection.
 struct Reference {
-    triangles: Vec<[u32; 3]>,
     sizing: Vec<f64>,
     bvh: TriangleBvh,
 }
@@ -223,7 +222,7 @@ impl Reference {
     fn project(&self, p: DVec3) -> (DVec3, f64) {
         match self.bvh.closest_point(p) {
             Some(hit) => {
-                let t = self.triangles[hit.triangle as usize];
+                let t = self.bvh.triangles()[hit.triangle as usize];
                 let h = hit.barycentric.x * self.sizing[t[0] as usize]
                     + hit.barycentric.y * self.sizing[t[1] as usize]
                     + hit.barycentric.z * self.sizing[t[2] as usize];
@@ -319,7 +318,6 @@ fn remesh_impl(
     }
 
     let reference = s.use_projection.then(|| Reference {
-        triangles: mesh.triangles(),
         sizing: h.clone(),
         bvh: TriangleBvh::new(mesh.positions(), &mesh.triangles()),
     });

@@ -11,7 +11,7 @@ use crate::progress::Progress;
 /// The progress phase of the final fit.
 pub const FIT_PHASE: &str = "final fit";
 use crate::flow::crease_fit::snap_to_creases;
-use crate::flow::error_sizing::{crease_caps, error_caps, BEVEL_TOL_DEG};
+use crate::flow::error_sizing::{crease_caps, error_caps, wrap_faces, BEVEL_TOL_DEG};
 use crate::flow::guard::resolve_contacts;
 use crate::flow::reach::{reach_into_misses, settle_flap_tips};
 use crate::flow::snap::{snap_to_closest, snap_to_target, SnapParams, SnapTarget};
@@ -225,13 +225,14 @@ impl Evolver {
                 self.mesh.garbage_collect();
                 let floor = self.sizes.min_edge_length;
                 let last = pass + 1 >= most;
-                let errors = (!last)
-                    .then(|| error_caps(&self.mesh, samples, &check, refine_tol, floor))
-                    .flatten();
-                let bevels = match (&self.creases, last) {
-                    (Some(creases), false) => {
+                let wrap = (!last).then(|| wrap_faces(&self.mesh));
+                let errors = wrap
+                    .as_ref()
+                    .and_then(|w| error_caps(&self.mesh, w, samples, &check, refine_tol, floor));
+                let bevels = match (&self.creases, &wrap) {
+                    (Some(creases), Some(w)) => {
                         let tol = BEVEL_TOL_DEG.to_radians();
-                        crease_caps(&self.mesh, creases, crease_offset, tol, floor)
+                        crease_caps(&self.mesh, w, creases, crease_offset, tol, floor)
                     }
                     _ => None,
                 };
