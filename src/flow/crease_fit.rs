@@ -74,14 +74,20 @@ pub fn snap_to_creases(
     let normals = angle_weighted_normals(mesh);
 
     // 1. Corners: each takes its nearest wrap vertex within reach.
+    // (The queries in parallel natively; the choice in vertex order.)
+    let nearest = crate::parallel::map(nv, |v| {
+        let v = v as u32;
+        free(v)
+            .then(|| creases.nearest_corner(mesh.position(v)))
+            .flatten()
+    });
     let mut owner: Vec<Option<(f64, u32)>> = vec![None; creases.corners.len()];
-    for v in (0..nv as u32).filter(|&v| free(v)) {
-        let p = mesh.position(v);
-        if let Some((c, d)) = creases.nearest_corner(p) {
+    for (v, hit) in nearest.into_iter().enumerate() {
+        if let Some((c, d)) = hit {
             let best = &mut owner[c as usize];
-            let limit = (REACH * 1.5 * spacing[v as usize]).max(reach);
+            let limit = (REACH * 1.5 * spacing[v]).max(reach);
             if d <= limit && best.is_none_or(|(bd, _)| d < bd) {
-                *best = Some((d, v));
+                *best = Some((d, v as u32));
             }
         }
     }
