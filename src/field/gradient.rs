@@ -34,11 +34,13 @@ pub fn normalized_negative_gradient(grid: &Grid, d: &[f64]) -> Vec<[f32; 3]> {
     let (xb0, xf0, xs0) = stencil(0, nx, 1);
     let (xbn, xfn, xsn) = stencil(nx - 1, nx, 1);
     let half_inv_c = 0.5 * inv_c;
-    for iz in 0..nz {
+    // One z-plane per chunk (in parallel natively): each node reads only `d`.
+    let planes = |iz: usize, out: &mut [[f32; 3]]| {
         let (zb, zf, zs) = stencil(iz, nz, sxy);
         for iy in 0..ny {
             let (yb, yf, ys) = stencil(iy, ny, nx);
             let row = nx * (iy + ny * iz);
+            let local = nx * iy;
             let g = |i: usize, xb: usize, xf: usize, xs: f64| {
                 (
                     (d[i + xf] - d[i - xb]) * xs,
@@ -47,16 +49,17 @@ pub fn normalized_negative_gradient(grid: &Grid, d: &[f64]) -> Vec<[f32; 3]> {
                 )
             };
             let (gx, gy, gz) = g(row, xb0, xf0, xs0);
-            store(&mut out[row], gx, gy, gz);
-            for (i, o) in out[row + 1..row + nx - 1].iter_mut().enumerate() {
+            store(&mut out[local], gx, gy, gz);
+            for (i, o) in out[local + 1..local + nx - 1].iter_mut().enumerate() {
                 let (gx, gy, gz) = g(row + 1 + i, 1, 1, half_inv_c);
                 store(o, gx, gy, gz);
             }
             let last = row + nx - 1;
             let (gx, gy, gz) = g(last, xbn, xfn, xsn);
-            store(&mut out[last], gx, gy, gz);
+            store(&mut out[local + nx - 1], gx, gy, gz);
         }
-    }
+    };
+    crate::parallel::for_each_chunk_mut(&mut out, sxy, usize::MAX, planes, &mut |_| {});
     out
 }
 
