@@ -345,29 +345,36 @@ impl Evolver {
         let (mesh, phi, sizes) = (start.mesh, start.phi, start.sizes);
         let limits = divergence_limits(target, &mesh, phi, center, &settings);
         let field = field.scaled(center, phi);
-        let fit_target = (settings.fit.enabled && settings.flow.use_target)
-            .then(|| SnapTarget::new(target, center, phi, settings.fit.radius_cells * c * phi));
+        let fits = settings.fit.enabled && settings.flow.use_target;
         // (None on a volume's iso-surface: see `Target::sampled`.)
-        let creases = (fit_target.is_some()
-            && settings.fit.crease_angle_deg > 0.0
-            && !target.sampled)
-            .then(|| {
-                let pts: Vec<DVec3> = target.points.iter().map(|&p| phi * (p - center)).collect();
-                let angle = settings.fit.crease_angle_deg.to_radians();
-                match &fit_target {
-                    // Seen at the scale of the fit's plane fits, on the fit's own grid. A smooth
-                    // cloud's fit stays exactly as without crease detection.
-                    Some(SnapTarget::Points(grid)) => {
-                        let r = settings.fit.radius_cells * c * phi;
-                        let c = detect_cloud_creases(&pts, grid, r, angle, &mut |f| {
-                            progress.report(CREASE_PHASE, f)
-                        });
-                        (!c.is_empty()).then_some(c)
-                    }
-                    _ => Some(detect_creases(&pts, &target.triangles, angle)),
+        let find_creases = fits && settings.fit.crease_angle_deg > 0.0 && !target.sampled;
+        let angle = settings.fit.crease_angle_deg.to_radians();
+        let framed =
+            || -> Vec<DVec3> { target.points.iter().map(|&p| phi * (p - center)).collect() };
+        let fit_radius = settings.fit.radius_cells * c * phi;
+        let new_fit_target = || fits.then(|| SnapTarget::new(target, center, phi, fit_radius));
+        let (fit_target, creases) = if target.triangles.is_empty() {
+            // A cloud's creases are seen at the scale of the fit's plane fits, on the fit's own
+            // grid. A smooth cloud's fit stays exactly as without crease detection.
+            let fit_target = new_fit_target();
+            let creases = match (&fit_target, find_creases) {
+                (Some(SnapTarget::Points(grid)), true) => {
+                    let c = detect_cloud_creases(&framed(), grid, fit_radius, angle, &mut |f| {
+                        progress.report(CREASE_PHASE, f)
+                    });
+                    (!c.is_empty()).then_some(c)
                 }
-            })
-            .flatten();
+                _ => None,
+            };
+            (fit_target, creases)
+        } else {
+            // A mesh's creases and the fit's tree over it, each on one thread: side by side.
+            let (creases, fit_target) = crate::parallel::beside(
+                || find_creases.then(|| detect_creases(&framed(), &target.triangles, angle)),
+                new_fit_target,
+            );
+            (fit_target, creases)
+        };
         let d0 = settings.flow.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
         let empty_distance = phi * empty_distance(target, c, &settings);
         let mut ev = Evolver {
