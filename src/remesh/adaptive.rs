@@ -754,8 +754,9 @@ fn feature_update(mesh: &HalfedgeMesh, w: &Work, v: u32) -> DVec3 {
 /// already moved no vertex by more than the tolerance (the mesh is at rest).
 fn tangential_smoothing(mesh: &mut HalfedgeMesh, w: &mut Work) -> bool {
     let nv = mesh.n_vertices();
-    // (With projection every vertex already lies on the reference here: the call's own
-    // vertices are its corners, splits put theirs on it and collapses keep one end where it is.)
+    if w.reference.is_some() {
+        project_all(mesh, w);
+    }
     build_rings(mesh, &mut w.ring_off, &mut w.ring);
     let tol = w.s.smoothing_tolerance.max(0.0);
     w.active.clear();
