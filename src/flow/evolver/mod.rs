@@ -298,6 +298,9 @@ impl Evolver {
         let cloud = target.triangles.is_empty() && settings.field.outlier_spacings > 0.0;
         if cloud {
             progress.report(STRAY_PHASE, 0.0);
+            // (Its first part, remembered for the test below: a third of it on 1 M points.)
+            crate::geometry::spatial::spacing::median_spacing(&target.points);
+            progress.report(STRAY_PHASE, 0.3);
         }
         let cleaned = target.without_isolated_points(settings.field.outlier_spacings);
         if cloud {
