@@ -121,64 +121,25 @@ mod tests {
     #[test]
     fn caps_follow_the_missed_target_samples() {
         let coarse = icosphere(0, 1.0, DVec3::ZERO).unwrap();
+        let tree = wrap_faces(&coarse);
         let fine = icosphere(4, 1.0, DVec3::ZERO).unwrap();
         let samples = fine.positions().to_vec();
         let all: Vec<u32> = (0..samples.len() as u32).collect();
         let edge = (coarse.position(coarse.to(0)) - coarse.position(coarse.to(1))).length();
         // The icosahedron's inradius: the farthest a sphere point lies from it is 1 − r_in.
         let gap = 1.0 - 0.794_654_472_291_766;
-        let (caps, missed) = error_caps(
-            &coarse,
-            &wrap_faces(&coarse),
-            &samples,
-            &all,
-            0.5 * gap,
-            0.0,
-        )
-        .unwrap();
+        let (caps, missed) = error_caps(&coarse, &tree, &samples, &all, 0.5 * gap, 0.0).unwrap();
         assert!(!missed.is_empty() && missed.len() < samples.len());
         for c in caps {
             assert!((c - 0.5 * edge).abs() < 1e-9, "{c} vs {}", 0.5 * edge);
         }
         // Only the misses are rechecked, with the same answer.
-        let (_, again) = error_caps(
-            &coarse,
-            &wrap_faces(&coarse),
-            &samples,
-            &missed,
-            0.5 * gap,
-            0.0,
-        )
-        .unwrap();
+        let (_, again) = error_caps(&coarse, &tree, &samples, &missed, 0.5 * gap, 0.0).unwrap();
         assert_eq!(again, missed);
-        assert!(error_caps(
-            &coarse,
-            &wrap_faces(&coarse),
-            &samples,
-            &all,
-            1.01 * gap,
-            0.0
-        )
-        .is_none());
-        assert!(error_caps(
-            &coarse,
-            &wrap_faces(&coarse),
-            &samples,
-            &all,
-            0.5 * gap,
-            0.6 * edge
-        )
-        .is_none());
+        assert!(error_caps(&coarse, &tree, &samples, &all, 1.01 * gap, 0.0).is_none());
+        assert!(error_caps(&coarse, &tree, &samples, &all, 0.5 * gap, 0.6 * edge).is_none());
         // The floor bounds every cap from below.
-        let (caps, _) = error_caps(
-            &coarse,
-            &wrap_faces(&coarse),
-            &samples,
-            &all,
-            0.5 * gap,
-            0.45 * edge,
-        )
-        .unwrap();
+        let (caps, _) = error_caps(&coarse, &tree, &samples, &all, 0.5 * gap, 0.45 * edge).unwrap();
         assert!(caps.iter().all(|&c| c >= 0.45 * edge));
     }
 
