@@ -156,14 +156,19 @@ impl Target {
     /// its size that 32-bit coordinates cannot resolve it, a mesh of zero total area.
     pub fn check_wrappable(&self) -> Result<(), TargetError> {
         let total = self.points.len();
-        let mut keys: Vec<[u64; 3]> = self
-            .points
-            .iter()
-            .map(|p| [p.x, p.y, p.z].map(|c| (c + 0.0).to_bits()))
-            .collect();
-        keys.sort_unstable();
-        keys.dedup();
-        let distinct = keys.len();
+        // Four distinct points are enough to go on (and below four, these are all of them): no
+        // sort of every point (0.1 s on a million).
+        let mut distinct_keys: Vec<[u64; 3]> = Vec::with_capacity(4);
+        for p in &self.points {
+            let key = [p.x, p.y, p.z].map(|c| (c + 0.0).to_bits());
+            if !distinct_keys.contains(&key) {
+                distinct_keys.push(key);
+                if distinct_keys.len() == 4 {
+                    break;
+                }
+            }
+        }
+        let distinct = distinct_keys.len();
         if distinct < 4 {
             return Err(TargetError::TooFewPoints { distinct, total });
         }

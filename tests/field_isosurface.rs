@@ -30,6 +30,7 @@ fn check_closed(pos: Vec<DVec3>, tris: &[[u32; 3]], what: &str) -> (i64, i64, us
 /// The n³ grid of `analytic` as a view for marching cubes.
 fn cube_view(origin: DVec3, cell: f64, n: usize, values: &[f64]) -> ScalarGridView<'_> {
     ScalarGridView {
+        first: [0; 3],
         origin,
         cell,
         dims: [n; 3],

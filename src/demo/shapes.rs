@@ -159,6 +159,7 @@ pub fn implicit_surface(sdf: impl Fn(DVec3) -> f64, lo: DVec3, hi: DVec3, cell: 
         }
     }
     let view = ScalarGridView {
+        first: [0; 3],
         origin: lo,
         cell,
         dims,

@@ -112,6 +112,7 @@ mod tests {
     fn unsigned_shell_gives_one_outer_sphere() {
         let (values, dims, cell) = shell(41);
         let view = ScalarGridView {
+            first: [0; 3],
             origin: DVec3::splat(-2.0),
             cell,
             dims,

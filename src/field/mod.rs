@@ -434,6 +434,7 @@ impl DistanceField {
     /// [`crate::geometry::marching_cubes`]) as positions and counter-clockwise triangles.
     pub fn isosurface(&self, iso: f64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
         let view = crate::geometry::marching_cubes::ScalarGridView {
+            first: [0; 3],
             origin: self.grid.origin,
             cell: self.grid.cell,
             dims: self.grid.dims,
@@ -448,7 +449,7 @@ impl DistanceField {
     /// clamped to 0.5–16 (below 0.5 the resampled grid would hold over 8× the nodes); a
     /// non-finite factor counts as 1.
     pub fn isosurface_resampled(&self, iso: f64, factor: f64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-        self.with_resampled(factor, |view| {
+        self.with_resampled(factor, iso, |view| {
             crate::geometry::marching_cubes::marching_cubes(view, iso)
         })
     }
@@ -460,14 +461,22 @@ impl DistanceField {
         iso: f64,
         factor: f64,
     ) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-        self.with_resampled(factor, |view| exterior::exterior_isosurface(view, iso))
+        self.with_resampled(factor, iso, |view| exterior::exterior_isosurface(view, iso))
     }
 
     /// Calls `f` on the field's values resampled at cell size `factor·c` (see
-    /// [`DistanceField::isosurface_resampled`] for the clamp).
+    /// [`DistanceField::isosurface_resampled`] for the clamp), for the level set `d = iso`.
+    ///
+    /// Only the window of the resampled lattice around the nodes below `iso` is sampled (the
+    /// icosphere's padded box is mostly far from the target: cube-hole samples 38 % of the
+    /// lattice's 531 K nodes). The window keeps the lattice's origin (see
+    /// [`ScalarGridView::first`](crate::geometry::marching_cubes::ScalarGridView)), and every node
+    /// outside it is ≥ `iso` and linked to the border, so the (exterior) isosurface is the same,
+    /// bit for bit, as over the whole lattice.
     fn with_resampled<R>(
         &self,
         factor: f64,
+        iso: f64,
         f: impl FnOnce(&crate::geometry::marching_cubes::ScalarGridView) -> R,
     ) -> R {
         let factor = if factor.is_finite() {
@@ -477,6 +486,7 @@ impl DistanceField {
         };
         if factor == 1.0 {
             return f(&crate::geometry::marching_cubes::ScalarGridView {
+                first: [0; 3],
                 origin: self.grid.origin,
                 cell: self.grid.cell,
                 dims: self.grid.dims,
@@ -484,15 +494,66 @@ impl DistanceField {
             });
         }
         let g = Grid::covering(self.bbox(), factor * self.grid.cell);
-        let values: Vec<f64> = (0..g.node_count())
-            .map(|i| self.sample(g.position_of(i)))
-            .collect();
+        let sample_window = |first: [usize; 3], dims: [usize; 3]| -> Vec<f64> {
+            let n = dims[0] * dims[1] * dims[2];
+            (0..n)
+                .map(|i| {
+                    let (x, y, z) = (i % dims[0], i / dims[0] % dims[1], i / (dims[0] * dims[1]));
+                    self.sample(g.node_position(x + first[0], y + first[1], z + first[2]))
+                })
+                .collect()
+        };
+        let window = self.window_below(iso, &g).and_then(|(first, dims)| {
+            let values = sample_window(first, dims);
+            // The bound on the window's border holds up to rounding in the interpolation: if it
+            // did not hold, the whole lattice.
+            window_border_at_or_above(&values, dims, iso).then_some((first, dims, values))
+        });
+        let (first, dims, values) =
+            window.unwrap_or_else(|| ([0; 3], g.dims, sample_window([0; 3], g.dims)));
         f(&crate::geometry::marching_cubes::ScalarGridView {
+            first,
             origin: g.origin,
             cell: g.cell,
-            dims: g.dims,
+            dims,
             values: &values,
         })
+    }
+
+    /// The window (first node, node counts) of lattice `g` outside which every resampled value
+    /// is ≥ `iso`: the cells around field nodes below `iso` (a hair above it, against rounding in
+    /// the interpolation), one node more on every side. None when it reaches the lattice's border
+    /// or no node is below `iso`.
+    fn window_below(&self, iso: f64, g: &Grid) -> Option<([usize; 3], [usize; 3])> {
+        let bound = iso + 1e-6 * self.grid.cell;
+        let (mut lo, mut hi) = ([usize::MAX; 3], [0usize; 3]);
+        for (i, &v) in self.values.iter().enumerate() {
+            if v < bound || v.is_nan() {
+                let c = self.grid.coords(i);
+                for k in 0..3 {
+                    lo[k] = lo[k].min(c[k]);
+                    hi[k] = hi[k].max(c[k]);
+                }
+            }
+        }
+        if lo[0] == usize::MAX {
+            return None;
+        }
+        let (c, r) = (self.grid.cell, g.cell);
+        let mut first = [0; 3];
+        let mut dims = [0; 3];
+        for k in 0..3 {
+            // Field cells touching such a node span nodes lo − 1 ..= hi + 1; the resampled nodes
+            // within, plus one on each side (the border, all ≥ iso).
+            let a = ((lo[k] as f64 - 1.0) * c / r).floor() - 1.0;
+            let b = ((hi[k] as f64 + 1.0) * c / r).ceil() + 1.0;
+            if a < 1.0 || b > (g.dims[k] - 2) as f64 {
+                return None;
+            }
+            first[k] = a as usize;
+            dims[k] = (b - a) as usize + 1;
+        }
+        Some((first, dims))
     }
 
     /// A copy of the field in the scaled frame (see [`DistanceField::scale_uniform`]).
@@ -500,5 +561,51 @@ impl DistanceField {
         let mut f = self.clone();
         f.scale_uniform(center, phi);
         f
+    }
+}
+
+/// True when every node on the border of a `dims` block of `values` is ≥ `iso`.
+fn window_border_at_or_above(values: &[f64], dims: [usize; 3], iso: f64) -> bool {
+    let [nx, ny, nz] = dims;
+    (0..values.len()).all(|i| {
+        let (x, y, z) = (i % nx, i / nx % ny, i / (nx * ny));
+        let border = x == 0 || y == 0 || z == 0 || x + 1 == nx || y + 1 == ny || z + 1 == nz;
+        !border || values[i] >= iso
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::marching_cubes::{marching_cubes, ScalarGridView};
+
+    /// The start's isosurface over the window around the target is the one over the whole
+    /// resampled lattice, bit for bit (a closed mesh, signed, and a cloud, unsigned).
+    #[test]
+    fn the_windowed_isosurface_is_the_whole_lattices() {
+        let (torus, tris) = crate::demo::shape("torus-g2").unwrap();
+        let cloud = crate::demo::shape("torus-g1-cloud").unwrap().0;
+        for target in [Target::new(torus, tris).unwrap(), Target::new(cloud, vec![]).unwrap()] {
+            let field = DistanceField::new(&target, &FieldSettings::default()).unwrap();
+            let (iso, factor) = (1.5 * field.cell_size(), 1.5);
+            let g = Grid::covering(field.bbox(), factor * field.cell_size());
+            let (first, dims) = field.window_below(iso, &g).expect("a window");
+            assert!(dims[0] * dims[1] * dims[2] < g.node_count() / 2, "{dims:?} of {:?}", g.dims);
+            assert!(first.iter().all(|&f| f > 0));
+            let all: Vec<f64> = (0..g.node_count())
+                .map(|i| field.sample(g.position_of(i)))
+                .collect();
+            let view = ScalarGridView {
+                first: [0; 3],
+                origin: g.origin,
+                cell: g.cell,
+                dims: g.dims,
+                values: &all,
+            };
+            let whole = exterior::exterior_isosurface(&view, iso);
+            assert!(!whole.1.is_empty());
+            assert_eq!(field.exterior_isosurface_resampled(iso, factor), whole);
+            assert_eq!(field.isosurface_resampled(iso, factor), marching_cubes(&view, iso));
+        }
     }
 }

@@ -31,6 +31,10 @@ pub struct ScalarGridView<'a> {
     pub cell: f64,
     /// Node counts (nx, ny, nz).
     pub dims: [usize; 3],
+    /// Lattice index of the view's first node: node (i, j, k) lies at
+    /// `origin + cell·(first + (i, j, k))`. Zero for a whole grid; a window of a larger lattice
+    /// keeps that lattice's origin, so its points come out with the same bits.
+    pub first: [usize; 3],
     /// `nx·ny·nz` values.
     pub values: &'a [f64],
 }
@@ -164,8 +168,9 @@ pub fn marching_cubes(grid: &ScalarGridView, iso: f64) -> (Vec<DVec3>, Vec<[u32;
                 if cube_mask == 0 || cube_mask == 0xff {
                     continue;
                 }
-                let cell_origin =
-                    grid.origin + grid.cell * DVec3::new(ix as f64, iy as f64, iz as f64);
+                let [fx, fy, fz] = grid.first;
+                let (gx, gy, gz) = ((ix + fx) as f64, (iy + fy) as f64, (iz + fz) as f64);
+                let cell_origin = grid.origin + grid.cell * DVec3::new(gx, gy, gz);
                 for (tet, cases) in kuhn_tets().iter().zip(&table) {
                     let mut mask = 0usize;
                     for (k, &c) in tet.iter().enumerate() {

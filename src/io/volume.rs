@@ -192,6 +192,7 @@ impl VoxelVolume {
             }
         }
         let view = ScalarGridView {
+            first: [0; 3],
             origin: DVec3::splat(-1.0),
             cell: 1.0,
             dims: [px, py, pz],
