@@ -585,12 +585,19 @@ mod tests {
     fn the_windowed_isosurface_is_the_whole_lattices() {
         let (torus, tris) = crate::demo::shape("torus-g2").unwrap();
         let cloud = crate::demo::shape("torus-g1-cloud").unwrap().0;
-        for target in [Target::new(torus, tris).unwrap(), Target::new(cloud, vec![]).unwrap()] {
+        for target in [
+            Target::new(torus, tris).unwrap(),
+            Target::new(cloud, vec![]).unwrap(),
+        ] {
             let field = DistanceField::new(&target, &FieldSettings::default()).unwrap();
             let (iso, factor) = (1.5 * field.cell_size(), 1.5);
             let g = Grid::covering(field.bbox(), factor * field.cell_size());
             let (first, dims) = field.window_below(iso, &g).expect("a window");
-            assert!(dims[0] * dims[1] * dims[2] < g.node_count() / 2, "{dims:?} of {:?}", g.dims);
+            assert!(
+                dims[0] * dims[1] * dims[2] < g.node_count() / 2,
+                "{dims:?} of {:?}",
+                g.dims
+            );
             assert!(first.iter().all(|&f| f > 0));
             let all: Vec<f64> = (0..g.node_count())
                 .map(|i| field.sample(g.position_of(i)))
@@ -605,7 +612,10 @@ mod tests {
             let whole = exterior::exterior_isosurface(&view, iso);
             assert!(!whole.1.is_empty());
             assert_eq!(field.exterior_isosurface_resampled(iso, factor), whole);
-            assert_eq!(field.isosurface_resampled(iso, factor), marching_cubes(&view, iso));
+            assert_eq!(
+                field.isosurface_resampled(iso, factor),
+                marching_cubes(&view, iso)
+            );
         }
     }
 }

@@ -77,12 +77,27 @@ pub fn isolated_points(points: &[DVec3], radius: f64) -> Vec<bool> {
     };
     // Points sorted by cell (a sort, not a vector per cell: a million points in 0.1 s, not 0.4),
     // and each occupied cell's run in that order.
-    let mut order: Vec<([i64; 3], u32)> = points
-        .iter()
-        .enumerate()
-        .map(|(i, &p)| (key(p), i as u32))
-        .collect();
-    order.sort_unstable();
+    let keys: Vec<[i64; 3]> = points.iter().map(|&p| key(p)).collect();
+    // Sorted as one integer per cell where the cells' indices fit 21 bits each (the same order:
+    // x, then y, then z), which sorts in half the time of the triples.
+    const BITS: u32 = 21;
+    let packs = keys.iter().flatten().all(|&c| (0..1 << BITS).contains(&c));
+    let order: Vec<([i64; 3], u32)> = if packs {
+        let mut packed: Vec<(u64, u32)> = (keys.iter().enumerate())
+            .map(|(i, k)| {
+                let [x, y, z] = k.map(|c| c as u64);
+                ((x << (2 * BITS)) | (y << BITS) | z, i as u32)
+            })
+            .collect();
+        packed.sort_unstable();
+        packed.iter().map(|&(_, i)| (keys[i as usize], i)).collect()
+    } else {
+        let mut order: Vec<([i64; 3], u32)> = (keys.iter().enumerate())
+            .map(|(i, &k)| (k, i as u32))
+            .collect();
+        order.sort_unstable();
+        order
+    };
     let mut runs: Vec<([i64; 3], usize, usize)> = Vec::new();
     for (i, &(k, _)) in order.iter().enumerate() {
         match runs.last_mut() {
@@ -203,5 +218,18 @@ mod tests {
         b.reverse();
         assert_eq!(a, b);
         assert_eq!(a.iter().filter(|&&i| i).count(), 1);
+    }
+
+    /// A stray point so far off that the cells' indices do not fit the packed sort: the same
+    /// answers by the other sort.
+    #[test]
+    fn a_far_stray_takes_the_unpacked_sort() {
+        let mut pts = sphere(2000);
+        pts.push(DVec3::splat(5.0));
+        let near = isolated_points(&pts, 0.4);
+        pts.push(DVec3::new(1e7, 0.0, 0.0));
+        let far = isolated_points(&pts, 0.4);
+        assert_eq!(far[..near.len()], near[..]);
+        assert!(far[near.len()]);
     }
 }
