@@ -57,20 +57,27 @@ impl PointGrid {
     }
 
     /// Buckets `points` into cells of size `cell` (> 0; at most 1024 per axis).
+    ///
+    /// Points in cell order, and in input order within a cell, by a least-significant-digit
+    /// radix sort of (cell, index) pairs: a counting sort straight into millions of cells moved
+    /// each point to a random place of a bucket array far larger than the caches (a million
+    /// scattered points, 0.28 s; now a fraction).
     pub fn with_cell(points: &[DVec3], cell: f64) -> Self {
         let mut g = PointGrid::empty(points, cell);
-        let keys: Vec<usize> = points.iter().map(|&p| g.key(g.cell_of(p))).collect();
-        for &k in &keys {
-            g.start[k + 1] += 1;
+        let cells = g.start.len() - 1;
+        let pairs: Vec<(u32, u32)> = (points.iter().enumerate())
+            .map(|(i, &p)| (g.key(g.cell_of(p)) as u32, i as u32))
+            .collect();
+        let pairs = radix_sort_by_cell(pairs, cells);
+        // start[k]: the first point of cell k or later.
+        let mut j = 0;
+        for k in 0..=cells {
+            while j < pairs.len() && (pairs[j].0 as usize) < k {
+                j += 1;
+            }
+            g.start[k] = j as u32;
         }
-        for i in 1..g.start.len() {
-            g.start[i] += g.start[i - 1];
-        }
-        let mut fill = g.start.clone();
-        for (i, &k) in keys.iter().enumerate() {
-            g.order[fill[k] as usize] = i as u32;
-            fill[k] += 1;
-        }
+        g.order = pairs.iter().map(|&(_, i)| i).collect();
         g.points = g.order.iter().map(|&i| points[i as usize]).collect();
         g
     }
@@ -81,7 +88,9 @@ impl PointGrid {
     }
 
     fn cell_of(&self, p: DVec3) -> [usize; 3] {
-        let q = ((p - self.origin) / self.cell).floor();
+        // Truncation after the clamp at 0 is the floor (and needs no call to `floor`, which is
+        // not one instruction on every x86-64).
+        let q = (p - self.origin) / self.cell;
         [0, 1, 2].map(|k| (q[k].max(0.0) as usize).min(self.dims[k] - 1))
     }
 
@@ -245,6 +254,35 @@ impl PointGrid {
     }
 }
 
+/// Stable sort of (cell, index) pairs by cell (< `cells`): digits of [`RADIX_BITS`], lowest
+/// first, each a counting sort into a small table.
+fn radix_sort_by_cell(mut pairs: Vec<(u32, u32)>, cells: usize) -> Vec<(u32, u32)> {
+    let bits = usize::BITS - cells.saturating_sub(1).leading_zeros();
+    let mut out = vec![(0u32, 0u32); pairs.len()];
+    let mut shift = 0;
+    while shift < bits {
+        let digit = |k: u32| ((k >> shift) as usize) & ((1 << RADIX_BITS) - 1);
+        let mut start = vec![0usize; (1 << RADIX_BITS) + 1];
+        for &(k, _) in &pairs {
+            start[digit(k) + 1] += 1;
+        }
+        for d in 1..start.len() {
+            start[d] += start[d - 1];
+        }
+        for &pair in &pairs {
+            let d = digit(pair.0);
+            out[start[d]] = pair;
+            start[d] += 1;
+        }
+        std::mem::swap(&mut pairs, &mut out);
+        shift += RADIX_BITS;
+    }
+    pairs
+}
+
+/// Bits per digit of [`radix_sort_by_cell`]: its table of 4 096 counts stays in the cache.
+const RADIX_BITS: u32 = 12;
+
 /// A point met by a query: (squared distance's bits, input index, position in the grid's order).
 /// Ordered as a tuple: nearer first, then the smaller input index, like [`Near::order`].
 type Candidate = (u64, u32, u32);
@@ -332,5 +370,29 @@ mod tests {
         assert_eq!(PointGrid::new(&sparse, 0.1).cell(), 0.1);
         PointGrid::new(&[], 0.1).nearest_within(DVec3::ZERO, 1.0, 4, &mut out);
         assert!(out.is_empty());
+    }
+
+    /// The radix sort leaves the points as a counting sort does: by cell, in input order
+    /// within a cell (over more cells than one digit holds, and with points outside the box's
+    /// rounding clamped into the last cells).
+    #[test]
+    fn buckets_are_those_of_a_stable_sort_by_cell() {
+        let mut rng = crate::demo::Rng::new(5);
+        let pts: Vec<DVec3> = (0..20_000)
+            .map(|_| DVec3::new(rng.uniform(), rng.uniform(), 0.3 * rng.uniform()))
+            .collect();
+        for cell in [0.3, 0.01, 0.004] {
+            let g = PointGrid::with_cell(&pts, cell);
+            assert!(g.start.len() > 1 << RADIX_BITS || cell > 0.1);
+            let mut want: Vec<(usize, u32)> = (pts.iter().enumerate())
+                .map(|(i, &p)| (g.key(g.cell_of(p)), i as u32))
+                .collect();
+            want.sort_by_key(|&(k, _)| k); // stable
+            assert_eq!(g.order, want.iter().map(|&(_, i)| i).collect::<Vec<_>>());
+            for (j, &(k, _)) in want.iter().enumerate() {
+                assert!(g.start[k] as usize <= j && j < g.start[k + 1] as usize);
+            }
+            assert_eq!(*g.start.last().unwrap() as usize, pts.len());
+        }
     }
 }
