@@ -34,6 +34,25 @@ where
     out
 }
 
+/// `f(i)` for `i` in `0..n`, in index order, each index a task of its own: for a few items of
+/// much work each (a loop the caller cut into chunks of about equal work), which [`map`] would
+/// run on one thread.
+pub fn map_each<T, F>(n: usize, f: F) -> Vec<T>
+where
+    T: Send,
+    F: Fn(usize) -> T + Sync + Send,
+{
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        use rayon::prelude::*;
+        (0..n).into_par_iter().with_min_len(1).map(f).collect()
+    }
+    #[cfg(target_arch = "wasm32")]
+    {
+        (0..n).map(f).collect()
+    }
+}
+
 /// `f(k, chunk)` for the consecutive chunks of `chunk_len` items of `data` (the last may be
 /// shorter); `done(k)` hears, every `group` chunks and at the end, how many chunks are done. For
 /// loops that scatter into disjoint parts of one array. Natively the chunks are spread over the
@@ -150,6 +169,7 @@ mod tests {
         assert_eq!(v, (0..5000).map(|i| i * i).collect::<Vec<_>>());
         assert_eq!(seen, vec![1024, 2048, 3072, 4096, 5000]);
         assert_eq!(map(3, |i| i + 1), vec![1, 2, 3]);
+        assert_eq!(map_each(3, |i| i + 1), vec![1, 2, 3]);
         assert!(map_chunked(0, 8, |i| i, &mut |_| panic!("no chunk")).is_empty());
     }
 

@@ -116,17 +116,19 @@ fn face_boxes(positions: &[DVec3], triangles: &[[u32; 3]]) -> (Vec<DVec3>, Vec<D
         .unzip()
 }
 
-/// Calls `f(i, j)` (`i < j`) for every pair of faces whose boxes overlap, each pair once, in no
-/// particular order: by a uniform grid ([`box_grid`]), or by a BVH where the faces' sizes vary
-/// too much for one.
-pub fn for_each_overlapping_pair(
+/// Every pair of faces `(i, j)`, `i < j`, whose boxes overlap and that `keep` keeps, each pair
+/// once, in no particular order: by a uniform grid ([`box_grid`]), or by a BVH where the faces'
+/// sizes vary too much for one.
+pub fn overlapping_pairs(
     positions: &[DVec3],
     triangles: &[[u32; 3]],
-    mut f: impl FnMut(usize, usize),
-) {
+    keep: impl Fn(usize, usize) -> bool + Sync,
+) -> Vec<(u32, u32)> {
     let (mins, maxs) = face_boxes(positions, triangles);
-    if box_grid::for_each_overlapping_pair(&mins, &maxs, |i, j| f(i as usize, j as usize)) {
-        return;
+    if let Some(pairs) =
+        box_grid::overlapping_pairs(&mins, &maxs, |i, j| keep(i as usize, j as usize))
+    {
+        return pairs;
     }
     let bvh = Bvh::new_morton(&mins, &maxs, 2);
     // Boxes in tree order, so the leaf pairs read neighbouring memory.
@@ -135,13 +137,20 @@ pub fn for_each_overlapping_pair(
         .iter()
         .map(|&i| (mins[i as usize], maxs[i as usize]))
         .collect();
+    // (The tree walk is sequential: the pairs first, then `keep` on them in parallel.)
+    let mut all = Vec::new();
     bvh.for_each_self_overlap_slots(|a, b| {
         let ((amin, amax), (bmin, bmax)) = (boxes[a], boxes[b]);
         if !(amin.cmpgt(bmax).any() || amax.cmplt(bmin).any()) {
-            let (i, j) = (order[a] as usize, order[b] as usize);
-            f(i.min(j), i.max(j))
+            let (i, j) = (order[a], order[b]);
+            all.push((i.min(j), i.max(j)));
         }
     });
+    let kept = crate::parallel::map(all.len(), |k| keep(all[k].0 as usize, all[k].1 as usize));
+    all.into_iter()
+        .zip(kept)
+        .filter_map(|(pair, kept)| kept.then_some(pair))
+        .collect()
 }
 
 /// Vertices whose fan of faces may fold onto itself. A closed fan whose faces, projected along
@@ -206,24 +215,11 @@ fn suspect_fans(positions: &[DVec3], triangles: &[[u32; 3]]) -> Vec<bool> {
 /// [`self_intersecting_pairs_brute_force`], fast: pairs that share no vertex come from the BVH,
 /// pairs that do are tested only around vertices whose fan may fold ([`suspect_fans`]).
 pub fn self_intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
-    // Candidates first (the tree walk is sequential), then the exact tests, which are
-    // independent (in parallel natively).
-    let mut candidates = Vec::new();
-    for_each_overlapping_pair(positions, triangles, |i, j| {
+    // The exact test where the pairs are found (in parallel natively).
+    let mut out = overlapping_pairs(positions, triangles, |i, j| {
         let (fi, fj) = (triangles[i], triangles[j]);
-        if !fi.iter().any(|v| fj.contains(v)) {
-            candidates.push((i as u32, j as u32));
-        }
+        !fi.iter().any(|v| fj.contains(v)) && pair_intersects(positions, triangles, i, j)
     });
-    let hit = crate::parallel::map(candidates.len(), |k| {
-        let (i, j) = candidates[k];
-        pair_intersects(positions, triangles, i as usize, j as usize)
-    });
-    let mut out: Vec<(u32, u32)> = candidates
-        .into_iter()
-        .zip(hit)
-        .filter_map(|(pair, hit)| hit.then_some(pair))
-        .collect();
     let suspect = suspect_fans(positions, triangles);
     if suspect.iter().any(|&s| s) {
         let mut fans: Vec<Vec<usize>> = vec![Vec::new(); positions.len()];
