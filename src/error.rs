@@ -629,10 +629,15 @@ mod tests {
                 eps: 0.1,
             },
             RemeshError::Empty,
+            RemeshError::Runaway {
+                splits: 9,
+                vertices: 1,
+            },
         ];
         check(&remesh, |e| match e {
             RemeshError::InvalidSizes { .. } => "InvalidSizes",
             RemeshError::Empty => "Empty",
+            RemeshError::Runaway { .. } => "Runaway",
         });
         let evolve = [
             V::Setting(setting()),

@@ -4,7 +4,7 @@
 
 use lsw::geometry::icosphere::icosphere;
 use lsw::mesh::HalfedgeMesh;
-use lsw::remesh::{remesh, RemeshSettings, CURVED_SPLITS_LAYER};
+use lsw::remesh::{remesh, RemeshError, RemeshSettings, CURVED_SPLITS_LAYER, SPLIT_ALLOWANCE};
 use lsw::DVec3;
 use wasm_bindgen_test::*;
 
@@ -202,6 +202,36 @@ fn invalid_sizes_are_rejected_and_leave_the_mesh_alone() {
     };
     assert!(remesh(&mut m, &bad).is_err());
     assert_eq!(m.triangles(), before);
+}
+
+#[wasm_bindgen_test(unsupported = test)]
+fn a_split_budget_stops_a_runaway_remesh_and_leaves_a_valid_mesh() {
+    // A 42-vertex sphere asked for edges of 0.03: about 16 K vertices, far past one split per
+    // vertex plus the allowance.
+    let coarse = || icosphere(1, 1.0, DVec3::ZERO).unwrap();
+    let mut free = coarse();
+    let report = remesh(&mut free, &uniform(0.03)).unwrap();
+    assert!(report.splits > SPLIT_ALLOWANCE + 42, "{}", report.splits);
+    let mut capped = coarse();
+    let budget = RemeshSettings {
+        max_splits_per_vertex: Some(1.0),
+        ..uniform(0.03)
+    };
+    match remesh(&mut capped, &budget) {
+        Err(RemeshError::Runaway { splits, vertices }) => {
+            assert_eq!((splits, vertices), (SPLIT_ALLOWANCE + 43, 42));
+        }
+        other => panic!("expected a runaway, got {other:?}"),
+    }
+    capped.validate().unwrap();
+    // A budget the remesh stays within changes nothing.
+    let mut roomy = coarse();
+    let room = RemeshSettings {
+        max_splits_per_vertex: Some(1000.0),
+        ..uniform(0.03)
+    };
+    remesh(&mut roomy, &room).unwrap();
+    assert_eq!(roomy.positions(), free.positions());
 }
 
 #[wasm_bindgen_test(unsupported = test)]

@@ -30,6 +30,9 @@ use serde::{Deserialize, Serialize};
 
 /// Sweeps per phase (split / collapse / flip) before giving up on convergence (PMP: 10).
 const MAX_SWEEPS: usize = 10;
+/// Splits always allowed under [`RemeshSettings::max_splits_per_vertex`], whatever the size
+/// of the input (a coarse start refines many times over).
+pub const SPLIT_ALLOWANCE: usize = 10_000;
 /// A collapse may turn a remaining face's normal by at most 60° (cos 60° = 0.5).
 const COLLAPSE_MIN_COS: f64 = 0.5;
 
@@ -77,6 +80,11 @@ pub struct RemeshSettings {
     /// splits append vertices, and after many remeshes neighbouring indices lie thousands apart.
     /// Default true.
     pub reorder: bool,
+    /// Most splits per vertex of the input (plus [`SPLIT_ALLOWANCE`]) before the call gives up
+    /// with [`RemeshError::Runaway`]. None: no limit (default). The final fit sets it: a fit
+    /// over 20 points crumpled the wrap, and each of its two remeshes churned through a million
+    /// splits and nearly as many collapses for 10 s, only to be undone for intersecting.
+    pub max_splits_per_vertex: Option<f64>,
 }
 
 /// The vertex layer that limits [`RemeshSettings::curved_splits`] to part of a mesh (1 = curved,
@@ -98,6 +106,7 @@ impl Default for RemeshSettings {
             features: FeatureSettings::default(),
             curved_splits: true,
             reorder: true,
+            max_splits_per_vertex: None,
         }
     }
 }
@@ -122,7 +131,8 @@ impl RemeshSettings {
     }
 }
 
-/// Why a remesh call refused to run. The mesh is untouched in every case.
+/// Why a remesh call refused to run or gave up. The mesh is untouched except after
+/// [`RemeshError::Runaway`].
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RemeshError {
     /// A length is not positive and finite, or `l_min > l_max`. Fix: pass sizes from
@@ -132,6 +142,11 @@ pub enum RemeshError {
     /// The mesh has no faces.
     #[error("cannot remesh a mesh without faces")]
     Empty,
+    /// The splits passed [`RemeshSettings::max_splits_per_vertex`]. Unlike the other errors,
+    /// this one leaves the mesh part-way edited (still a valid mesh): the caller restores its
+    /// copy.
+    #[error("remesh gave up after {splits} splits of a {vertices}-vertex mesh")]
+    Runaway { splits: usize, vertices: usize },
 }
 
 /// What one remesh call did.
@@ -256,6 +271,8 @@ struct Work<'a> {
     valence: Vec<i32>,
     min_area: f64,
     reference: Option<Reference>,
+    /// Splits after which the call gives up (see [`RemeshSettings::max_splits_per_vertex`]).
+    split_limit: usize,
     report: RemeshReport,
 }
 
@@ -343,6 +360,9 @@ fn remesh_impl(
         valence: Vec::new(),
         min_area: 1e-8 * lmin * lmin,
         reference,
+        split_limit: s.max_splits_per_vertex.map_or(usize::MAX, |k| {
+            (k.max(0.0) * nv as f64).min(1e15) as usize + SPLIT_ALLOWANCE
+        }),
         report,
     };
 
@@ -355,7 +375,12 @@ fn remesh_impl(
     };
     for _ in 0..s.iterations {
         let edits = w.report.splits + w.report.collapses + w.report.flips;
-        split_long_edges(mesh, &mut w);
+        if !split_long_edges(mesh, &mut w) {
+            return Err(RemeshError::Runaway {
+                splits: w.report.splits,
+                vertices: nv,
+            });
+        }
         lap(&mut w.report.time_ms.split);
         collapse_short_edges(mesh, &mut w);
         lap(&mut w.report.time_ms.collapse);
@@ -384,7 +409,9 @@ fn ends(mesh: &HalfedgeMesh, e: u32) -> (u32, u32) {
     (mesh.to(2 * e + 1), mesh.to(2 * e))
 }
 
-fn split_long_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
+/// Splits the edges longer than 4/3 of their target length; false when the splits passed
+/// `w.split_limit` (the mesh is then part-way split).
+fn split_long_edges(mesh: &mut HalfedgeMesh, w: &mut Work) -> bool {
     for _ in 0..MAX_SWEEPS {
         let mut any = false;
         let ne = mesh.n_edges() as u32;
@@ -429,12 +456,16 @@ fn split_long_edges(mesh: &mut HalfedgeMesh, w: &mut Work) {
             w.vfeat.push(feature);
             w.efeat.extend([feature, false, false]);
             w.report.splits += 1;
+            if w.report.splits > w.split_limit {
+                return false;
+            }
             any = true;
         }
         if !any {
             break;
         }
     }
+    true
 }
 
 /// May the feature vertex `from(h)` be collapsed into `to(h)`? Only along a feature edge between

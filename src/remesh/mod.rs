@@ -15,7 +15,7 @@ pub mod trigger;
 
 pub use adaptive::{
     remesh, remesh_with_features, RemeshError, RemeshReport, RemeshSettings, RemeshTimings,
-    CURVED_SPLITS_LAYER,
+    CURVED_SPLITS_LAYER, SPLIT_ALLOWANCE,
 };
 pub use features::{FeatureDetector, FeatureSettings, Features};
 pub use sizing::EdgeSizes;

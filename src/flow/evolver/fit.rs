@@ -21,7 +21,9 @@ use crate::geometry::spatial::bvh::TriangleBvh;
 use crate::mesh::HalfedgeMesh;
 use crate::metrics::creases::CREASE_OFFSET;
 use crate::metrics::intersections::{count_self_intersections, self_intersecting_pairs};
-use crate::remesh::adaptive::{remesh, remesh_capped, remesh_with_features, RemeshSettings};
+use crate::remesh::adaptive::{
+    remesh, remesh_capped, remesh_with_features, RemeshError, RemeshSettings,
+};
 use crate::remesh::features::Features;
 use glam::DVec3;
 
@@ -61,6 +63,7 @@ impl Evolver {
             use_projection: true,
             smoothing_iterations: self.settings.remesh.smoothing_iterations,
             features: self.settings.remesh.features.clone(),
+            max_splits_per_vertex: Some(FIT_SPLITS_PER_VERTEX),
             ..RemeshSettings::with_sizes(self.sizes)
         };
         // The first pass's remesh also refines to the last sizes when the ending step left that
@@ -273,25 +276,33 @@ impl Evolver {
                 layer.to_vec()
             });
             let (phi, center) = (self.phi, self.center);
+            // False when the remesh ran away (see `FIT_SPLITS_PER_VERTEX`), leaving the mesh
+            // part-way: the caller puts the surface before it back.
             let remesh_now = |mesh: &mut HalfedgeMesh, features: Option<&Features>| {
-                let _ = match (features, &caps) {
+                let done = match (features, &caps) {
                     (f, Some(caps)) => remesh_capped(mesh, rs_now, f, caps),
                     (Some(f), None) => remesh_with_features(mesh, rs_now, f),
                     (None, None) => remesh(mesh, rs_now),
                 };
                 round_as_written(mesh, phi, center);
+                !matches!(done, Err(RemeshError::Runaway { .. }))
             };
             // The moves (and the crease snap) left this surface intersection-free: if the remesh
             // breaks that, keep the surface without the remesh rather than lose the moves.
-            let unremeshed = (contact && remeshing).then(|| self.mesh.clone());
+            let unremeshed = remeshing.then(|| self.mesh.clone());
             let n_before = self.mesh.n_vertices();
+            let mut ran_away = false;
             if remeshing {
-                remesh_now(&mut self.mesh, features.as_ref());
+                ran_away = !remesh_now(&mut self.mesh, features.as_ref());
             } else {
                 round_as_written(&mut self.mesh, phi, center);
             }
             at(pass, 0.75);
             let Some(clean) = clean else {
+                if let (true, Some(m)) = (ran_away, unremeshed) {
+                    self.mesh = m;
+                    round_as_written(&mut self.mesh, phi, center);
+                }
                 rs_now = &rs;
                 continue;
             };
@@ -300,35 +311,37 @@ impl Evolver {
             // region of those faces left as it was, rather than lost everywhere (the bust's
             // passes after a reach lost every remesh to a few faces in its mouth slit). (A
             // cloud's fit gained nothing by it: spotPts_4's mean target → wrap 0.50 → 0.55 %.)
-            let lost = match (&unremeshed, cloud) {
-                (Some(before), false) => {
-                    let mut frozen = vec![false; before.n_vertices()];
-                    let mut lost = true;
-                    for tries_left in (0..=REMESH_TRIES).rev() {
-                        match freeze_where_intersecting(
-                            &self.mesh,
-                            before,
-                            phi,
-                            center,
-                            &mut frozen,
-                        ) {
-                            None => lost = false,
-                            Some(true) if tries_left > 0 => {
-                                let mut f =
-                                    features.clone().unwrap_or_else(|| Features::none(before));
-                                f.frozen.clone_from(&frozen);
-                                self.mesh = before.clone();
-                                remesh_now(&mut self.mesh, Some(&f));
-                                continue;
+            let lost = ran_away
+                || match (&unremeshed, cloud) {
+                    (Some(before), false) => {
+                        let mut frozen = vec![false; before.n_vertices()];
+                        let mut lost = true;
+                        for tries_left in (0..=REMESH_TRIES).rev() {
+                            match freeze_where_intersecting(
+                                &self.mesh,
+                                before,
+                                phi,
+                                center,
+                                &mut frozen,
+                            ) {
+                                None => lost = false,
+                                Some(true) if tries_left > 0 => {
+                                    let mut f =
+                                        features.clone().unwrap_or_else(|| Features::none(before));
+                                    f.frozen.clone_from(&frozen);
+                                    self.mesh = before.clone();
+                                    if remesh_now(&mut self.mesh, Some(&f)) {
+                                        continue;
+                                    }
+                                }
+                                Some(_) => {}
                             }
-                            Some(_) => {}
+                            break;
                         }
-                        break;
+                        lost
                     }
-                    lost
-                }
-                _ => intersects(&self.mesh),
-            };
+                    _ => intersects(&self.mesh),
+                };
             over_budget = pass >= passes && self.mesh.n_vertices() > budget.max(n_before);
             let lost = lost || over_budget;
             rs_now = &rs;
@@ -363,9 +376,9 @@ impl Evolver {
             round_as_written(&mut self.mesh, self.phi, self.center);
             if remeshing {
                 let unremeshed = self.mesh.clone();
-                let _ = remesh(&mut self.mesh, &rs);
+                let done = remesh(&mut self.mesh, &rs);
                 round_as_written(&mut self.mesh, self.phi, self.center);
-                if intersects_as_written(&self.mesh, self.phi, self.center) {
+                if done.is_err() || intersects_as_written(&self.mesh, self.phi, self.center) {
                     self.mesh = unremeshed;
                 }
             }
@@ -476,6 +489,11 @@ fn resolve_contacts_as_written(
         *p = (*q - center) * phi;
     }
 }
+
+/// Splits per vertex at most in a fit's remesh (see `RemeshSettings::max_splits_per_vertex`):
+/// a regular pass splits under twice per vertex (the open bunny's refinement 1.8), while plane
+/// fits over a 20-point cloud crumpled the wrap into a million splits per remesh, each undone.
+const FIT_SPLITS_PER_VERTEX: f64 = 4.0;
 
 /// Tries of a fit pass's remesh with the regions where it made faces intersect left alone.
 const REMESH_TRIES: usize = 3;
