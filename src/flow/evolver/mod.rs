@@ -345,6 +345,9 @@ impl Evolver {
             other => other?,
         };
         progress.report(START_PHASE, 1.0);
+        if target.sampled {
+            settings = settings.resolved_for_volume();
+        }
         let (mesh, phi, sizes) = (start.mesh, start.phi, start.sizes);
         let limits = divergence_limits(target, &mesh, phi, center, &settings);
         let field = field.scaled(center, phi);

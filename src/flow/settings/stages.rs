@@ -214,7 +214,8 @@ pub struct FitSettings {
     pub refine_error_cells: f64,
     /// Most extra passes the error-adaptive sizing may add after `passes` (each halves the
     /// edges that still miss). Range 0–10; default 5 (3 left the sculpted bust's mouth slit at
-    /// 0.81 % of the diagonal against 0.54 %; shapes that stop missing stop earlier).
+    /// 0.81 % of the diagonal against 0.54 %; shapes that stop missing stop earlier), 0 on a
+    /// volume's iso-surface (see [`super::VOLUME_REFINE_PASSES`]).
     pub refine_passes: u32,
     /// The error-adaptive sizing's vertex budget: a pass whose new caps could take the wrap
     /// past this many vertices (four per capped vertex) adds none. (The remesh of each pass
