@@ -57,10 +57,13 @@ pub fn overlapping_pairs(
         .map(|(a, b)| (*b - *a).max_element())
         .collect();
     let (_, &mut median, _) = extents.select_nth_unstable_by(n / 2, |a, b| a.total_cmp(b));
+    // The grid spans the finite boxes (a non-finite one is a big one; `min` passes over a NaN
+    // only in some positions, which left the boxes before it below the grid's corner).
+    let finite = |i: usize| mins[i].is_finite() && maxs[i].is_finite();
     let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-    for (a, b) in mins.iter().zip(maxs) {
-        lo = lo.min(*a);
-        hi = hi.max(*b);
+    for i in (0..n).filter(|&i| finite(i)) {
+        lo = lo.min(mins[i]);
+        hi = hi.max(maxs[i]);
     }
     if !(lo.is_finite() && hi.is_finite()) {
         return None;
@@ -82,8 +85,7 @@ pub fn overlapping_pairs(
     let mut big: Vec<u32> = Vec::new();
     for i in 0..n {
         let (a, b) = (coord(mins[i]), coord(maxs[i]));
-        let cells = (0..3).map(|k| b[k] - a[k] + 1).product::<i64>();
-        if !(mins[i].is_finite() && maxs[i].is_finite()) || cells > MAX_CELLS {
+        if !finite(i) || (0..3).map(|k| b[k] - a[k] + 1).product::<i64>() > MAX_CELLS {
             big.push(i as u32);
             if big.len() > MAX_BIG {
                 return None;
