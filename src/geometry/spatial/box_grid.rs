@@ -102,7 +102,7 @@ pub fn overlapping_pairs(
     }
     let (keys, ids) = sort_by_cell(&entries, dims.iter().product());
     drop(entries);
-    // Runs of two or more entries in one cell: (start, end, work). Boxes far smaller than the
+    // Runs of two or more entries in one cell: (start, end). Boxes far smaller than the
     // median crowd into few cells (a CAD mesh's fine fillets among its large faces), where
     // every pair in a cell is tested: beyond a budget proportional to the boxes, decline (the
     // BVH separates them).
@@ -130,7 +130,8 @@ pub fn overlapping_pairs(
         .iter()
         .map(|&i| (mins[i as usize], maxs[i as usize]))
         .collect();
-    // Chunks of consecutive runs with about equal work, tested in parallel.
+    // Chunks of consecutive runs with about equal work, tested in parallel (several per
+    // thread, so that one slow chunk does not leave a core idle).
     let chunks = 16;
     let mut bounds = vec![0];
     let mut done = 0;
