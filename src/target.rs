@@ -125,6 +125,25 @@ impl Target {
         })
     }
 
+    /// This mesh with its indices mended (see [`crate::mesh::repair`]): coincident corners
+    /// merged, repeated faces dropped, faces wound consistently and outwards; and what changed.
+    /// Itself, with None, where nothing needs or allows mending (every cloud).
+    pub fn repaired(self) -> (Target, Option<crate::mesh::Repairs>) {
+        match crate::mesh::repair::repair(&self.points, &self.triangles) {
+            Some((points, triangles, repairs)) => {
+                let bbox = Aabb::from_points(&points);
+                let target = Target {
+                    points,
+                    triangles,
+                    bbox,
+                    sampled: self.sampled,
+                };
+                (target, Some(repairs))
+            }
+            None => (self, None),
+        }
+    }
+
     /// This cloud without its isolated points (see [`crate::geometry::spatial::isolated`]) at a
     /// radius of `spacings` median spacings, and how many were left out; None when there are
     /// none, for meshes, for `spacings` = 0, and when more than [`MOST_ISOLATED`] of the points

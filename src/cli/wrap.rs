@@ -76,7 +76,8 @@ pub fn apply_overrides(
 /// self_intersections, degenerate_faces, distance_min, distance_max, problem, target_genus,
 /// target_components}, contacts,
 /// surgery [{step, kind, position, genus_before, genus_after}], isolated_points_left_out (a
-/// cloud's stray points, see `field.outlier_spacings`), vertices, faces, steps, stopped_early,
+/// cloud's stray points, see `field.outlier_spacings`), repairs (what reading mended in a mesh's
+/// indices, or null; see `lsw info`), vertices, faces, steps, stopped_early,
 /// scale, result_hash, iso_level, times_ms {read, field, start, evolve, write, total}, evolve_ms {normals,
 /// assembly, solve, remesh, guard, fit, surgery}, distance_mean, distance_max; for volumes also iso (the iso-value
 /// wrapped) and volume (see [`super::volume::volume_json`]).
@@ -179,6 +180,7 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
         },
         "surgery": ev.surgery_events(),
         "isolated_points_left_out": ev.isolated_points(),
+        "repairs": read.repairs,
         "vertices": positions.len(),
         "faces": triangles.len(),
         "steps": ev.steps_done(),

@@ -70,6 +70,8 @@ pub struct ReadResult {
     pub encoding: Encoding,
     /// For volume formats: the volume and the iso-surface the target was built from.
     pub volume: Option<Box<VolumeRead>>,
+    /// For meshes whose indices were mended on reading (see [`Target::repaired`]): what changed.
+    pub repairs: Option<crate::mesh::Repairs>,
 }
 
 /// A volume as read, and the level set of it that became the target.
@@ -180,6 +182,7 @@ pub fn volume_target(
             iso_source,
             inside: opts.inside,
         })),
+        repairs: None,
     })
 }
 
@@ -244,11 +247,13 @@ fn finish(
         },
         source => IoError::Target { format, source },
     })?;
+    let (target, repairs) = target.repaired();
     Ok(ReadResult {
         target,
         format,
         encoding,
         volume: None,
+        repairs,
     })
 }
 

@@ -7,10 +7,12 @@
 mod edit;
 pub mod fingerprint;
 mod halfedge;
+pub mod repair;
 mod soup;
 mod validate;
 
 pub use edit::GarbageMaps;
 pub use halfedge::{HalfedgeMesh, MeshBuildError, INVALID};
+pub use repair::Repairs;
 pub use soup::{closed_topology, edge_counts, EdgeCounts};
 pub use validate::{MeshReport, ValidationError};

@@ -17,6 +17,8 @@ pub struct WrapSession {
     pub(super) evolver: Evolver,
     pub(super) target: crate::target::Target,
     format: Format,
+    /// What reading mended in a mesh's indices (see [`crate::target::Target::repaired`]).
+    repairs: Option<crate::mesh::Repairs>,
     /// The settings in force, as JSON (recorded in exported files).
     pub(super) settings_json: String,
     /// Called as `progress(phase, fraction)` during the long phases (the final fit).
@@ -42,6 +44,7 @@ impl WrapSession {
             evolver,
             target: read.target,
             format: read.format,
+            repairs: read.repairs,
             settings_json: serde_json::to_string(&settings).unwrap_or_default(),
             progress,
             last: None,
@@ -102,7 +105,8 @@ impl WrapSession {
         to_js(&self.last)
     }
 
-    /// What was read: format, kind, counts and bounding box.
+    /// What was read: format, kind, counts, bounding box, and what reading mended (null when
+    /// nothing: `{merged_vertices, dropped_faces, flipped_faces}`).
     #[wasm_bindgen(js_name = targetInfo)]
     pub fn target_info(&self) -> Result<JsValue, JsValue> {
         let t = &self.target;
@@ -114,6 +118,7 @@ impl WrapSession {
             "bboxMin": t.bbox.min.to_array(),
             "bboxMax": t.bbox.max.to_array(),
             "diagonal": t.bbox.diagonal(),
+            "repairs": self.repairs,
         }))
     }
 

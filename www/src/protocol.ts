@@ -241,6 +241,26 @@ export interface TargetInfo {
   bboxMin: [number, number, number];
   bboxMax: [number, number, number];
   diagonal: number;
+  /** What reading mended in a mesh's indices (null: nothing). */
+  repairs: Repairs | null;
+}
+
+/** Index repairs of a mesh (mirrors `mesh::Repairs`). */
+export interface Repairs {
+  merged_vertices: number;
+  dropped_faces: number;
+  flipped_faces: number;
+}
+
+/** What reading mended, as a clause of the input's description ('' when nothing). */
+export function repairsNote(r: Repairs | null): string {
+  if (!r) return '';
+  const parts = [
+    [r.merged_vertices, 'coincident vertices merged'],
+    [r.dropped_faces, 'repeated faces dropped'],
+    [r.flipped_faces, 'faces turned to agree'],
+  ].filter(([n]) => Number(n) > 0).map(([n, what]) => `${n} ${what}`);
+  return parts.length ? ` (mended: ${parts.join(', ')})` : '';
 }
 
 /** Histogram as produced by the core (`metrics::histogram::Histogram`). */

@@ -1,6 +1,6 @@
 import { describe, expect, it } from 'vitest';
 import { colorize, robustRange, turbo } from '../../src/colormap';
-import { toUiError } from '../../src/protocol';
+import { repairsNote, toUiError } from '../../src/protocol';
 import { batchSize } from '../../src/schedule';
 
 describe('colour map', () => {
@@ -51,5 +51,15 @@ describe('error mapping', () => {
     expect(toUiError({ code: 'bad-parameter', message: 'τ < 0', hint: 'positive' })).toEqual({ code: 'bad-parameter', message: 'τ < 0', hint: 'positive' });
     expect(toUiError(new Error('boom')).code).toBe('internal');
     expect(toUiError('text').message).toBe('text');
+  });
+});
+
+describe('repairs note', () => {
+  it('names only what changed, and nothing for an untouched mesh', () => {
+    expect(repairsNote(null)).toBe('');
+    expect(repairsNote({ merged_vertices: 0, dropped_faces: 0, flipped_faces: 0 })).toBe('');
+    expect(repairsNote({ merged_vertices: 12, dropped_faces: 0, flipped_faces: 3 })).toBe(
+      ' (mended: 12 coincident vertices merged, 3 faces turned to agree)',
+    );
   });
 });
