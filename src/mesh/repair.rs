@@ -9,9 +9,16 @@
 //!
 //! 1. corners with bit-identical coordinates become one vertex (the first in file order);
 //! 2. faces with a repeated corner, and second copies of a face (either winding), are dropped;
-//! 3. faces are wound consistently across every edge that joins exactly two of them, and each
-//!    closed part is turned outwards (positive volume) — or inwards when another closed part
-//!    contains it an odd number of times (a hollow part's inner wall).
+//! 3. where more than two faces meet at an edge (solids touching along it), they are paired
+//!    around it: each face with its neighbour on its inner side, when the pairing is mutual and
+//!    each pair runs the edge both ways;
+//! 4. faces are wound consistently across every paired edge, and each closed part is turned
+//!    outwards (positive volume) — or inwards when another closed part contains it an odd
+//!    number of times (a hollow part's inner wall);
+//! 5. a vertex whose faces fall into several fans (joined by paired edges) gets one copy per fan,
+//!    so parts that touch at an edge or a vertex become separate closed parts. (DoubleWedge.stl,
+//!    two wedges on one edge: 79 K vertices in 9.4 s, Hausdorff 0.60 %, became 4.6 K vertices
+//!    in 0.7 s, 0.03 %.)
 //!
 //! It is used only where it turns a mesh with non-manifold or inconsistent edges into one
 //! without, or closes boundary edges; an already closed and oriented mesh is never touched.
@@ -28,6 +35,8 @@ pub struct Repairs {
     pub dropped_faces: usize,
     /// Faces whose winding was reversed.
     pub flipped_faces: usize,
+    /// Vertex copies made where separate fans of faces met at one vertex.
+    pub split_vertices: usize,
 }
 
 /// Closed parts tested against each other for nesting at most (each test visits every face of
@@ -39,6 +48,19 @@ const MOST_NESTED_PARTS: usize = 32;
 fn edge_defects(tris: &[[u32; 3]]) -> (usize, usize) {
     let c = crate::field::sign::closure(tris);
     (c.boundary_edges, c.bad_edges)
+}
+
+/// Every face's edges, sorted by edge: (edge key, face, runs from its smaller vertex).
+fn edge_uses(tris: &[[u32; 3]]) -> Vec<(u64, u32, bool)> {
+    let mut uses: Vec<(u64, u32, bool)> = tris
+        .iter()
+        .enumerate()
+        .flat_map(|(f, t)| {
+            [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])].map(|(a, b)| (key(a, b), f as u32, a < b))
+        })
+        .collect();
+    uses.sort_unstable();
+    uses
 }
 
 /// The undirected edge {a, b} as one sortable key.
@@ -62,12 +84,14 @@ pub fn repair(
     repairs.merged_vertices = remap.len() - points.len();
     let (mut tris, dropped) = distinct_faces(triangles, &remap);
     repairs.dropped_faces = dropped;
-    let flips = orientation(&points, &tris)?;
-    for (t, &f) in tris.iter_mut().zip(&flips) {
-        if f {
-            t.swap(1, 2);
-        }
-    }
+    let pairs = edge_pairs(&points, &tris);
+    let (mut flips, parts) = consistent_winding(&tris, &pairs)?;
+    turn(&mut tris, &flips);
+    let (points, split) = split_fans(points, &mut tris, &pairs);
+    repairs.split_vertices = split;
+    let outwards = outwards(&points, &tris, &parts);
+    turn(&mut tris, &outwards);
+    flips.iter_mut().zip(&outwards).for_each(|(f, o)| *f ^= o);
     // Faces that end wound against how the file wrote them (a dropped copy does not count).
     repairs.flipped_faces = flips.iter().filter(|&&f| f).count();
     let after = edge_defects(&tris);
@@ -134,40 +158,36 @@ fn distinct_faces(triangles: &[[u32; 3]], remap: &[u32]) -> (Vec<[u32; 3]>, usiz
     (kept, dropped)
 }
 
-/// Which faces to reverse so that every edge shared by exactly two faces is run once each way,
-/// every closed part has positive volume, and a closed part inside an odd number of others has
-/// negative volume. None when a part cannot be wound consistently (a Möbius band).
-fn orientation(points: &[DVec3], tris: &[[u32; 3]]) -> Option<Vec<bool>> {
-    // Face edge uses sorted by edge: (edge, face, runs from its smaller vertex).
-    let mut uses: Vec<(u64, u32, bool)> = tris
-        .iter()
-        .enumerate()
-        .flat_map(|(f, t)| {
-            [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])].map(|(a, b)| (key(a, b), f as u32, a < b))
-        })
-        .collect();
-    uses.sort_unstable();
-    // Neighbours across two-face edges, as compressed rows: (other face, same direction).
-    let mut pairs: Vec<(u32, u32, bool)> = Vec::new();
-    let mut open = vec![false; tris.len()];
-    for run in uses.chunk_by(|a, b| a.0 == b.0) {
-        if let [a, b] = run {
-            pairs.push((a.1, b.1, a.2 == b.2));
-        } else {
-            run.iter().for_each(|u| open[u.1 as usize] = true);
+/// Reverses the faces marked.
+fn turn(tris: &mut [[u32; 3]], which: &[bool]) {
+    for (t, &f) in tris.iter_mut().zip(which) {
+        if f {
+            t.swap(1, 2);
         }
     }
+}
+
+/// Which faces to reverse so that every paired edge (see [`edge_pairs`]) is run once each way,
+/// and the parts (faces joined through paired edges). None when a part cannot be wound
+/// consistently (a Möbius band).
+fn consistent_winding(tris: &[[u32; 3]], pairs: &[Pair]) -> Option<(Vec<bool>, Vec<Vec<u32>>)> {
+    // Neighbours across paired edges, as compressed rows: (other face, same direction).
     let mut start = vec![0usize; tris.len() + 1];
-    for &(a, b, _) in &pairs {
-        start[a as usize + 1] += 1;
-        start[b as usize + 1] += 1;
+    for p in pairs {
+        start[p.faces[0] as usize + 1] += 1;
+        start[p.faces[1] as usize + 1] += 1;
     }
     for f in 0..tris.len() {
         start[f + 1] += start[f];
     }
     let mut fill = start.clone();
     let mut adjacent = vec![(0u32, false); pairs.len() * 2];
-    for &(a, b, same) in &pairs {
+    for &Pair {
+        faces: [a, b],
+        same,
+        ..
+    } in pairs
+    {
         adjacent[fill[a as usize]] = (b, same);
         fill[a as usize] += 1;
         adjacent[fill[b as usize]] = (a, same);
@@ -202,7 +222,19 @@ fn orientation(points: &[DVec3], tris: &[[u32; 3]]) -> Option<Vec<bool>> {
         }
         parts.push(faces);
     }
-    // Closed parts outwards, then inwards where nested an odd number of times.
+    Some((flip, parts))
+}
+
+/// Which faces to reverse so that every closed part (no edge of it used other than once each
+/// way) has positive volume, and a closed part inside an odd number of others negative volume.
+fn outwards(points: &[DVec3], tris: &[[u32; 3]], parts: &[Vec<u32>]) -> Vec<bool> {
+    let mut open = vec![false; tris.len()];
+    for run in edge_uses(tris).chunk_by(|a, b| a.0 == b.0) {
+        if !matches!(run, [a, b] if a.2 != b.2) {
+            run.iter().for_each(|u| open[u.1 as usize] = true);
+        }
+    }
+    let mut flip = vec![false; tris.len()];
     let centre = points.iter().copied().sum::<DVec3>() / points.len().max(1) as f64;
     let wound = |f: u32, flip: &[bool]| {
         let t = tris[f as usize];
@@ -249,7 +281,143 @@ fn orientation(points: &[DVec3], tris: &[[u32; 3]]) -> Option<Vec<bool>> {
             }
         }
     }
-    Some(flip)
+    flip
+}
+
+/// Two faces joined across an edge.
+#[derive(Clone, Copy, Debug)]
+struct Pair {
+    faces: [u32; 2],
+    /// Both faces run the edge the same way (one of them must be turned).
+    same: bool,
+    /// The edge's vertices.
+    edge: [u32; 2],
+}
+
+/// The faces joined across each edge: the two faces of a two-face edge; around an edge of more
+/// faces, the pairs of [`pair_around`] (none where it finds none).
+fn edge_pairs(points: &[DVec3], tris: &[[u32; 3]]) -> Vec<Pair> {
+    let mut pairs: Vec<Pair> = Vec::new();
+    for run in edge_uses(tris).chunk_by(|a, b| a.0 == b.0) {
+        let edge = [(run[0].0 >> 32) as u32, run[0].0 as u32];
+        match run {
+            [a, b] => pairs.push(Pair {
+                faces: [a.1, b.1],
+                same: a.2 == b.2,
+                edge,
+            }),
+            [_] => {}
+            _ => pairs.extend(pair_around(points, tris, edge, run).unwrap_or_default()),
+        }
+    }
+    pairs
+}
+
+/// Pairs the faces around an edge used by more than two: sorted by angle about the edge, each
+/// face goes with its neighbour on its inner side (the side its normal points away from), as
+/// two faces of one solid enclose it. None unless every face's neighbour names it back and
+/// each pair runs the edge both ways.
+fn pair_around(
+    points: &[DVec3],
+    tris: &[[u32; 3]],
+    [a, b]: [u32; 2],
+    run: &[(u64, u32, bool)],
+) -> Option<Vec<Pair>> {
+    if run.len() % 2 == 1 {
+        return None;
+    }
+    let pa = points[a as usize];
+    let axis = (points[b as usize] - pa).normalize_or_zero();
+    let x = axis.any_orthonormal_vector();
+    let y = axis.cross(x);
+    // (angle, face, runs a → b, its inside lies counter-clockwise about the axis)
+    let mut around: Vec<(f64, u32, bool, bool)> = run
+        .iter()
+        .map(|&(_, f, forward)| {
+            let t = tris[f as usize];
+            let c = t.into_iter().find(|&v| v != a && v != b).unwrap_or(a);
+            let d = points[c as usize] - pa;
+            let [p0, p1, p2] = t.map(|v| points[v as usize]);
+            let n = (p1 - p0).cross(p2 - p0);
+            let angle = crate::fmath::atan2(d.dot(y), d.dot(x));
+            (angle, f, forward, axis.cross(d).dot(n) < 0.0)
+        })
+        .collect();
+    around.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
+    let k = around.len();
+    let partner = |i: usize| {
+        if around[i].3 {
+            (i + 1) % k
+        } else {
+            (i + k - 1) % k
+        }
+    };
+    let mut pairs = Vec::with_capacity(k / 2);
+    for i in 0..k {
+        let j = partner(i);
+        if partner(j) != i || around[i].2 == around[j].2 {
+            return None;
+        }
+        if i < j {
+            pairs.push(Pair {
+                faces: [around[i].1, around[j].1],
+                same: false,
+                edge: [a, b],
+            });
+        }
+    }
+    Some(pairs)
+}
+
+/// Gives each fan of faces about a vertex (faces joined through paired edges at it) a vertex of
+/// its own: the first fan in corner order keeps the vertex, each other fan gets a copy at the
+/// same position, appended. Returns the points and the number of copies.
+fn split_fans(
+    mut points: Vec<DVec3>,
+    tris: &mut [[u32; 3]],
+    pairs: &[Pair],
+) -> (Vec<DVec3>, usize) {
+    let mut parent: Vec<u32> = (0..tris.len() as u32 * 3).collect();
+    fn find(p: &mut [u32], mut x: u32) -> u32 {
+        while p[x as usize] != x {
+            p[x as usize] = p[p[x as usize] as usize];
+            x = p[x as usize];
+        }
+        x
+    }
+    let corner = |f: u32, v: u32| {
+        let k = tris[f as usize].iter().position(|&w| w == v).unwrap_or(0);
+        f * 3 + k as u32
+    };
+    for p in pairs {
+        for v in p.edge {
+            let (x, y) = (corner(p.faces[0], v), corner(p.faces[1], v));
+            let (x, y) = (find(&mut parent, x), find(&mut parent, y));
+            if x != y {
+                parent[x.max(y) as usize] = x.min(y);
+            }
+        }
+    }
+    let mut vertex_of = vec![u32::MAX; parent.len()];
+    let mut taken = vec![false; points.len()];
+    let mut copies = 0;
+    for c in 0..parent.len() {
+        let root = find(&mut parent, c as u32) as usize;
+        let (f, k) = (c / 3, c % 3);
+        if vertex_of[root] == u32::MAX {
+            let v = tris[f][k] as usize;
+            vertex_of[root] = if taken[v] {
+                points.push(points[v]);
+                copies += 1;
+                (points.len() - 1) as u32
+            } else {
+                taken[v] = true;
+                v as u32
+            };
+        }
+        tris[f][k] = vertex_of[root];
+    }
+    (points, copies)
 }
 
 /// The generalised winding number of the closed surface `faces` about `p` (1 inside an outward
@@ -342,6 +510,88 @@ mod tests {
         let inner = volume(&rp, &rt[t.len()..]);
         assert!(outer > 0.0 && inner < 0.0, "{outer} {inner}");
         assert!(closed_topology(rp.len(), &rt).is_some());
+    }
+
+    /// An axis-aligned box from `lo` to `hi`, wound outwards, as its own 8 corners.
+    fn cube(lo: DVec3, hi: DVec3) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        let p = (0..8)
+            .map(|i| {
+                DVec3::new(
+                    if i & 1 == 0 { lo.x } else { hi.x },
+                    if i & 2 == 0 { lo.y } else { hi.y },
+                    if i & 4 == 0 { lo.z } else { hi.z },
+                )
+            })
+            .collect();
+        let t = vec![
+            [0, 2, 1],
+            [1, 2, 3],
+            [4, 5, 6],
+            [5, 7, 6],
+            [0, 1, 4],
+            [1, 5, 4],
+            [2, 6, 3],
+            [3, 6, 7],
+            [0, 4, 2],
+            [2, 4, 6],
+            [1, 3, 5],
+            [3, 7, 5],
+        ];
+        (p, t)
+    }
+
+    /// Two boxes, their shared corners welded (as the STL reader welds them).
+    fn two(
+        a: (Vec<DVec3>, Vec<[u32; 3]>),
+        b: (Vec<DVec3>, Vec<[u32; 3]>),
+    ) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        let n = a.0.len() as u32;
+        let (p, remap) = merge_coincident(&[a.0, b.0].concat());
+        let t =
+            a.1.into_iter()
+                .chain(b.1.into_iter().map(|f| f.map(|v| v + n)))
+                .map(|f| f.map(|v| remap[v as usize]))
+                .collect();
+        (p, t)
+    }
+
+    #[test]
+    fn boxes_touching_along_an_edge_become_two_closed_parts() {
+        let unit = cube(DVec3::ZERO, DVec3::ONE);
+        assert!(closed_topology(8, &unit.1).is_some_and(|t| t.genus == 0));
+        // Along the edge x = y = 1: that edge has four faces once the corners are merged.
+        let (p, t) = two(
+            unit.clone(),
+            cube(DVec3::new(1.0, 1.0, 0.0), DVec3::new(2.0, 2.0, 1.0)),
+        );
+        let (rp, rt, r) = repair(&p, &t).expect("repaired");
+        assert_eq!(
+            (r.merged_vertices, r.split_vertices, r.flipped_faces),
+            (0, 2, 0)
+        );
+        let topo = closed_topology(rp.len(), &rt).expect("closed and oriented");
+        assert_eq!((topo.components, rp.len()), (2, 16));
+        assert!((volume(&rp, &rt) - 2.0).abs() < 1e-12);
+        // At the corner (1, 1, 1): no edge is shared, every edge has its two faces, and the
+        // field can sign it as it is: left alone.
+        let (p, t) = two(unit.clone(), cube(DVec3::ONE, DVec3::splat(2.0)));
+        assert!(repair(&p, &t).is_none());
+        // Along the edge, with the second box wound inwards: its faces name the wrong sides and
+        // the pairing is not mutual, but each box's fan at the edge is its own: split, they are
+        // two closed boxes again, and the second is turned outwards.
+        let inward = cube(DVec3::new(1.0, 1.0, 0.0), DVec3::new(2.0, 2.0, 1.0));
+        let inward = (
+            inward.0,
+            inward.1.iter().map(|f| [f[0], f[2], f[1]]).collect(),
+        );
+        let (p, t) = two(unit, inward);
+        let (rp, rt, r) = repair(&p, &t).expect("repaired");
+        assert_eq!((r.split_vertices, r.flipped_faces), (2, 12));
+        assert_eq!(
+            closed_topology(rp.len(), &rt).map(|t| t.components),
+            Some(2)
+        );
+        assert!((volume(&rp, &rt) - 2.0).abs() < 1e-12);
     }
 
     #[test]

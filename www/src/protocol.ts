@@ -250,6 +250,7 @@ export interface Repairs {
   merged_vertices: number;
   dropped_faces: number;
   flipped_faces: number;
+  split_vertices: number;
 }
 
 /** What reading mended, as a clause of the input's description ('' when nothing). */
@@ -259,6 +260,7 @@ export function repairsNote(r: Repairs | null): string {
     [r.merged_vertices, 'coincident vertices merged'],
     [r.dropped_faces, 'repeated faces dropped'],
     [r.flipped_faces, 'faces turned to agree'],
+    [r.split_vertices, 'vertices split where parts touch'],
   ].filter(([n]) => Number(n) > 0).map(([n, what]) => `${n} ${what}`);
   return parts.length ? ` (mended: ${parts.join(', ')})` : '';
 }
