@@ -294,6 +294,31 @@ test('exported binary PLY, STL, OBJ and GLB drop back in and load as meshes', as
   await page.close();
 });
 
+test('a messy mesh (split corners, flipped faces, boxes on one edge) is mended on reading and wraps valid', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  // Two unit boxes touching along the edge x = y = 1, every face with its own corners, every
+  // third face wound backwards.
+  const faces = [[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4], [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5]];
+  let v = '', f = '', n = 0;
+  for (const lo of [[0, 0, 0], [1, 1, 0]]) {
+    for (const face of faces) {
+      for (const k of face) v += `v ${lo[0] + (k & 1)} ${lo[1] + ((k >> 1) & 1)} ${lo[2] + ((k >> 2) & 1)}\n`;
+      f += n % 3 === 0 ? `f ${3 * n + 1} ${3 * n + 3} ${3 * n + 2}\n` : `f ${3 * n + 1} ${3 * n + 2} ${3 * n + 3}\n`;
+      n++;
+    }
+  }
+  await dropFile(page, 'messy-boxes.obj', Buffer.from(v + f));
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
+  const info = await page.textContent('#target-info');
+  assert(/mended: 58 coincident vertices merged, 8 faces turned to agree, 2 vertices split where parts touch/.test(info), `no repair in the input line: "${info}"`);
+  const h = await health(page);
+  assert(h.valid === 'true' && h.si === '0' && h.genus === '0', `badge: ${JSON.stringify(h)}`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+  await page.screenshot({ path: join(out, 'mended.png') });
+  console.log(`   ${info}`);
+  await page.close();
+});
+
 test('a malformed file gives a readable error; the page and the previous result survive', async (browser, url) => {
   const { page, errors } = await openApp(browser, url);
   await page.click('[data-demo=noisy-sphere]');
