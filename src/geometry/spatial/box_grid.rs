@@ -15,6 +15,7 @@
 // `!(x > y)` is used deliberately: it is also true when x is NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use super::radix::radix_sort_by_cell;
 use glam::DVec3;
 
 /// Cells a box may overlap before it counts as big.
@@ -100,8 +101,9 @@ pub fn overlapping_pairs(
             }
         }
     }
-    let (keys, ids) = sort_by_cell(&entries, dims.iter().product());
-    drop(entries);
+    let (keys, ids): (Vec<u64>, Vec<u32>) = radix_sort_by_cell(entries, dims.iter().product())
+        .into_iter()
+        .unzip();
     // Runs of two or more entries in one cell: (start, end). Boxes far smaller than the
     // median crowd into few cells (a CAD mesh's fine fillets among its large faces), where
     // every pair in a cell is tested: beyond a budget proportional to the boxes, decline (the
@@ -183,35 +185,6 @@ pub fn overlapping_pairs(
     Some(out)
 }
 
-/// Cells at most per entry for the counting sort (beyond, a comparison sort: a surface in a
-/// large grid, whose counters would outweigh its entries).
-const CELLS_PER_ENTRY: u64 = 8;
-
-/// The entries' cells and box indices ordered by cell: by a counting sort over the `cells` cell
-/// keys where they are few, by a comparison sort otherwise.
-fn sort_by_cell(entries: &[(u64, u32)], cells: u64) -> (Vec<u64>, Vec<u32>) {
-    if cells > CELLS_PER_ENTRY * entries.len() as u64 + 1024 {
-        let mut sorted = entries.to_vec();
-        sorted.sort_unstable();
-        return sorted.into_iter().unzip();
-    }
-    let mut starts = vec![0u32; cells as usize + 1];
-    for &(k, _) in entries {
-        starts[k as usize + 1] += 1;
-    }
-    for c in 1..starts.len() {
-        starts[c] += starts[c - 1];
-    }
-    let (mut keys, mut ids) = (vec![0u64; entries.len()], vec![0u32; entries.len()]);
-    for &(k, i) in entries {
-        let at = &mut starts[k as usize];
-        keys[*at as usize] = k;
-        ids[*at as usize] = i;
-        *at += 1;
-    }
-    (keys, ids)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -268,9 +241,9 @@ mod tests {
     }
 
     #[test]
-    fn a_sparse_grid_sorts_its_cells_by_comparison_with_the_same_pairs() {
+    fn a_sparse_grid_gives_the_same_pairs() {
         // Clusters of overlapping boxes far apart along the diagonal: far more cells than
-        // entries, so the cells are sorted by comparison instead of counted.
+        // entries, cell keys of several radix digits.
         let mut rng = Rng::new(11);
         let (mut mins, mut maxs) = (Vec::new(), Vec::new());
         for k in 0..40 {
@@ -282,7 +255,10 @@ mod tests {
             }
         }
         let cells = (60.0 * 40.0f64 / 1.6).powi(3);
-        assert!(cells > (CELLS_PER_ENTRY * 8 * mins.len() as u64) as f64);
+        assert!(
+            cells > 64.0 * mins.len() as f64
+                && cells > (1u64 << (2 * super::super::radix::RADIX_BITS)) as f64
+        );
         let want = brute_force(&mins, &maxs);
         assert!(want.len() > 100, "{}", want.len());
         assert_eq!(grid(&mins, &maxs), Some(want));

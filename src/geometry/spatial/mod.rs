@@ -5,4 +5,5 @@ pub mod box_grid;
 pub mod bvh;
 pub mod isolated;
 pub mod point_grid;
+pub mod radix;
 pub mod spacing;
