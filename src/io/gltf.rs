@@ -14,7 +14,7 @@ use super::error::{Format, IoError, Location};
 use super::{Encoding, RawGeometry, WriteInput};
 use ::gltf::accessor::{DataType, Dimensions};
 use ::gltf::mesh::Mode;
-use glam::{DMat4, DVec3};
+use glam::{DMat3, DMat4, DVec3};
 use serde_json::json;
 use std::borrow::Cow;
 
@@ -411,6 +411,7 @@ pub fn read_with(bytes: &[u8], resolve: Resolver) -> Result<RawGeometry, IoError
                 ));
             }
             let b = base as u32;
+            let first = tris.len();
             match mode {
                 Mode::Triangles => {
                     if idx.len() % 3 != 0 {
@@ -441,6 +442,11 @@ pub fn read_with(bytes: &[u8], resolve: Resolver) -> Result<RawGeometry, IoError
                         tris.push([b + idx[0], b + idx[k], b + idx[k + 1]]);
                     }
                 }
+            }
+            // A mirroring node (negative determinant) reverses the winding (glTF 2.0 §3.7.2.1):
+            // its faces are turned back, or a mirrored half of a model points inwards.
+            if DMat3::from_mat4(*world).determinant() < 0.0 {
+                tris[first..].iter_mut().for_each(|t| t.swap(1, 2));
             }
         }
     }
@@ -584,6 +590,58 @@ pub fn write_glb(input: &WriteInput) -> Result<Vec<u8>, IoError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `glb` with its JSON chunk rewritten by `edit`.
+    fn with_json(glb: &[u8], edit: impl Fn(String) -> String) -> Vec<u8> {
+        let json_len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+        let mut js = edit(String::from_utf8(glb[20..20 + json_len].to_vec()).unwrap()).into_bytes();
+        while js.len() % 4 != 0 {
+            js.push(b' ');
+        }
+        let bin = &glb[20 + json_len..];
+        let total = 20 + js.len() + bin.len();
+        let mut out = b"glTF".to_vec();
+        out.extend_from_slice(&2u32.to_le_bytes());
+        out.extend_from_slice(&(total as u32).to_le_bytes());
+        out.extend_from_slice(&(js.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"JSON");
+        out.extend_from_slice(&js);
+        out.extend_from_slice(bin);
+        out
+    }
+
+    #[test]
+    fn a_mirroring_node_keeps_the_faces_outwards() {
+        let s = crate::geometry::icosphere::icosphere(1, 1.0, DVec3::new(2.0, 0.0, 0.0)).unwrap();
+        let (p, t) = (s.positions().to_vec(), s.triangles());
+        let glb = write_glb(&WriteInput {
+            positions: &p,
+            triangles: &t,
+            scalars: &[],
+            settings_json: None,
+        })
+        .unwrap();
+        let volume = |p: &[DVec3], t: &[[u32; 3]]| -> f64 {
+            t.iter()
+                .map(|f| {
+                    let [a, b, c] = f.map(|v| p[v as usize]);
+                    a.dot(b.cross(c)) / 6.0
+                })
+                .sum()
+        };
+        let (p0, t0, _) = read(&glb).unwrap();
+        let v0 = volume(&p0, &t0);
+        assert!(v0 > 0.0);
+        for node in [
+            r#"{"mesh":0,"scale":[-1,1,1]}"#,
+            r#"{"mesh":0,"scale":[-1,-1,-1]}"#,
+        ] {
+            let mirrored = with_json(&glb, |j| j.replace(r#"{"mesh":0}"#, node));
+            let (p1, t1, _) = read(&mirrored).unwrap();
+            assert!(p1[0].x < 0.0, "{node}: not mirrored");
+            assert!((volume(&p1, &t1) - v0).abs() < 1e-9 * v0, "{node}");
+        }
+    }
 
     #[test]
     fn base64() {
