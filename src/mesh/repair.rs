@@ -39,6 +39,9 @@ pub struct Repairs {
     pub split_vertices: usize,
 }
 
+/// Points of a part tested for lying inside another.
+const PROBES: usize = 8;
+
 /// Closed parts tested against each other for nesting at most (each test visits every face of
 /// the other part); beyond it, parts are taken as side by side.
 const MOST_NESTED_PARTS: usize = 32;
@@ -69,15 +72,19 @@ fn key(a: u32, b: u32) -> u64 {
 }
 
 /// The repaired points and triangles and what changed, or None when the mesh needs no repair
-/// (closed and oriented, or no triangles) or the repair would not make it better: it must end
-/// with no non-manifold or inconsistent edge, and with fewer defects than it started with.
+/// (no triangles; closed and oriented, with every part facing out or, nested, in) or the repair
+/// would not make it better: it must end with no non-manifold or inconsistent edge, and with
+/// fewer defects than it started with.
 pub fn repair(
     points: &[DVec3],
     triangles: &[[u32; 3]],
 ) -> Option<(Vec<DVec3>, Vec<[u32; 3]>, Repairs)> {
-    let before = edge_defects(triangles);
-    if triangles.is_empty() || before == (0, 0) {
+    if triangles.is_empty() {
         return None;
+    }
+    let before = edge_defects(triangles);
+    if before == (0, 0) {
+        return facing_parts(points, triangles);
     }
     let mut repairs = Repairs::default();
     let (points, remap) = merge_coincident(points);
@@ -89,7 +96,7 @@ pub fn repair(
     turn(&mut tris, &flips);
     let (points, split) = split_fans(points, &mut tris, &pairs);
     repairs.split_vertices = split;
-    let outwards = outwards(&points, &tris, &parts);
+    let outwards = outwards(&points, &tris, &parts, &open_faces(&tris));
     turn(&mut tris, &outwards);
     flips.iter_mut().zip(&outwards).for_each(|(f, o)| *f ^= o);
     // Faces that end wound against how the file wrote them (a dropped copy does not count).
@@ -225,15 +232,74 @@ fn consistent_winding(tris: &[[u32; 3]], pairs: &[Pair]) -> Option<(Vec<bool>, V
     Some((flip, parts))
 }
 
-/// Which faces to reverse so that every closed part (no edge of it used other than once each
-/// way) has positive volume, and a closed part inside an odd number of others negative volume.
-fn outwards(points: &[DVec3], tris: &[[u32; 3]], parts: &[Vec<u32>]) -> Vec<bool> {
+/// A closed, oriented mesh of several parts, each turned to face out (or in, where nested an
+/// odd number of times): the field signs a mesh by its total volume, so a part wound against
+/// the others was signed inside out (two spheres, one wound inwards: mean distance 2.4 % of the
+/// diagonal instead of 0.0006 %). None when every part already faces its way, for one part
+/// (its sign follows its volume), and beyond [`MOST_NESTED_PARTS`] parts (nesting unchecked, a
+/// hollow part's inner wall would be turned out).
+fn facing_parts(
+    points: &[DVec3],
+    tris: &[[u32; 3]],
+) -> Option<(Vec<DVec3>, Vec<[u32; 3]>, Repairs)> {
+    let mut parent: Vec<u32> = (0..points.len() as u32).collect();
+    for t in tris {
+        for (a, b) in [(t[0], t[1]), (t[1], t[2])] {
+            let (a, b) = (find(&mut parent, a), find(&mut parent, b));
+            if a != b {
+                parent[a.max(b) as usize] = a.min(b);
+            }
+        }
+    }
+    let roots: Vec<u32> = tris.iter().map(|t| find(&mut parent, t[0])).collect();
+    let mut ids: Vec<u32> = roots.clone();
+    ids.sort_unstable();
+    ids.dedup();
+    if !(2..=MOST_NESTED_PARTS).contains(&ids.len()) {
+        return None;
+    }
+    let mut parts: Vec<Vec<u32>> = vec![Vec::new(); ids.len()];
+    for (f, r) in roots.iter().enumerate() {
+        let k = ids.binary_search(r).unwrap_or(0);
+        parts[k].push(f as u32);
+    }
+    let flips = outwards(points, tris, &parts, &vec![false; tris.len()]);
+    let flipped_faces = flips.iter().filter(|&&f| f).count();
+    if flipped_faces == 0 {
+        return None;
+    }
+    let mut tris = tris.to_vec();
+    turn(&mut tris, &flips);
+    let repairs = Repairs {
+        flipped_faces,
+        ..Repairs::default()
+    };
+    Some((points.to_vec(), tris, repairs))
+}
+
+/// The root of `x` in a union–find forest, halving the path.
+fn find(p: &mut [u32], mut x: u32) -> u32 {
+    while p[x as usize] != x {
+        p[x as usize] = p[p[x as usize] as usize];
+        x = p[x as usize];
+    }
+    x
+}
+
+/// Faces with an edge not used exactly once each way.
+fn open_faces(tris: &[[u32; 3]]) -> Vec<bool> {
     let mut open = vec![false; tris.len()];
     for run in edge_uses(tris).chunk_by(|a, b| a.0 == b.0) {
         if !matches!(run, [a, b] if a.2 != b.2) {
             run.iter().for_each(|u| open[u.1 as usize] = true);
         }
     }
+    open
+}
+
+/// Which faces to reverse so that every closed part (no face of it `open`) has positive volume,
+/// and a closed part inside an odd number of others negative volume.
+fn outwards(points: &[DVec3], tris: &[[u32; 3]], parts: &[Vec<u32>], open: &[bool]) -> Vec<bool> {
     let mut flip = vec![false; tris.len()];
     let centre = points.iter().copied().sum::<DVec3>() / points.len().max(1) as f64;
     let wound = |f: u32, flip: &[bool]| {
@@ -262,15 +328,40 @@ fn outwards(points: &[DVec3], tris: &[[u32; 3]], parts: &[Vec<u32>]) -> Vec<bool
         }
     }
     if (2..=MOST_NESTED_PARTS).contains(&closed.len()) {
-        let inner: Vec<bool> = closed
+        // Each part's box: a probe outside another's box is outside it (no winding number).
+        let boxes: Vec<(DVec3, DVec3)> = closed
             .iter()
             .map(|faces| {
-                let [a, b, c] = wound(faces[0], &flip);
-                let probe = (a + b + c) / 3.0;
+                let corners = faces.iter().flat_map(|&f| wound(f, &flip));
+                corners.fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), q| {
+                    (lo.min(q), hi.max(q))
+                })
+            })
+            .collect();
+        // A part lies inside another when its box does and so do its probes (the centres of
+        // up to 8 faces spread over it): parts that cross each other (a self-intersecting
+        // input) are not nested.
+        let inner: Vec<bool> = closed
+            .iter()
+            .zip(&boxes)
+            .map(|(faces, (lo, hi))| {
+                let probes: Vec<DVec3> = (0..PROBES.min(faces.len()))
+                    .map(|k| {
+                        let [a, b, c] =
+                            wound(faces[k * faces.len() / PROBES.min(faces.len())], &flip);
+                        (a + b + c) / 3.0
+                    })
+                    .collect();
                 let depth = closed
                     .iter()
-                    .filter(|other| !std::ptr::eq(**other, *faces))
-                    .filter(|other| winding_number(probe, other, &|f| wound(f, &flip)) > 0.5)
+                    .zip(&boxes)
+                    .filter(|(other, _)| !std::ptr::eq(**other, *faces))
+                    .filter(|(_, (olo, ohi))| lo.cmpge(*olo).all() && hi.cmple(*ohi).all())
+                    .filter(|(other, _)| {
+                        probes
+                            .iter()
+                            .all(|&q| winding_number(q, other, &|f| wound(f, &flip)) > 0.5)
+                    })
                     .count();
                 depth % 2 == 1
             })
@@ -378,13 +469,6 @@ fn split_fans(
     pairs: &[Pair],
 ) -> (Vec<DVec3>, usize) {
     let mut parent: Vec<u32> = (0..tris.len() as u32 * 3).collect();
-    fn find(p: &mut [u32], mut x: u32) -> u32 {
-        while p[x as usize] != x {
-            p[x as usize] = p[p[x as usize] as usize];
-            x = p[x as usize];
-        }
-        x
-    }
     let corner = |f: u32, v: u32| {
         let k = tris[f as usize].iter().position(|&w| w == v).unwrap_or(0);
         f * 3 + k as u32
@@ -592,6 +676,39 @@ mod tests {
             Some(2)
         );
         assert!((volume(&rp, &rt) - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn closed_parts_wound_against_each_other_are_turned_their_way() {
+        let (p, t) = sphere(1.0);
+        let n = p.len() as u32;
+        let shifted = |d: DVec3| p.iter().map(move |&q| q + d);
+        // Two spheres apart, the second wound inwards: it is turned out.
+        let pts: Vec<DVec3> = p.iter().copied().chain(shifted(DVec3::X * 3.0)).collect();
+        let mut tris = t.clone();
+        tris.extend(t.iter().map(|f| [f[0] + n, f[2] + n, f[1] + n]));
+        let (_, rt, r) = repair(&pts, &tris).expect("turned");
+        assert_eq!((r.flipped_faces, r.merged_vertices), (t.len(), 0));
+        assert!(volume(&pts, &rt[t.len()..]) > 0.0);
+        // A hollow ball, both walls outwards: the inner wall is turned in.
+        let pts: Vec<DVec3> = p
+            .iter()
+            .copied()
+            .chain(p.iter().map(|&q| 0.5 * q))
+            .collect();
+        let mut tris = t.clone();
+        tris.extend(t.iter().map(|f| f.map(|v| v + n)));
+        let (_, rt, r) = repair(&pts, &tris).expect("turned");
+        assert_eq!(r.flipped_faces, t.len());
+        assert!(volume(&pts, &rt[..t.len()]) > 0.0 && volume(&pts, &rt[t.len()..]) < 0.0);
+        // ... and as it should be, left alone.
+        assert!(repair(&pts, &rt).is_none());
+        // Two spheres crossing each other (a self-intersecting input), both facing out: neither
+        // lies inside the other, nothing is turned.
+        let pts: Vec<DVec3> = p.iter().copied().chain(shifted(DVec3::X)).collect();
+        let mut tris = t.clone();
+        tris.extend(t.iter().map(|f| f.map(|v| v + n)));
+        assert!(repair(&pts, &tris).is_none());
     }
 
     #[test]
