@@ -9,6 +9,7 @@ pub mod fingerprint;
 mod halfedge;
 pub mod repair;
 mod soup;
+pub mod stars;
 mod validate;
 
 pub use edit::GarbageMaps;

@@ -46,10 +46,10 @@ const PROBES: usize = 8;
 /// the other part); beyond it, parts are taken as side by side.
 const MOST_NESTED_PARTS: usize = 32;
 
-/// (Boundary edges, edges used other than once each way) of a triangle list, by the field's
-/// sign test (a counting sort by vertex: 21 ms on 329 K faces, where sorting every edge took 59).
+/// (Boundary edges, edges used other than once each way) of a triangle list, by its stars (a
+/// counting sort by vertex: 21 ms on 329 K faces, where sorting every edge took 59).
 fn edge_defects(tris: &[[u32; 3]]) -> (usize, usize) {
-    let c = crate::field::sign::closure(tris);
+    let c = super::stars::closure(tris);
     (c.boundary_edges, c.bad_edges)
 }
 
