@@ -82,9 +82,15 @@ pub fn repair(
     if triangles.is_empty() {
         return None;
     }
-    let before = edge_defects(triangles);
+    let (closure, rims) = super::stars::closure_and_rims(triangles);
+    let before = (closure.boundary_edges, closure.bad_edges);
     if before == (0, 0) {
         return facing_parts(points, triangles);
+    }
+    // With boundary edges only (an open scan), only corners merged on them could close any
+    // (bunny.ply, 70 K faces: 140 ms of mending that changed nothing, now 8 ms for the check).
+    if before.1 == 0 && !coincident(points, rims) {
+        return None;
     }
     let mut repairs = Repairs::default();
     let (points, remap) = merge_coincident(points);
@@ -106,17 +112,34 @@ pub fn repair(
     (better && !tris.is_empty()).then_some((points, tris, repairs))
 }
 
+/// Whether two of the vertices `ids` (repeats allowed) sit at bit-identical positions.
+fn coincident(points: &[DVec3], mut ids: Vec<u32>) -> bool {
+    ids.sort_unstable();
+    ids.dedup();
+    let mut keys: Vec<[u64; 3]> = ids
+        .iter()
+        .map(|&i| {
+            let p = points[i as usize];
+            [p.x, p.y, p.z].map(|c| (c + 0.0).to_bits())
+        })
+        .collect();
+    keys.sort_unstable();
+    keys.windows(2).any(|w| w[0] == w[1])
+}
+
 /// Points with bit-identical coordinates merged into the first (−0 and +0 alike), and the map
 /// from old to new indices. Order is kept.
 fn merge_coincident(points: &[DVec3]) -> (Vec<DVec3>, Vec<u32>) {
-    let bits = |p: DVec3| [p.x, p.y, p.z].map(|c| (c + 0.0).to_bits());
-    let mut order: Vec<u32> = (0..points.len() as u32).collect();
-    order.sort_unstable_by_key(|&i| (bits(points[i as usize]), i));
+    // (coordinates' bits, index), sorted: runs of one position, smallest index first.
+    let mut keyed: Vec<([u64; 3], u32)> = (points.iter().enumerate())
+        .map(|(i, p)| ([p.x, p.y, p.z].map(|c| (c + 0.0).to_bits()), i as u32))
+        .collect();
+    keyed.sort_unstable();
     // Each point's representative: the first (smallest index) of its run.
     let mut first = vec![0u32; points.len()];
-    for run in order.chunk_by(|&a, &b| bits(points[a as usize]) == bits(points[b as usize])) {
-        for &i in run {
-            first[i as usize] = run[0];
+    for run in keyed.chunk_by(|a, b| a.0 == b.0) {
+        for &(_, i) in run {
+            first[i as usize] = run[0].1;
         }
     }
     let mut remap = vec![0u32; points.len()];

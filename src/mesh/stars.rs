@@ -81,8 +81,33 @@ pub fn closure(triangles: &[[u32; 3]]) -> Closure {
     closure_with(&Stars::new(n, triangles), triangles, n)
 }
 
+/// [`closure`], and the ends of every boundary edge (each vertex once per edge).
+pub fn closure_and_rims(triangles: &[[u32; 3]]) -> (Closure, Vec<u32>) {
+    let n = triangles
+        .iter()
+        .flatten()
+        .map(|&v| v as usize + 1)
+        .max()
+        .unwrap_or(0);
+    let mut rims = Vec::new();
+    let c = tally(&Stars::new(n, triangles), triangles, n, |a, b| {
+        rims.extend([a, b])
+    });
+    (c, rims)
+}
+
 /// [`closure`] with the stars already built.
 pub fn closure_with(stars: &Stars, triangles: &[[u32; 3]], n_vertices: usize) -> Closure {
+    tally(stars, triangles, n_vertices, |_, _| {})
+}
+
+/// The edge counts, calling `on_boundary(a, b)` for each boundary edge.
+fn tally(
+    stars: &Stars,
+    triangles: &[[u32; 3]],
+    n_vertices: usize,
+    mut on_boundary: impl FnMut(u32, u32),
+) -> Closure {
     let mut c = Closure {
         edges: 0,
         boundary_edges: 0,
@@ -109,7 +134,10 @@ pub fn closure_with(stars: &Stars, triangles: &[[u32; 3]], n_vertices: usize) ->
             c.edges += 1;
             match (f, b) {
                 (1, 1) => {}
-                (1, 0) | (0, 1) => c.boundary_edges += 1,
+                (1, 0) | (0, 1) => {
+                    c.boundary_edges += 1;
+                    on_boundary(a, o);
+                }
                 _ => c.bad_edges += 1,
             }
         }
