@@ -71,14 +71,14 @@ fn key(a: u32, b: u32) -> u64 {
     ((a.min(b) as u64) << 32) | a.max(b) as u64
 }
 
+/// Mended points and triangles, and what changed.
+pub type Mended = (Vec<DVec3>, Vec<[u32; 3]>, Repairs);
+
 /// The repaired points and triangles and what changed, or None when the mesh needs no repair
 /// (no triangles; closed and oriented, with every part facing out or, nested, in) or the repair
 /// would not make it better: it must end with no non-manifold or inconsistent edge, and with
 /// fewer defects than it started with.
-pub fn repair(
-    points: &[DVec3],
-    triangles: &[[u32; 3]],
-) -> Option<(Vec<DVec3>, Vec<[u32; 3]>, Repairs)> {
+pub fn repair(points: &[DVec3], triangles: &[[u32; 3]]) -> Option<Mended> {
     if triangles.is_empty() {
         return None;
     }
@@ -92,11 +92,41 @@ pub fn repair(
     if before.1 == 0 && !coincident(points, rims) {
         return None;
     }
-    let mut repairs = Repairs::default();
     let (points, remap) = merge_coincident(points);
-    repairs.merged_vertices = remap.len() - points.len();
-    let (mut tris, dropped) = distinct_faces(triangles, &remap);
-    repairs.dropped_faces = dropped;
+    let merged = remap.len() - points.len();
+    // A face stored twice, wound both ways, is either a repeat or the wall between two solids
+    // that touch face to face (the box soup: two cubes sharing a square). Keeping one copy
+    // mends a repeat; dropping both mends a wall. Where both windings occur, both are tried and
+    // the one with fewer defects is kept (keeping one on a tie).
+    let (kept, walls) = distinct_faces(triangles, &remap, false);
+    let mut tries: Vec<_> = mend(points.clone(), kept, merged, triangles.len())
+        .into_iter()
+        .collect();
+    if walls {
+        let (without, _) = distinct_faces(triangles, &remap, true);
+        tries.extend(mend(points, without, merged, triangles.len()));
+    }
+    let ((points, tris, repairs), after) = tries
+        .into_iter()
+        .min_by_key(|(_, (boundary, bad))| boundary + bad)?;
+    let better = after.1 == 0 && (after.0 + after.1 < before.0 + before.1);
+    (better && !tris.is_empty()).then_some((points, tris, repairs))
+}
+
+/// One mending of the merged `points` and distinct faces `tris` (of `faces` in the file):
+/// faces paired around edges, wound consistently, fans split, parts turned; with the edge
+/// defects left (boundary, inconsistent). None when a part cannot be wound consistently.
+fn mend(
+    points: Vec<DVec3>,
+    mut tris: Vec<[u32; 3]>,
+    merged: usize,
+    faces: usize,
+) -> Option<(Mended, (usize, usize))> {
+    let mut repairs = Repairs {
+        merged_vertices: merged,
+        dropped_faces: faces - tris.len(),
+        ..Repairs::default()
+    };
     let pairs = edge_pairs(&points, &tris);
     let (mut flips, parts) = consistent_winding(&tris, &pairs)?;
     turn(&mut tris, &flips);
@@ -108,8 +138,7 @@ pub fn repair(
     // Faces that end wound against how the file wrote them (a dropped copy does not count).
     repairs.flipped_faces = flips.iter().filter(|&&f| f).count();
     let after = edge_defects(&tris);
-    let better = after.1 == 0 && (after.0 + after.1 < before.0 + before.1);
-    (better && !tris.is_empty()).then_some((points, tris, repairs))
+    Some(((points, tris, repairs), after))
 }
 
 /// Whether two of the vertices `ids` (repeats allowed) sit at bit-identical positions.
@@ -155,28 +184,32 @@ fn merge_coincident(points: &[DVec3]) -> (Vec<DVec3>, Vec<u32>) {
     (kept, remap)
 }
 
-/// The faces remapped, without faces that repeat a corner or repeat an earlier face's corners
-/// (in either winding); and how many were dropped.
-fn distinct_faces(triangles: &[[u32; 3]], remap: &[u32]) -> (Vec<[u32; 3]>, usize) {
+/// The faces remapped, without faces that repeat a corner; of faces with the same corners, the
+/// first — or, with `walls`, none where they are wound both ways. Also whether any are.
+fn distinct_faces(triangles: &[[u32; 3]], remap: &[u32], walls: bool) -> (Vec<[u32; 3]>, bool) {
     let faces: Vec<[u32; 3]> = triangles
         .iter()
         .map(|t| t.map(|v| remap[v as usize]))
         .collect();
-    let sorted = |t: &[u32; 3]| {
-        let mut s = *t;
-        s.sort_unstable();
-        s
-    };
-    let mut order: Vec<u32> = (0..faces.len() as u32)
-        .filter(|&f| {
-            let [a, b, c] = faces[f as usize];
-            a != b && b != c && c != a
+    // (corners sorted, wound as sorted (an even permutation of them), face)
+    let mut order: Vec<([u32; 3], bool, u32)> = (faces.iter().enumerate())
+        .filter(|(_, &[a, b, c])| a != b && b != c && c != a)
+        .map(|(f, t)| {
+            let mut s = *t;
+            s.sort_unstable();
+            let k = t.iter().position(|&v| v == s[0]).unwrap_or(0);
+            (s, t[(k + 1) % 3] == s[1], f as u32)
         })
         .collect();
-    order.sort_unstable_by_key(|&f| (sorted(&faces[f as usize]), f));
+    order.sort_unstable_by_key(|&(s, _, f)| (s, f));
     let mut keep = vec![false; faces.len()];
-    for run in order.chunk_by(|&a, &b| sorted(&faces[a as usize]) == sorted(&faces[b as usize])) {
-        keep[run[0] as usize] = true;
+    let mut both_ways = false;
+    for run in order.chunk_by(|a, b| a.0 == b.0) {
+        let mixed = run.iter().any(|r| r.1 != run[0].1);
+        both_ways |= mixed;
+        if !(walls && mixed) {
+            keep[run[0].2 as usize] = true;
+        }
     }
     let kept: Vec<[u32; 3]> = faces
         .iter()
@@ -184,8 +217,7 @@ fn distinct_faces(triangles: &[[u32; 3]], remap: &[u32]) -> (Vec<[u32; 3]>, usiz
         .filter(|(_, &k)| k)
         .map(|(t, _)| *t)
         .collect();
-    let dropped = faces.len() - kept.len();
-    (kept, dropped)
+    (kept, both_ways)
 }
 
 /// Reverses the faces marked.
@@ -261,10 +293,7 @@ fn consistent_winding(tris: &[[u32; 3]], pairs: &[Pair]) -> Option<(Vec<bool>, V
 /// diagonal instead of 0.0006 %). None when every part already faces its way, for one part
 /// (its sign follows its volume), and beyond [`MOST_NESTED_PARTS`] parts (nesting unchecked, a
 /// hollow part's inner wall would be turned out).
-fn facing_parts(
-    points: &[DVec3],
-    tris: &[[u32; 3]],
-) -> Option<(Vec<DVec3>, Vec<[u32; 3]>, Repairs)> {
+fn facing_parts(points: &[DVec3], tris: &[[u32; 3]]) -> Option<Mended> {
     let mut parent: Vec<u32> = (0..points.len() as u32).collect();
     for t in tris {
         for (a, b) in [(t[0], t[1]), (t[1], t[2])] {
@@ -732,6 +761,21 @@ mod tests {
         let mut tris = t.clone();
         tris.extend(t.iter().map(|f| f.map(|v| v + n)));
         assert!(repair(&pts, &tris).is_none());
+    }
+
+    #[test]
+    fn boxes_sharing_a_face_lose_the_wall_between_them() {
+        // The app's box soup: two unit cubes side by side, each listing the square they share.
+        let unit = cube(DVec3::ZERO, DVec3::ONE);
+        let (p, t) = two(unit, cube(DVec3::X, DVec3::new(2.0, 1.0, 1.0)));
+        let (rp, rt, r) = repair(&p, &t).expect("repaired");
+        assert_eq!(
+            (r.dropped_faces, r.split_vertices, r.flipped_faces),
+            (4, 0, 0)
+        );
+        let topo = closed_topology(rp.len(), &rt).expect("closed and oriented");
+        assert_eq!((topo.genus, topo.components, rt.len()), (0, 1, 20));
+        assert!((volume(&rp, &rt) - 2.0).abs() < 1e-12);
     }
 
     #[test]
