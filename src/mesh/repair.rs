@@ -778,6 +778,30 @@ mod tests {
         assert!((volume(&rp, &rt) - 2.0).abs() < 1e-12);
     }
 
+    /// Random soups over a few shared positions (repeats, fans, both windings): mending never
+    /// panics, and what it returns has no inconsistent edge and the same positions.
+    #[test]
+    fn random_soups_mend_or_are_left_alone() {
+        let mut rng = crate::demo::Rng::new(17);
+        for case in 0..300 {
+            let n = 4 + case % 9;
+            let p: Vec<DVec3> = (0..n)
+                .map(|i| {
+                    // A few coincident pairs.
+                    let k = if i % 5 == 4 { i - 1 } else { i } as f64;
+                    DVec3::new(k.sin(), (2.0 * k).cos(), 0.3 * k)
+                })
+                .collect();
+            let t: Vec<[u32; 3]> = (0..2 + case % 23)
+                .map(|_| [0, 1, 2].map(|_| (rng.uniform() * n as f64) as u32 % n as u32))
+                .collect();
+            if let Some((rp, rt, _)) = repair(&p, &t) {
+                assert_eq!(edge_defects(&rt).1, 0, "case {case}");
+                assert!(rp.iter().all(|q| p.contains(q)), "case {case}");
+            }
+        }
+    }
+
     #[test]
     fn what_cannot_be_mended_is_not_touched() {
         let (p, t) = sphere(1.0);
