@@ -789,7 +789,7 @@ mod tests {
                 .map(|i| {
                     // A few coincident pairs.
                     let k = if i % 5 == 4 { i - 1 } else { i } as f64;
-                    DVec3::new(k.sin(), (2.0 * k).cos(), 0.3 * k)
+                    DVec3::new(crate::fmath::sin(k), crate::fmath::cos(2.0 * k), 0.3 * k)
                 })
                 .collect();
             let t: Vec<[u32; 3]> = (0..2 + case % 23)
