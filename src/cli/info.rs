@@ -21,7 +21,7 @@ pub struct InfoArgs {
 /// The JSON `lsw info` prints for a read file. Keys: file, format, encoding, kind, vertices,
 /// faces, bbox {min, max, diagonal}; for meshes also closed, manifold, manifold_problem,
 /// euler_characteristic, edges, boundary_edges, non_manifold_edges, isolated_vertices, repairs
-/// ({merged_vertices, dropped_faces, flipped_faces, split_vertices} where reading mended the mesh's indices,
+/// ({merged_vertices, dropped_faces, flipped_faces, split_vertices, filled_holes} where reading mended the mesh's indices,
 /// see [`crate::target::Target::repaired`]; the other keys describe the mended mesh, else null); for
 /// volumes also `volume` (see [`super::volume::volume_json`]; the mesh keys then describe the
 /// iso-surface).

@@ -106,7 +106,7 @@ impl WrapSession {
     }
 
     /// What was read: format, kind, counts, bounding box, and what reading mended (null when
-    /// nothing: `{merged_vertices, dropped_faces, flipped_faces, split_vertices}`).
+    /// nothing: `{merged_vertices, dropped_faces, flipped_faces, split_vertices, filled_holes}`).
     #[wasm_bindgen(js_name = targetInfo)]
     pub fn target_info(&self) -> Result<JsValue, JsValue> {
         let t = &self.target;

@@ -251,6 +251,7 @@ export interface Repairs {
   dropped_faces: number;
   flipped_faces: number;
   split_vertices: number;
+  filled_holes: number;
 }
 
 /** What reading mended, as a clause of the input's description ('' when nothing). */
@@ -261,6 +262,7 @@ export function repairsNote(r: Repairs | null): string {
     [r.dropped_faces, 'repeated faces dropped'],
     [r.flipped_faces, 'faces turned to agree'],
     [r.split_vertices, 'vertices split where parts touch'],
+    [r.filled_holes, 'small holes closed'],
   ].filter(([n]) => Number(n) > 0).map(([n, what]) => `${n} ${what}`);
   return parts.length ? ` (mended: ${parts.join(', ')})` : '';
 }
