@@ -22,17 +22,24 @@ fn target(name: &str) -> Target {
     Target::new(p, t).unwrap()
 }
 
-/// Wraps `name` with the defaults (coarser final edges) and returns the start used and the
-/// certificate of the result.
-fn wrap(name: &str, start: StartSurface) -> (StartSurface, Certificate) {
-    let target = target(name);
+/// The defaults with a coarser grid and coarser final edges (see the module's doc).
+fn coarse() -> WrapSettings {
     let mut settings = WrapSettings::default();
-    settings.start.surface = start;
     settings.remesh.min_edge_multiplier = 0.3;
     settings.field.cells_per_min_dimension = 24;
-    let mut ev = Evolver::new(&target, settings).unwrap_or_else(|e| panic!("{name}: {e}"));
+    settings
+}
+
+/// Wraps `target` with `settings` and returns the start used, the vertex count and the
+/// certificate of the result.
+fn wrap_target(
+    name: &str,
+    target: &Target,
+    settings: WrapSettings,
+) -> (StartSurface, usize, Certificate) {
+    let mut ev = Evolver::new(target, settings).unwrap_or_else(|e| panic!("{name}: {e}"));
     ev.run(|_| {}).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let c = certify(&ev.positions(), &ev.triangles(), Some(&target));
+    let c = certify(&ev.positions(), &ev.triangles(), Some(target));
     println!(
         "{name}: start {:?}, {} vertices, genus {:?}, components {:?}, SI {}",
         ev.start_surface(),
@@ -41,7 +48,16 @@ fn wrap(name: &str, start: StartSurface) -> (StartSurface, Certificate) {
         c.components,
         c.self_intersections
     );
-    (ev.start_surface(), c)
+    (ev.start_surface(), ev.positions().len(), c)
+}
+
+/// Wraps `name` with [`coarse`] settings and returns the start used and the certificate of the
+/// result.
+fn wrap(name: &str, start: StartSurface) -> (StartSurface, Certificate) {
+    let mut settings = coarse();
+    settings.start.surface = start;
+    let (start, _, c) = wrap_target(name, &target(name), settings);
+    (start, c)
 }
 
 fn assert_valid(name: &str, c: &Certificate) {
@@ -370,24 +386,13 @@ fn a_mesh_with_split_flipped_and_repeated_faces_wraps_like_the_clean_one() {
     assert_eq!(repairs.merged_vertices, 3 * t.len() - p.len());
     assert_eq!(repairs.dropped_faces, t.len().div_ceil(7));
     assert!(repairs.flipped_faces > 0);
-    let clean = target("cube-hole");
-    let mut settings = WrapSettings::default();
-    settings.remesh.min_edge_multiplier = 0.3;
-    settings.field.cells_per_min_dimension = 24;
     let mut sizes = Vec::new();
-    for target in [&read.target, &clean] {
-        let mut ev = Evolver::new(target, settings.clone()).unwrap();
-        ev.run(|_| {}).unwrap();
-        let c = certify(&ev.positions(), &ev.triangles(), Some(target));
-        println!(
-            "start {:?}, {} vertices, {c:?}",
-            ev.start_surface(),
-            ev.positions().len()
-        );
+    for target in [&read.target, &target("cube-hole")] {
+        let (start, vertices, c) = wrap_target("messy cube-hole", target, coarse());
         assert_valid("messy cube-hole", &c);
         assert_eq!((c.genus, c.target_genus), (Some(1), Some(1)));
-        assert_eq!(ev.start_surface(), StartSurface::Isosurface);
-        sizes.push(ev.positions().len() as f64);
+        assert_eq!(start, StartSurface::Isosurface);
+        sizes.push(vertices as f64);
     }
     assert!(sizes[0] < 1.2 * sizes[1], "{sizes:?}");
 }
@@ -399,59 +404,24 @@ fn a_mesh_with_split_flipped_and_repeated_faces_wraps_like_the_clean_one() {
 /// isosurface start.
 #[test]
 fn boxes_touching_along_an_edge_wrap_from_their_isosurface() {
-    let corners = |lo: [f64; 3]| -> Vec<[f64; 3]> {
-        (0..8)
-            .map(|i| [0, 1, 2].map(|k| lo[k] + f64::from((i >> k) & 1)))
-            .collect()
-    };
-    let faces = [
-        [0, 2, 1],
-        [1, 2, 3],
-        [4, 5, 6],
-        [5, 7, 6],
-        [0, 1, 4],
-        [1, 5, 4],
-        [2, 6, 3],
-        [3, 6, 7],
-        [0, 4, 2],
-        [2, 4, 6],
-        [1, 3, 5],
-        [3, 7, 5],
-    ];
-    let mut obj = String::new();
-    let mut index: Vec<[f64; 3]> = Vec::new();
-    let mut tris = String::new();
-    for lo in [[0.0, 0.0, 0.0], [1.0, 1.0, 0.0]] {
-        let c = corners(lo);
-        for f in faces {
-            let ids = f.map(|k: usize| {
-                let p = c[k];
-                match index.iter().position(|&q| q == p) {
-                    Some(i) => i + 1,
-                    None => {
-                        index.push(p);
-                        obj += &format!("v {} {} {}\n", p[0], p[1], p[2]);
-                        index.len()
-                    }
-                }
-            });
-            tris += &format!("f {} {} {}\n", ids[0], ids[1], ids[2]);
-        }
+    // The app's box soup (two unit cubes side by side, every face with its own corners), its
+    // second cube moved up by one: the cubes now touch along the edge x = y = 1.
+    let (p, t) = lsw::demo::box_soup();
+    let mut obj: String = (p.iter().enumerate())
+        .map(|(i, q)| {
+            let up = if i >= p.len() / 2 { 1.0 } else { 0.0 };
+            format!("v {} {} {}\n", q.x, q.y + up, q.z)
+        })
+        .collect();
+    for f in &t {
+        obj += &format!("f {} {} {}\n", f[0] + 1, f[1] + 1, f[2] + 1);
     }
-    obj += &tris;
     let read = lsw::io::read_bytes(obj.as_bytes(), Some("boxes.obj")).unwrap();
     assert_eq!(read.repairs.map(|r| r.split_vertices), Some(2));
-    let target = read.target;
-    let mut settings = WrapSettings::default();
-    settings.remesh.min_edge_multiplier = 0.3;
-    settings.field.cells_per_min_dimension = 24;
-    let mut ev = Evolver::new(&target, settings).unwrap();
-    ev.run(|_| {}).unwrap();
-    let c = certify(&ev.positions(), &ev.triangles(), Some(&target));
-    println!("boxes on an edge: {} vertices, {c:?}", ev.positions().len());
+    let (start, _, c) = wrap_target("boxes on an edge", &read.target, coarse());
     assert_valid("boxes on an edge", &c);
-    assert_eq!(ev.start_surface(), StartSurface::Isosurface);
-    let diagonal = target.bbox.diagonal();
+    assert_eq!(start, StartSurface::Isosurface);
+    let diagonal = read.target.bbox.diagonal();
     assert!(c.distance_max.unwrap() < 0.005 * diagonal, "{c:?}");
 }
 
@@ -473,18 +443,8 @@ fn a_mesh_read_with_dropped_faces_has_its_holes_closed() {
     let read = lsw::io::read_bytes(obj.as_bytes(), Some("holey.obj")).unwrap();
     let repairs = read.repairs.expect("holes closed");
     assert!(repairs.filled_holes > 40, "{repairs:?}");
-    let target = read.target;
-    let mut settings = WrapSettings::default();
-    settings.remesh.min_edge_multiplier = 0.3;
-    settings.field.cells_per_min_dimension = 24;
-    let mut ev = Evolver::new(&target, settings).unwrap();
-    ev.run(|_| {}).unwrap();
-    let c = certify(&ev.positions(), &ev.triangles(), Some(&target));
-    println!(
-        "holey cube-hole, read: {} vertices, {c:?}",
-        ev.positions().len()
-    );
+    let (start, _, c) = wrap_target("holey cube-hole, read", &read.target, coarse());
     assert_valid("holey cube-hole, read", &c);
-    assert_eq!(ev.start_surface(), StartSurface::Isosurface);
+    assert_eq!(start, StartSurface::Isosurface);
     assert_eq!(c.genus, Some(1));
 }

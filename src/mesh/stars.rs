@@ -72,23 +72,23 @@ pub fn edge_uses(stars: &Stars, triangles: &[[u32; 3]], a: u32, mut f: impl FnMu
 
 /// Counts boundary and non-manifold/inconsistent edges.
 pub fn closure(triangles: &[[u32; 3]]) -> Closure {
-    let n = triangles
+    let n = vertex_count(triangles);
+    closure_with(&Stars::new(n, triangles), triangles, n)
+}
+
+/// One more than the largest vertex index (0 without triangles).
+fn vertex_count(triangles: &[[u32; 3]]) -> usize {
+    triangles
         .iter()
         .flatten()
         .map(|&v| v as usize + 1)
         .max()
-        .unwrap_or(0);
-    closure_with(&Stars::new(n, triangles), triangles, n)
+        .unwrap_or(0)
 }
 
 /// [`closure`], and the ends of every boundary edge (each vertex once per edge).
 pub fn closure_and_rims(triangles: &[[u32; 3]]) -> (Closure, Vec<u32>) {
-    let n = triangles
-        .iter()
-        .flatten()
-        .map(|&v| v as usize + 1)
-        .max()
-        .unwrap_or(0);
+    let n = vertex_count(triangles);
     let mut rims = Vec::new();
     let c = tally(&Stars::new(n, triangles), triangles, n, |a, b| {
         rims.extend([a, b])
