@@ -92,12 +92,13 @@ const EXPECTED: &[Expected] = &[
         48,
         Some(2),
     ),
-    // 48 corners welded to 10 vertices; two wedges sharing an edge (non-manifold).
+    // 48 corners welded to 10 vertices; two wedges sharing an edge (non-manifold), mended on
+    // reading into two closed wedges: the edge's 2 vertices split, 12 in all.
     (
         "DoubleWedge.stl",
         Format::Stl,
         TargetKind::Mesh,
-        10,
+        12,
         16,
         None,
     ),
@@ -214,8 +215,11 @@ fn info_cli_reports_topology() {
     let v = run("bunnyPts_3.ply");
     assert_eq!(v["kind"], "points");
     assert!(v.get("closed").is_none());
+    // Two wedges on one edge: mended on reading (see `mesh::repair`), and said so.
     let v = run("DoubleWedge.stl");
-    assert_eq!(v["manifold"], false);
+    assert_eq!((&v["manifold"], &v["closed"]), (&true.into(), &true.into()));
+    assert_eq!(v["repairs"]["split_vertices"], 2);
+    assert_eq!(run("bunny.ply")["repairs"], serde_json::Value::Null);
     let e = lsw::cli::info::run(&lsw::cli::info::InfoArgs {
         file: dir.join("README.md"),
         volume: Default::default(),

@@ -202,8 +202,7 @@ fn small_loop(rims: &[u32]) -> bool {
 /// part); returns how many.
 fn fill_small_holes(tris: &mut Vec<[u32; 3]>, big: &[bool]) -> usize {
     // The rim of a hole runs backwards through the patch: for each boundary edge a → b of a
-    // face, the patch has b → a. (start, end) of the patch's edges, sorted.
-    // (start, end, along a big part's face)
+    // face, the patch has b → a. The patch's edges, sorted: (start, end, along a big part).
     let mut patch: Vec<(u32, u32, bool)> = Vec::new();
     let uses = edge_uses(tris);
     for run in uses.chunk_by(|a, b| a.0 == b.0) {
