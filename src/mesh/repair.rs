@@ -35,7 +35,8 @@ use serde::{Deserialize, Serialize};
 pub struct Repairs {
     /// Vertices merged into an earlier one at the same position.
     pub merged_vertices: usize,
-    /// Faces dropped: a repeated corner (after merging) or a second copy of a face.
+    /// Faces dropped: with a repeated corner (after merging), or stored twice (the second copy;
+    /// both copies where they are the wall between two solids).
     pub dropped_faces: usize,
     /// Faces whose winding was reversed.
     pub flipped_faces: usize,
