@@ -179,7 +179,7 @@ impl Target {
         // sort of every point (0.1 s on a million).
         let mut distinct_keys: Vec<[u64; 3]> = Vec::with_capacity(4);
         for p in &self.points {
-            let key = [p.x, p.y, p.z].map(|c| (c + 0.0).to_bits());
+            let key = crate::mesh::repair::position_key(*p);
             if !distinct_keys.contains(&key) {
                 distinct_keys.push(key);
                 if distinct_keys.len() == 4 {

@@ -250,6 +250,11 @@ fn fill_small_holes(tris: &mut Vec<[u32; 3]>, big: &[bool]) -> usize {
     filled
 }
 
+/// A position's coordinates as bits, equal exactly for bit-identical positions (−0 as +0).
+pub fn position_key(p: DVec3) -> [u64; 3] {
+    [p.x, p.y, p.z].map(|c| (c + 0.0).to_bits())
+}
+
 /// Whether two of the vertices `ids` (repeats allowed) sit at bit-identical positions.
 fn coincident(points: &[DVec3], ids: &[u32]) -> bool {
     let mut ids = ids.to_vec();
@@ -257,10 +262,7 @@ fn coincident(points: &[DVec3], ids: &[u32]) -> bool {
     ids.dedup();
     let mut keys: Vec<[u64; 3]> = ids
         .iter()
-        .map(|&i| {
-            let p = points[i as usize];
-            [p.x, p.y, p.z].map(|c| (c + 0.0).to_bits())
-        })
+        .map(|&i| position_key(points[i as usize]))
         .collect();
     keys.sort_unstable();
     keys.windows(2).any(|w| w[0] == w[1])
@@ -271,7 +273,7 @@ fn coincident(points: &[DVec3], ids: &[u32]) -> bool {
 fn merge_coincident(points: &[DVec3]) -> (Vec<DVec3>, Vec<u32>) {
     // (coordinates' bits, index), sorted: runs of one position, smallest index first.
     let mut keyed: Vec<([u64; 3], u32)> = (points.iter().enumerate())
-        .map(|(i, p)| ([p.x, p.y, p.z].map(|c| (c + 0.0).to_bits()), i as u32))
+        .map(|(i, &p)| (position_key(p), i as u32))
         .collect();
     keyed.sort_unstable();
     // Each point's representative: the first (smallest index) of its run.
