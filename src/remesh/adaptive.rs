@@ -602,7 +602,14 @@ fn remap<T: Copy>(data: &mut Vec<T>, map: &[u32]) {
 
 /// True when the two faces that flipping edge `(a, b)` (opposite vertices c, d) would create,
 /// `(c, a, d)` and `(d, b, c)`, are non-degenerate and face the same side as the old pair.
-fn flip_geometry_ok(mesh: &HalfedgeMesh, a: u32, b: u32, c: u32, d: u32, min_area: f64) -> bool {
+pub(super) fn flip_geometry_ok(
+    mesh: &HalfedgeMesh,
+    a: u32,
+    b: u32,
+    c: u32,
+    d: u32,
+    min_area: f64,
+) -> bool {
     let [pa, pb, pc, pd] = [a, b, c, d].map(|v| mesh.position(v));
     let m =
         (pb - pa).cross(pc - pa).normalize_or_zero() + (pa - pb).cross(pd - pb).normalize_or_zero();

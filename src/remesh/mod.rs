@@ -4,6 +4,7 @@
 //!   with a curvature-adaptive sizing field ([`adaptive::remesh`]).
 //! * [`sizing`] — the sizing field and the start-size rules and schedule of §6.6 / §7.2.
 //! * [`features`] — convex crease and corner detection (mean-curvature angle, dihedral angle).
+//! * [`slivers`] — caps and needles left by moves after the last remesh, flipped or collapsed.
 //! * [`trigger`] — when to remesh (worst vertex-averaged κ above a bound).
 //!
 //! Principal curvatures come from [`crate::geometry::operators::curvature`].
@@ -11,6 +12,7 @@
 pub mod adaptive;
 pub mod features;
 pub mod sizing;
+pub mod slivers;
 pub mod trigger;
 
 pub use adaptive::{

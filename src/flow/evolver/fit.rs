@@ -25,6 +25,7 @@ use crate::remesh::adaptive::{
     remesh, remesh_capped, remesh_with_features, RemeshError, RemeshSettings,
 };
 use crate::remesh::features::Features;
+use crate::remesh::slivers::{remove_slivers, SliverReport, SliverSettings};
 use glam::DVec3;
 
 impl Evolver {
@@ -402,6 +403,8 @@ impl Evolver {
         // within 10°). After a reach it also settles the tips of flaps left in concavities; on a
         // closed target every vertex still off it goes to its closest point.
         if let SnapTarget::Triangles(bvh) = target {
+            // (Its slivers first: a folded one holds its neighbours' moves back.)
+            tidy_slivers(&mut self.mesh, contact, self.phi, self.center);
             let clean = self.mesh.clone();
             let normals = angle_weighted_normals(&self.mesh);
             snap(&mut self.mesh, &normals, &mut |_| {});
@@ -433,6 +436,7 @@ impl Evolver {
                 certified = true;
             }
         }
+        tidy_slivers(&mut self.mesh, contact, self.phi, self.center);
         self.mesh.remove_vertex_scalar_layer(CAP_LAYER);
         at(most, 0.0);
         // A surface the passes left intersecting (a redone pass whose put-back moves still
@@ -445,6 +449,17 @@ impl Evolver {
             return Some(0);
         }
         Some(moved)
+    }
+}
+
+/// Flips the caps and collapses the needles that moves onto crease lines left since the last
+/// remesh (see [`crate::remesh::slivers`]), unless that makes faces intersect as written
+/// (checked with the contact guard on).
+fn tidy_slivers(mesh: &mut HalfedgeMesh, contact: bool, phi: f64, center: DVec3) {
+    let before = mesh.clone();
+    let tidied = remove_slivers(mesh, &SliverSettings::default());
+    if tidied != SliverReport::default() && contact && intersects_as_written(mesh, phi, center) {
+        *mesh = before;
     }
 }
 
