@@ -45,9 +45,14 @@ pub struct SliverReport {
 const SWEEPS: usize = 3;
 
 /// Flips the long edge of every cap and collapses the short edge of every needle where that is
-/// legal and folds nothing; positions are untouched. The mesh is garbage-collected after an
+/// legal and folds nothing, leaving faces with a `frozen` vertex alone (indices of the mesh as
+/// given; shorter: not frozen); positions are untouched. The mesh is garbage-collected after an
 /// edit (vertex indices change then).
-pub fn remove_slivers(mesh: &mut HalfedgeMesh, s: &SliverSettings) -> SliverReport {
+pub fn remove_slivers(
+    mesh: &mut HalfedgeMesh,
+    s: &SliverSettings,
+    frozen: &[bool],
+) -> SliverReport {
     let mut report = SliverReport::default();
     let cos_cap = crate::fmath::cos(s.cap_angle_deg.to_radians());
     for _ in 0..SWEEPS {
@@ -58,6 +63,12 @@ pub fn remove_slivers(mesh: &mut HalfedgeMesh, s: &SliverSettings) -> SliverRepo
             }
             let h0 = mesh.face_halfedge(f);
             let hs = [h0, mesh.next(h0), mesh.next(mesh.next(h0))];
+            if hs
+                .iter()
+                .any(|&h| frozen.get(mesh.to(h) as usize) == Some(&true))
+            {
+                continue;
+            }
             let len =
                 hs.map(|h| (mesh.position(mesh.to(h)) - mesh.position(mesh.from(h))).length());
             let longest = (0..3)
@@ -78,8 +89,12 @@ pub fn remove_slivers(mesh: &mut HalfedgeMesh, s: &SliverSettings) -> SliverRepo
             );
             let cos_apex = u.dot(v) / (u.length() * v.length());
             if cos_apex < cos_cap {
+                // (A cap whose flip is illegal, beside a vertex of valence 3, loses its
+                // shortest edge instead: its apex lies nearly on the long edge.)
                 if flip_cap(mesh, h >> 1) {
                     report.caps_flipped += 1;
+                } else if collapse_needle(mesh, hs[shortest], s.collapse_min_cos) {
+                    report.needles_collapsed += 1;
                 }
             } else if len[shortest] < s.needle_ratio * len[longest]
                 && collapse_needle(mesh, hs[shortest], s.collapse_min_cos)
@@ -186,7 +201,7 @@ mod tests {
         let mut mesh = fan(&pts);
         let before = mesh.n_vertices();
         assert!(worst_angles(&mesh).0 < 1.0);
-        let r = remove_slivers(&mut mesh, &SliverSettings::default());
+        let r = remove_slivers(&mut mesh, &SliverSettings::default(), &[]);
         assert!(r.needles_collapsed >= 1, "{r:?}");
         assert_eq!(mesh.n_vertices(), before - 1);
         assert!(mesh.validate().is_ok());
@@ -215,7 +230,7 @@ mod tests {
         let mut mesh = HalfedgeMesh::from_triangles(pos, &tris).expect("closed");
         let positions = mesh.positions().to_vec();
         assert!(worst_angles(&mesh).1 > 170.0);
-        let r = remove_slivers(&mut mesh, &SliverSettings::default());
+        let r = remove_slivers(&mut mesh, &SliverSettings::default(), &[]);
         assert_eq!(r.caps_flipped, 1, "{r:?}");
         assert!(mesh.validate().is_ok());
         assert_eq!(mesh.positions(), &positions[..]);
@@ -226,7 +241,7 @@ mod tests {
     fn a_sound_mesh_is_left_alone() {
         let mut mesh = fan(&ring(8));
         let tris = mesh.triangles();
-        let r = remove_slivers(&mut mesh, &SliverSettings::default());
+        let r = remove_slivers(&mut mesh, &SliverSettings::default(), &[]);
         assert_eq!(r, SliverReport::default());
         assert_eq!(mesh.triangles(), tris);
     }

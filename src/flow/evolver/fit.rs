@@ -453,13 +453,29 @@ impl Evolver {
 }
 
 /// Flips the caps and collapses the needles that moves onto crease lines left since the last
-/// remesh (see [`crate::remesh::slivers`]), unless that makes faces intersect as written
-/// (checked with the contact guard on).
+/// remesh (see [`crate::remesh::slivers`]). With the contact guard on, where that makes faces
+/// intersect as written it is tried again with those regions left alone, as a pass's remesh is
+/// (sphere-cut: 217 edits made its doubled sheet intersect).
 fn tidy_slivers(mesh: &mut HalfedgeMesh, contact: bool, phi: f64, center: DVec3) {
-    let before = mesh.clone();
-    let tidied = remove_slivers(mesh, &SliverSettings::default());
-    if tidied != SliverReport::default() && contact && intersects_as_written(mesh, phi, center) {
-        *mesh = before;
+    let mut frozen = vec![false; mesh.n_vertices()];
+    for _ in 0..=REMESH_TRIES {
+        let mut tidied = mesh.clone();
+        let report = remove_slivers(&mut tidied, &SliverSettings::default(), &frozen);
+        if report == SliverReport::default() {
+            return;
+        }
+        if !contact {
+            *mesh = tidied;
+            return;
+        }
+        match freeze_where_intersecting(&tidied, mesh, phi, center, &mut frozen) {
+            None => {
+                *mesh = tidied;
+                return;
+            }
+            Some(true) => {}
+            Some(false) => return,
+        }
     }
 }
 
