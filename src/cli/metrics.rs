@@ -16,7 +16,9 @@
 //! * `certificate`: {`valid`, `closed`, `manifold`, `oriented`, `finite`, `genus`,
 //!   `components`, `euler_characteristic`, `self_intersections`, `degenerate_faces`,
 //!   `distance_min`, `distance_max` (vertex → target, with `--target`), `problem`,
-//!   `target_genus`, `target_components` (a one-part closed mesh target's)} (see
+//!   `target_genus`, `target_components` (a one-part closed mesh target's),
+//!   `target_points_outside` of `target_points_checked` (target points the wrap left outside,
+//!   farther than 1 % of the diagonal, with `--target`)} (see
 //!   [`crate::metrics::certificate`]), `certificate_ms`
 //! * with `--histograms`: `histograms` (see [`metrics_json_with`])
 //! * `--error-map FILE` / `--target-error-map FILE` (with `--target`) write the mesh / the target

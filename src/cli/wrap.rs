@@ -74,12 +74,13 @@ pub fn apply_overrides(
 /// Runs the wrap; JSON keys: input, output, preset, start, written, stop_reason, certificate
 /// {valid, closed, manifold, oriented, finite, genus, components, euler_characteristic,
 /// self_intersections, degenerate_faces, distance_min, distance_max, problem, target_genus,
-/// target_components}, contacts,
+/// target_components, target_points_outside, target_points_checked}, contacts,
 /// surgery [{step, kind, position, genus_before, genus_after}], isolated_points_left_out (a
 /// cloud's stray points, see `field.outlier_spacings`), repairs (what reading mended in a mesh's
 /// indices, or null; see `lsw info`), vertices, faces, steps, stopped_early,
 /// scale, result_hash, iso_level, times_ms {read, field, start, evolve, write, total}, evolve_ms {normals,
-/// assembly, solve, remesh, guard, fit, surgery}, distance_mean, distance_max; for volumes also iso (the iso-value
+/// assembly, solve, remesh, guard, fit, surgery}, fit_ms (the final fit part by part, see
+/// `flow::FitTimes`), distance_mean, distance_max; for volumes also iso (the iso-value
 /// wrapped) and volume (see [`super::volume::volume_json`]).
 pub fn run(a: &WrapArgs) -> Result<String, String> {
     let t0 = crate::clock::now_ms();
@@ -210,6 +211,7 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
             "fit": sum(|r| r.times.fit),
             "surgery": sum(|r| r.times.surgery),
         },
+        "fit_ms": last.map(|r| r.times.fit_parts),
     }))
     .expect("JSON of plain values");
     match failure {

@@ -50,7 +50,22 @@ pub struct Certificate {
     pub target_genus: Option<i64>,
     #[serde(default)]
     pub target_components: Option<usize>,
+    /// Of `target_points_checked` target points (every point of a cloud or vertex of a mesh,
+    /// or an even subsample of at most [`OUTSIDE_SAMPLES`]), how many lie outside the wrap and
+    /// farther from it than [`OUTSIDE_TOLERANCE`] of the target's diagonal: a part of the
+    /// target the wrap cut off (a thin spike that poked through a coarse face early on). None
+    /// without a target or for a wrap that is not closed. Shown, not part of `valid`.
+    #[serde(default)]
+    pub target_points_outside: Option<usize>,
+    #[serde(default)]
+    pub target_points_checked: Option<usize>,
 }
+
+/// At most this many target points are tested for lying outside the wrap.
+pub const OUTSIDE_SAMPLES: usize = 20_000;
+/// A target point counts as outside the wrap when it is farther from it than this fraction of
+/// the target's diagonal (well above a fit's residual on a noisy scan).
+pub const OUTSIDE_TOLERANCE: f64 = 0.01;
 
 /// Cells of the cloud's grid along its bounding-box diagonal (refined where dense).
 const CLOUD_GRID_DIVISIONS: f64 = 200.0;
@@ -60,6 +75,9 @@ const CLOUD_GRID_DIVISIONS: f64 = 200.0;
 pub struct CertificateTarget {
     near: Near,
     topology: Option<crate::mesh::MeshReport>,
+    /// The target points tested for lying outside the wrap, and how far out counts.
+    samples: Vec<DVec3>,
+    outside_tolerance: f64,
 }
 
 enum Near {
@@ -81,9 +99,12 @@ impl CertificateTarget {
         } else {
             Near::Triangles(TriangleBvh::new(&t.points, &t.triangles))
         };
+        let stride = t.points.len().div_ceil(OUTSIDE_SAMPLES).max(1);
         CertificateTarget {
             near,
             topology: closed_topology(t),
+            samples: t.points.iter().copied().step_by(stride).collect(),
+            outside_tolerance: OUTSIDE_TOLERANCE * t.bbox.diagonal(),
         }
     }
 
@@ -178,6 +199,15 @@ pub fn certify_against(
         _ => (None, None),
     };
     let target_topology = target.and_then(|t| t.topology);
+    let outside = match target {
+        Some(t) if closed && manifold && oriented && finite => Some(points_outside(
+            positions,
+            triangles,
+            &t.samples,
+            t.outside_tolerance,
+        )),
+        _ => None,
+    };
     Certificate {
         valid,
         closed,
@@ -194,7 +224,25 @@ pub fn certify_against(
         problem: if valid { None } else { problem },
         target_genus: target_topology.map(|t| t.genus),
         target_components: target_topology.map(|t| t.components),
+        target_points_outside: outside,
+        target_points_checked: outside.and(target.map(|t| t.samples.len())),
     }
+}
+
+/// How many of `points` lie outside the closed surface `(positions, triangles)` and farther
+/// from it than `tolerance`.
+fn points_outside(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    points: &[DVec3],
+    tolerance: f64,
+) -> usize {
+    let bvh = TriangleBvh::new(positions, triangles);
+    let out = crate::parallel::map(points.len(), |i| {
+        let p = points[i];
+        bvh.closest_point_within(p, tolerance).is_none() && !bvh.encloses(p)
+    });
+    out.into_iter().filter(|&o| o).count()
 }
 
 /// Genus and components of a target of one closed manifold part (see
@@ -263,5 +311,33 @@ mod tests {
         let two = Target::new([p.clone(), shifted].concat(), two_t.collect()).unwrap();
         let c = certify(&p, &t, Some(&two));
         assert_eq!((c.target_genus, c.target_components), (None, None));
+    }
+
+    /// Target points the wrap cut off are counted; points inside it, on it or near it are not.
+    #[test]
+    fn target_points_left_outside_are_counted() {
+        let m = icosphere(3, 1.0, DVec3::ZERO).unwrap();
+        let (p, t) = (m.positions().to_vec(), m.triangles());
+        // A cloud on the sphere, one inside, and a spike of 5 points out to 1.5 along z.
+        let mut cloud = p.clone();
+        cloud.push(DVec3::ZERO);
+        cloud.extend((1..=5).map(|k| DVec3::new(0.01, 0.02, 1.0 + 0.1 * k as f64)));
+        let target = Target::new(cloud.clone(), vec![]).unwrap();
+        let c = certify(&p, &t, Some(&target));
+        // The diagonal is about 3.6, so the tolerance 0.036: every spike point is outside.
+        assert_eq!(c.target_points_outside, Some(5), "{c:?}");
+        assert_eq!(c.target_points_checked, Some(cloud.len()));
+        assert!(c.valid, "shown, not part of `valid`");
+        // Without the spike: none. An open wrap: not measured.
+        let target = Target::new(cloud[..p.len() + 1].to_vec(), vec![]).unwrap();
+        assert_eq!(
+            certify(&p, &t, Some(&target)).target_points_outside,
+            Some(0)
+        );
+        let c = certify(&p, &t[1..], Some(&target));
+        assert_eq!(
+            (c.target_points_outside, c.target_points_checked),
+            (None, None)
+        );
     }
 }

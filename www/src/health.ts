@@ -17,11 +17,19 @@ export function topologyDiffers(c: Certificate): boolean {
   return c.target_genus != null && (c.target_genus !== c.genus || c.target_components !== c.components);
 }
 
+/** Whether target points lie outside the wrap, farther than 1 % of the diagonal: a part cut off. */
+export function partLeftOut(c: Certificate): boolean {
+  return (c.target_points_outside ?? 0) > 0;
+}
+
 /** One sentence on what is wrong with an invalid result, and what to try. */
 export function explain(c: Certificate, stopReason: string | null): string {
   if (stopReason) return `Stopped early (${stopReason}). Try a smaller time step τ.`;
   if (c.valid && topologyDiffers(c)) {
     return `Closed, manifold, no intersecting faces, but the target has genus ${c.target_genus} in ${c.target_components} part(s) and this wrap genus ${c.genus} in ${c.components}. Try the other start surface or a finer grid.`;
+  }
+  if (c.valid && partLeftOut(c)) {
+    return `Closed, manifold, no intersecting faces, but ${c.target_points_outside} of ${c.target_points_checked} target points checked lie outside the wrap: a thin part was cut off. Try the other start surface or a finer grid.`;
   }
   if (c.valid) return 'Closed, manifold, oriented, no intersecting faces.';
   if (!c.finite) return 'Has non-finite coordinates. Try a smaller time step τ.';
@@ -38,6 +46,7 @@ export function showCertificate(el: HTMLElement, c: Certificate, stopReason: str
   el.dataset.si = String(c.self_intersections);
   el.dataset.state = ok ? 'valid' : 'invalid';
   el.dataset.topology = topologyDiffers(c) ? 'differs' : '';
+  el.dataset.outside = partLeftOut(c) ? String(c.target_points_outside) : '';
   const parts = [
     ok ? '✓ valid' : '✗ not valid',
     c.closed ? 'closed' : 'open',
@@ -46,6 +55,7 @@ export function showCertificate(el: HTMLElement, c: Certificate, stopReason: str
     `${c.self_intersections} SI`,
   ];
   if (topologyDiffers(c)) parts.push(`⚠ target: genus ${c.target_genus}, ${c.target_components} part(s)`);
+  if (partLeftOut(c)) parts.push(`⚠ ${c.target_points_outside} target points outside`);
   if (c.distance_max !== null) parts.push(`max dist ${c.distance_max.toPrecision(3)}`);
   el.textContent = parts.join(' · ');
   el.title = explain(c, stopReason);

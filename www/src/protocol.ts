@@ -19,6 +19,10 @@ export interface Certificate {
   /** The target's genus and components when it is a closed manifold mesh (else null). */
   target_genus: number | null;
   target_components: number | null;
+  /** Of `target_points_checked` target points, how many lie outside the wrap and farther than
+   *  1 % of the diagonal from it: a part of the target it cut off (null: no target, or not closed). */
+  target_points_outside: number | null;
+  target_points_checked: number | null;
 }
 
 /** An error as produced by the Rust facade: stable code, message naming the problem, and a hint. */

@@ -3,7 +3,7 @@
 // the worker's answers that belong to it (target, frames, volume, result, stop).
 import { byId } from './dom';
 import type { FieldControls } from './field-view';
-import { showPending, topologyDiffers } from './health';
+import { partLeftOut, showPending, topologyDiffers } from './health';
 import { revealView } from './layout';
 import type { KeptResult, TargetMesh } from './kept';
 import type { ModeSwitch } from './mode';
@@ -281,6 +281,7 @@ export class WrapRun {
     const k = kept.result;
     if (reason === 'finished' && k && !k.valid) status.set('invalid', `Not valid — ${k.why}`);
     else if (reason === 'finished' && k && topologyDiffers(k.certificate)) status.set('invalid', `Done, but not the target's topology — ${k.why}`);
+    else if (reason === 'finished' && k && partLeftOut(k.certificate)) status.set('invalid', `Done, but part of the target lies outside the wrap — ${k.why}`);
     else if (reason === 'finished') {
       const strays = this.isolated > 0 ? ` (${this.isolated} stray point${this.isolated === 1 ? '' : 's'} left out)` : '';
       status.set('done', `Done — ${this.name} wrapped in ${(this.workMs / 1000).toFixed(1)} s${strays}`);

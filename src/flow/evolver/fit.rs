@@ -27,6 +27,7 @@ use crate::remesh::adaptive::{
 use crate::remesh::features::Features;
 use crate::remesh::slivers::{remove_slivers, SliverReport, SliverSettings};
 use glam::DVec3;
+use serde::Serialize;
 
 impl Evolver {
     /// The final fit when the evolution has just ended; vertices moved.
@@ -39,15 +40,18 @@ impl Evolver {
             return None;
         }
         let t0 = now_ms();
-        let fitted = self.final_fit(progress);
+        let mut parts = FitTimes::default();
+        let fitted = self.final_fit(progress, &mut parts);
         times.fit = now_ms() - t0;
+        parts.other = times.fit - parts.named();
+        times.fit_parts = parts;
         fitted
     }
 
     /// Moves the settled surface onto the target (see [`crate::flow::snap`]); returns vertices moved.
     /// Each pass's moves go through the contact guard, and a remesh that would leave
     /// intersecting faces is undone.
-    fn final_fit(&mut self, progress: &mut Progress) -> Option<usize> {
+    fn final_fit(&mut self, progress: &mut Progress, ft: &mut FitTimes) -> Option<usize> {
         let target = self.fit_target.as_ref()?;
         let c = self.field.cell_size();
         let params = SnapParams {
@@ -134,6 +138,7 @@ impl Evolver {
         // surface (the contact guard checked it before the fit) and every pass's end but the
         // redo's (see the end of the fit).
         let mut certified = true;
+        let mut sw = Laps(now_ms());
         for pass in 0..most {
             // (A pass after a reach puts the dents' new vertices on the target.)
             let spent = remeshes_lost >= 2 || over_budget || stalled;
@@ -141,6 +146,7 @@ impl Evolver {
                 break;
             }
             at(pass, 0.0);
+            sw.lap();
             // The surface here is certified; keep it to redo the pass with the guard if needed.
             let clean = contact.then(|| self.mesh.clone());
             let start_of_pass = self.creases.is_some().then(|| self.mesh.clone());
@@ -157,6 +163,7 @@ impl Evolver {
                 reached =
                     reach_into_misses(&mut self.mesh, bvh, samples, &check, tol, reach, closed);
             }
+            ft.moves += sw.lap();
             let (mut snap_moves, mut features, mut refused) = (None, None, false);
             for undo_reach in [false, true] {
                 if undo_reach {
@@ -188,6 +195,7 @@ impl Evolver {
                         resolve_contacts_as_written(&mut self.mesh, old, guard, phi, center);
                     }
                 }
+                ft.contacts += sw.lap();
                 // Sharp creases: vertices onto them, edges along them, kept by the remesh.
                 features = match &self.creases {
                     None => None,
@@ -204,6 +212,7 @@ impl Evolver {
                         },
                     ),
                 };
+                ft.creases += sw.lap();
                 refused = self.creases.is_some() && features.is_none();
                 if !refused {
                     break;
@@ -231,6 +240,7 @@ impl Evolver {
             // The caps live in a vertex layer, so the edits carry them to later passes and the
             // curvature sizing does not coarsen a refined region again. (No new caps in the
             // last pass: the next pass's moves must put the new vertices on the target.)
+            ft.checks += sw.lap();
             let caps = refine.map(|samples| {
                 self.mesh.garbage_collect();
                 let floor = self.sizes.min_edge_length;
@@ -282,6 +292,7 @@ impl Evolver {
                 }
                 layer.to_vec()
             });
+            ft.sizing += sw.lap();
             let (phi, center) = (self.phi, self.center);
             // False when the remesh ran away (see `FIT_SPLITS_PER_VERTEX`), leaving the mesh
             // part-way: the caller puts the surface before it back.
@@ -305,6 +316,7 @@ impl Evolver {
                 round_as_written(&mut self.mesh, phi, center);
             }
             at(pass, 0.75);
+            ft.remesh += sw.lap();
             let Some(clean) = clean else {
                 if let (true, Some(m)) = (ran_away, unremeshed) {
                     self.mesh = m;
@@ -349,6 +361,7 @@ impl Evolver {
                     }
                     _ => intersects(&self.mesh),
                 };
+            ft.checks += sw.lap();
             over_budget = pass >= passes && self.mesh.n_vertices() > budget.max(n_before);
             let lost = lost || over_budget;
             rs_now = &rs;
@@ -402,6 +415,7 @@ impl Evolver {
         // remesh (cad-part's Hausdorff 0.26 → 0.08 %, cube-hole's rim creases 137 → 139 of 140
         // within 10°). After a reach it also settles the tips of flaps left in concavities; on a
         // closed target every vertex still off it goes to its closest point.
+        sw.lap();
         if let SnapTarget::Triangles(bvh) = target {
             // (Its slivers first: a folded one holds its neighbours' moves back.)
             tidy_slivers(&mut self.mesh, contact, self.phi, self.center);
@@ -436,7 +450,9 @@ impl Evolver {
                 certified = true;
             }
         }
+        ft.last_round += sw.lap();
         tidy_slivers(&mut self.mesh, contact, self.phi, self.center);
+        ft.tidy += sw.lap();
         self.mesh.remove_vertex_scalar_layer(CAP_LAYER);
         at(most, 0.0);
         // A surface the passes left intersecting (a redone pass whose put-back moves still
@@ -476,6 +492,56 @@ fn tidy_slivers(mesh: &mut HalfedgeMesh, contact: bool, phi: f64, center: DVec3)
             Some(true) => {}
             Some(false) => return,
         }
+    }
+}
+
+/// Where the final fit's time goes, in milliseconds (summed over its passes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct FitTimes {
+    /// Moves onto the target (plane fits or closest points) and reaches into concavities.
+    pub moves: f64,
+    /// The contact guard putting back moves that make faces meet.
+    pub contacts: f64,
+    /// Vertices onto the target's creases and edges along them, checked.
+    pub creases: f64,
+    /// Error-adaptive and crease sizing: the caps on the edge length where the target is missed.
+    pub sizing: f64,
+    /// The passes' remeshes.
+    pub remesh: f64,
+    /// Intersection checks after the moves and the remesh, with the remesh's retries.
+    pub checks: f64,
+    /// A mesh target's last round of moves without a remesh.
+    pub last_round: f64,
+    /// The slivers tidied at the end (see [`crate::remesh::slivers`]).
+    pub tidy: f64,
+    /// The rest: copies, normals, passes redone.
+    pub other: f64,
+}
+
+impl FitTimes {
+    /// Everything but `other`.
+    fn named(&self) -> f64 {
+        self.moves
+            + self.contacts
+            + self.creases
+            + self.sizing
+            + self.remesh
+            + self.checks
+            + self.last_round
+            + self.tidy
+    }
+}
+
+/// A stopwatch read in laps.
+struct Laps(f64);
+
+impl Laps {
+    /// Milliseconds since the last lap (or the start).
+    fn lap(&mut self) -> f64 {
+        let now = now_ms();
+        let d = now - self.0;
+        self.0 = now;
+        d
     }
 }
 

@@ -14,6 +14,7 @@
 mod advance;
 mod contact;
 mod fit;
+pub use fit::FitTimes;
 mod forces;
 mod remeshing;
 mod schedule;
@@ -142,6 +143,8 @@ pub struct PhaseTimes {
     pub guard: f64,
     /// Final fit (last step only).
     pub fit: f64,
+    /// The final fit, part by part.
+    pub fit_parts: FitTimes,
     /// Topology surgery (detection, and the cut, glue and remesh when it operates).
     pub surgery: f64,
     /// The whole step.

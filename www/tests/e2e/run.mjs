@@ -319,6 +319,29 @@ test('a messy mesh (split corners, flipped faces, boxes on one edge) is mended o
   await page.close();
 });
 
+test('a wrap that cuts off part of a thin cloud says so (amber badge, not "Done")', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  // A needle: 20 000 points on a cylinder of radius 0.05 and length 2 (a golden-angle helix).
+  // The default icosphere start passes over one of its tips (issue 15's closing note).
+  let xyz = '';
+  for (let i = 0; i < 20000; i++) {
+    const z = -1 + (2 * (i + 0.5)) / 20000, a = i * 2.399963;
+    xyz += `${(0.05 * Math.cos(a)).toFixed(6)} ${(0.05 * Math.sin(a)).toFixed(6)} ${z.toFixed(6)}\n`;
+  }
+  await dropFile(page, 'needle.xyz', Buffer.from(xyz));
+  await page.waitForSelector('[data-testid=status][data-state=invalid]', { timeout: 120000 });
+  const status = await page.textContent('[data-testid=status]');
+  assert(/part of the target lies outside the wrap/.test(status), `status: "${status}"`);
+  const outside = await page.getAttribute('[data-testid=health]', 'data-outside');
+  assert(Number(outside) > 100, `data-outside = ${outside}`);
+  const h = await health(page);
+  assert(h.valid === 'true' && h.si === '0', `badge: ${JSON.stringify(h)}`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+  await page.screenshot({ path: join(out, 'part-outside.png') });
+  console.log(`   ${outside} target points outside: ${status}`);
+  await page.close();
+});
+
 test('a malformed file gives a readable error; the page and the previous result survive', async (browser, url) => {
   const { page, errors } = await openApp(browser, url);
   await page.click('[data-demo=noisy-sphere]');
