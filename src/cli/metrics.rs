@@ -18,7 +18,8 @@
 //!   `distance_min`, `distance_max` (vertex → target, with `--target`), `problem`,
 //!   `target_genus`, `target_components` (a one-part closed mesh target's),
 //!   `target_points_outside` of `target_points_checked` (target points the wrap left outside,
-//!   farther than 1 % of the diagonal, with `--target`)} (see
+//!   farther than 1 % of the diagonal, with `--target`), `target_part_outside` (more than
+//!   0.5 % of them)} (see
 //!   [`crate::metrics::certificate`]), `certificate_ms`
 //! * with `--histograms`: `histograms` (see [`metrics_json_with`])
 //! * `--error-map FILE` / `--target-error-map FILE` (with `--target`) write the mesh / the target

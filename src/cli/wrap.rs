@@ -74,7 +74,8 @@ pub fn apply_overrides(
 /// Runs the wrap; JSON keys: input, output, preset, start, written, stop_reason, certificate
 /// {valid, closed, manifold, oriented, finite, genus, components, euler_characteristic,
 /// self_intersections, degenerate_faces, distance_min, distance_max, problem, target_genus,
-/// target_components, target_points_outside, target_points_checked}, contacts,
+/// target_components, target_points_outside, target_points_checked,
+/// target_part_outside}, contacts,
 /// surgery [{step, kind, position, genus_before, genus_after}], isolated_points_left_out (a
 /// cloud's stray points, see `field.outlier_spacings`), repairs (what reading mended in a mesh's
 /// indices, or null; see `lsw info`), vertices, faces, steps, stopped_early,

@@ -17,9 +17,9 @@ export function topologyDiffers(c: Certificate): boolean {
   return c.target_genus != null && (c.target_genus !== c.genus || c.target_components !== c.components);
 }
 
-/** Whether target points lie outside the wrap, farther than 1 % of the diagonal: a part cut off. */
+/** Whether a part of the target lies outside the wrap (more than 0.5 % of its points checked). */
 export function partLeftOut(c: Certificate): boolean {
-  return (c.target_points_outside ?? 0) > 0;
+  return c.target_part_outside === true;
 }
 
 /** One sentence on what is wrong with an invalid result, and what to try. */

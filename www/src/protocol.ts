@@ -23,6 +23,8 @@ export interface Certificate {
    *  1 % of the diagonal from it: a part of the target it cut off (null: no target, or not closed). */
   target_points_outside: number | null;
   target_points_checked: number | null;
+  /** More than 0.5 % of the checked points lie outside: a part of the target is left out. */
+  target_part_outside: boolean;
 }
 
 /** An error as produced by the Rust facade: stable code, message naming the problem, and a hint. */
