@@ -217,6 +217,38 @@ impl DistanceField {
         Self::new_with_progress(target, settings, &mut Progress::none())
     }
 
+    /// The grid the field of `target` is built on (a cloud's cells no finer than
+    /// `min_cell_spacings` of its point spacings).
+    fn grid_for(target: &Target, settings: &FieldSettings) -> Result<Grid, FieldError> {
+        // Recomputed rather than trusted: `Target`'s fields are public.
+        let bbox = Aabb::from_points(&target.points);
+        let mut grid = Grid::for_bbox(&bbox, settings)?;
+        if target.triangles.is_empty() && settings.min_cell_spacings > 0.0 {
+            let floor = settings.min_cell_spacings
+                * crate::geometry::spatial::spacing::median_spacing(&target.points);
+            if grid.cell < floor {
+                let beta = grid::reference_length(&bbox);
+                let n = ((beta / floor).floor() as u32).clamp(2, settings.cells_per_min_dimension);
+                let coarse = FieldSettings {
+                    cells_per_min_dimension: n,
+                    ..settings.clone()
+                };
+                grid = Grid::for_bbox(&bbox, &coarse)?;
+            }
+        }
+        Ok(grid)
+    }
+
+    /// The cell size the field of a mesh `target` will have, known before it is built (None for
+    /// a cloud, whose cells follow its point spacing, or where the build would fail).
+    pub fn planned_cell_size(target: &Target, settings: &FieldSettings) -> Option<f64> {
+        if target.triangles.is_empty() || target.points.iter().any(|p| !p.is_finite()) {
+            return None;
+        }
+        settings.check().ok()?;
+        Self::grid_for(target, settings).ok().map(|g| g.cell)
+    }
+
     /// [`DistanceField::new`], reporting the near band (the long part on big inputs) per item and
     /// the sweep, sign and gradient as they finish.
     pub fn new_with_progress(
@@ -240,23 +272,8 @@ impl DistanceField {
         {
             return Err(FieldError::BadTriangle { triangle });
         }
-        // Recomputed rather than trusted: `Target`'s fields are public.
-        let bbox = Aabb::from_points(&target.points);
-        let mut grid = Grid::for_bbox(&bbox, settings)?;
-        if target.triangles.is_empty() && settings.min_cell_spacings > 0.0 {
-            let floor = settings.min_cell_spacings
-                * crate::geometry::spatial::spacing::median_spacing(&target.points);
-            if grid.cell < floor {
-                let beta = grid::reference_length(&bbox);
-                let n = ((beta / floor).floor() as u32).clamp(2, settings.cells_per_min_dimension);
-                let coarse = FieldSettings {
-                    cells_per_min_dimension: n,
-                    ..settings.clone()
-                };
-                grid = Grid::for_bbox(&bbox, &coarse)?;
-            }
-        }
-        let beta = grid::reference_length(&bbox);
+        let grid = Self::grid_for(target, settings)?;
+        let beta = grid::reference_length(&Aabb::from_points(&target.points));
         let init = settings.truncation.map_or(f64::INFINITY, |t| t * beta);
 
         let t1 = crate::clock::now_ms();

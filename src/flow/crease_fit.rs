@@ -13,7 +13,7 @@
 //! would turn a face over is not made; the fit's intersection check covers the rest.
 
 use crate::flow::reach::{through_material, MOVE_FLOOR};
-use crate::geometry::creases::Creases;
+use crate::geometry::creases::{CreaseHit, Creases};
 use crate::geometry::operators::normals::angle_weighted_normals;
 use crate::geometry::spatial::bvh::TriangleBvh;
 use crate::mesh::HalfedgeMesh;
@@ -75,18 +75,17 @@ pub fn snap_to_creases(
 
     // 1. Corners: each takes its nearest wrap vertex within reach.
     // (The queries in parallel natively; the choice in vertex order.)
+    let corner_limit = |v: usize| (REACH * 1.5 * spacing[v]).max(reach);
     let nearest = crate::parallel::map(nv, |v| {
-        let v = v as u32;
-        free(v)
-            .then(|| creases.nearest_corner(mesh.position(v)))
+        free(v as u32)
+            .then(|| creases.nearest_corner_within(mesh.position(v as u32), corner_limit(v)))
             .flatten()
     });
     let mut owner: Vec<Option<(f64, u32)>> = vec![None; creases.corners.len()];
     for (v, hit) in nearest.into_iter().enumerate() {
         if let Some((c, d)) = hit {
             let best = &mut owner[c as usize];
-            let limit = (REACH * 1.5 * spacing[v]).max(reach);
-            if d <= limit && best.is_none_or(|(bd, _)| d < bd) {
+            if d <= corner_limit(v) && best.is_none_or(|(bd, _)| d < bd) {
                 *best = Some((d, v as u32));
             }
         }
@@ -105,13 +104,15 @@ pub fn snap_to_creases(
     //    within half its edge length of its landing point, so the line gets one vertex per
     //    edge length, from the row of vertices nearest to it. A vertex facing an edge that
     //    already lies on a crease (an earlier pass put it there) stays: it would land on it.
-    // (Independent queries: in parallel natively, collected in vertex order.)
-    let on_line: Vec<bool> = crate::parallel::map(nv, |v| {
-        let tol = 1e-9 * spacing[v];
-        creases
-            .closest_edge_point(mesh.position(v as u32), tol)
-            .is_some()
+    // (Independent queries: in parallel natively, collected in vertex order. One query per
+    // vertex answers both whether it is on a line and where it would land.)
+    let closest: Vec<Option<CreaseHit>> = crate::parallel::map(nv, |v| {
+        let reach = (REACH * spacing[v]).max(reach);
+        creases.closest_edge_point(mesh.position(v as u32), reach)
     });
+    let on_line: Vec<bool> = (0..nv)
+        .map(|v| closest[v].is_some_and(|hit| hit.distance <= 1e-9 * spacing[v]))
+        .collect();
     let faces_lined_edge = |v: u32| {
         mesh.outgoing(v).any(|h| {
             !mesh.is_boundary_halfedge(h)
@@ -126,8 +127,7 @@ pub fn snap_to_creases(
         if features.vertices[v as usize] || !free(v) || facing_lined {
             return None;
         }
-        let reach = (REACH * spacing[v as usize]).max(reach);
-        let hit = creases.closest_edge_point(mesh.position(v), reach)?;
+        let hit = closest[v as usize]?;
         Some((hit.distance, v, hit.point))
     });
     let mut candidates: Vec<(f64, u32, DVec3)> = hits.into_iter().flatten().collect();
@@ -235,7 +235,9 @@ fn try_move(
 ) -> bool {
     let old = mesh.position(v);
     if let Some((t, floor)) = triangles {
-        if through_material(t, old, q, floor) {
+        // (`q` lies on the target: a move shorter than the floor keeps its middle within half
+        // the floor of it, which [`through_material`] never refuses.)
+        if (q - old).length() > floor && through_material(t, old, q, floor) {
             return false;
         }
     }

@@ -32,6 +32,32 @@ pub struct Start {
     pub kind: StartSurface,
 }
 
+/// The icosphere start's radius: around the target's box.
+fn icosphere_radius(target: &Target, settings: &WrapSettings) -> f64 {
+    let size = target.bbox.size();
+    let (bmin, bmax) = (size.min_element(), size.max_element());
+    settings.start.icosphere_radius_factor * 0.4 * (bmin + 1.5 * bmax)
+}
+
+/// The stabilisation factor φ of the start [`build_start`] builds under `settings` on a field
+/// of cells of size `cell` (known before either is built, so that what the fit needs in the
+/// stabilised frame can be built beside them).
+pub fn start_scale(target: &Target, cell: f64, settings: &WrapSettings) -> f64 {
+    let (tau, shrink) = (settings.flow.tau, settings.flow.shrink_factor);
+    match settings.start.surface {
+        StartSurface::Auto | StartSurface::Icosphere => scaling::icosphere_scale(
+            tau,
+            shrink,
+            icosphere_radius(target, settings),
+            settings.start.icosphere_level,
+        ),
+        StartSurface::Isosurface => {
+            let c_r = settings.start.isosurface_resampling * cell;
+            scaling::isosurface_scale(tau, shrink, c_r)
+        }
+    }
+}
+
 /// Builds the start surface of `settings.start` (`Auto` counts as icosphere: resolve it first
 /// with [`WrapSettings::resolved_for`]); `field` is in the target's frame.
 pub fn build_start(
@@ -43,15 +69,8 @@ pub fn build_start(
     let c = field.cell_size();
     match settings.start.surface {
         StartSurface::Auto | StartSurface::Icosphere => {
-            let size = target.bbox.size();
-            let (bmin, bmax) = (size.min_element(), size.max_element());
-            let r = settings.start.icosphere_radius_factor * 0.4 * (bmin + 1.5 * bmax);
-            let phi = scaling::icosphere_scale(
-                settings.flow.tau,
-                settings.flow.shrink_factor,
-                r,
-                settings.start.icosphere_level,
-            );
+            let r = icosphere_radius(target, settings);
+            let phi = start_scale(target, field.cell_size(), settings);
             let mesh = icosphere(settings.start.icosphere_level, phi * r, DVec3::ZERO)?;
             let sizes = icosphere_sizes(
                 settings.remesh.min_edge_multiplier,
@@ -82,8 +101,7 @@ pub fn build_start(
             if tris.is_empty() {
                 return Err(EvolveError::EmptyIsosurface { iso });
             }
-            let phi =
-                scaling::isosurface_scale(settings.flow.tau, settings.flow.shrink_factor, c_r);
+            let phi = start_scale(target, field.cell_size(), settings);
             let scaled: Vec<DVec3> = pos.into_iter().map(|p| phi * (p - center)).collect();
             let mut mesh = HalfedgeMesh::from_triangles(scaled, &tris)?;
             let sizes = isosurface_sizes(settings.remesh.min_edge_multiplier, c_r, phi);

@@ -259,6 +259,14 @@ impl Creases {
     pub fn nearest_corner(&self, p: DVec3) -> Option<(u32, f64)> {
         self.corner_bvh.nearest(p).map(|(i, d2)| (i, d2.sqrt()))
     }
+
+    /// [`Creases::nearest_corner`] among the corners within `max_distance` of `p` (the same
+    /// answer where that is within it; a far query ends at once).
+    pub fn nearest_corner_within(&self, p: DVec3, max_distance: f64) -> Option<(u32, f64)> {
+        self.corner_bvh
+            .nearest_within(p, max_distance * max_distance)
+            .map(|(i, d2)| (i, d2.sqrt()))
+    }
 }
 
 #[cfg(test)]

@@ -324,19 +324,28 @@ fn remesh_impl(
     report.feature_edges = features.n_edges();
     report.locked_vertices = locked.iter().filter(|&&b| b).count();
 
-    // Sizing: curvatures with one smoothing pass that skips features.
+    // Sizing: curvatures with one smoothing pass that skips features; beside it, the tree of
+    // the surface as it is for the back-projection (independent work, a seventh of the call).
     let fixed: Vec<bool> = (0..nv).map(|v| locked[v] || features.vertices[v]).collect();
-    let curv = principal_curvatures(mesh, Some(&fixed), 1);
-    let mut h = curvature_sizing(mesh, &curv, &s.sizes(), &fixed);
+    let (bvh, mut h) = crate::parallel::beside(
+        || {
+            s.use_projection
+                .then(|| TriangleBvh::new(mesh.positions(), &mesh.triangles()))
+        },
+        || {
+            let curv = principal_curvatures(mesh, Some(&fixed), 1);
+            curvature_sizing(mesh, &curv, &s.sizes(), &fixed)
+        },
+    );
     if let Some(caps) = caps {
         for (h, &c) in h.iter_mut().zip(caps) {
             *h = h.min(c);
         }
     }
 
-    let reference = s.use_projection.then(|| Reference {
+    let reference = bvh.map(|bvh| Reference {
         sizing: h.clone(),
-        bvh: TriangleBvh::new(mesh.positions(), &mesh.triangles()),
+        bvh,
     });
 
     let mut w = Work {

@@ -25,7 +25,7 @@ use super::guard::{ContactReport, Divergence, DivergenceLimits};
 use super::mcf::stats;
 use super::settings::{StartSurface, WrapSettings};
 use super::snap::SnapTarget;
-use super::start::build_start;
+use super::start::{build_start, start_scale, Start};
 use super::surgery::SurgeryEvent;
 use crate::clock::now_ms;
 use crate::field::{DistanceField, FieldError};
@@ -283,6 +283,41 @@ struct StepParts<'a> {
     surgery: Vec<SurgeryEvent>,
 }
 
+/// What the fit's view of a mesh target (its creases and the tree the fit projects onto) is
+/// built from: equal keys build equal things.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct MeshFitKey {
+    /// The stabilisation factor of the frame they are built in.
+    phi: f64,
+    /// The fit's neighbourhood radius (stabilised frame).
+    fit_radius: f64,
+    /// The crease angle (radians); None: no crease detection.
+    crease_angle: Option<f64>,
+    /// Whether there is a final fit.
+    fits: bool,
+}
+
+impl MeshFitKey {
+    /// `(fit target, creases)`, each on a thread of its own natively.
+    fn build(&self, target: &Target, center: DVec3) -> (Option<SnapTarget>, Option<Creases>) {
+        let phi = self.phi;
+        let (creases, fit_target) = crate::parallel::beside(
+            || {
+                self.crease_angle.map(|angle| {
+                    let framed: Vec<DVec3> =
+                        target.points.iter().map(|&p| phi * (p - center)).collect();
+                    detect_creases(&framed, &target.triangles, angle)
+                })
+            },
+            || {
+                self.fits
+                    .then(|| SnapTarget::new(target, center, phi, self.fit_radius))
+            },
+        );
+        (fit_target, creases)
+    }
+}
+
 impl Evolver {
     /// Builds the distance field and the start surface, scaled into the stabilised frame.
     pub fn new(target: &Target, settings: WrapSettings) -> Result<Self, EvolveError> {
@@ -316,37 +351,39 @@ impl Evolver {
             }
             None => (target, 0),
         };
-        let field = DistanceField::new_with_progress(target, &settings.field, progress)?;
-        let requested = settings.clone();
-        let mut settings = settings.resolved_for(field.is_signed());
-        let center = target.bbox.center();
-        let c = field.cell_size();
-        progress.report(START_PHASE, 0.0);
-        let start = match build_start(target, &field, &settings) {
-            // `auto` promises a start that works. Its isosurface start is tried again with the
-            // isosurface preset's coarser edges (a voxel plate with nine holes intersected after
-            // the finer remesh, not after this one: genus 9 with 20 K vertices in 13 s, against
-            // the icosphere's 95 K in 25 s); where the exterior leaked into gaps of the target
-            // (noisy volumes, sparse clouds) the icosphere, which cannot leak, takes over.
-            Err(EvolveError::StartIntersects { .. })
-                if requested.start.surface == StartSurface::Auto =>
-            {
-                let coarser = coarser_isosurface_start(&requested, &settings);
-                match coarser.map(|s| (build_start(target, &field, &s), s)) {
-                    // Only with the target's own topology: two linked voxel tori gave a clean
-                    // coarse start of 5 components (the offsets merge where they link).
-                    Some((Ok(start), s)) if same_topology(&start.mesh, target) => {
-                        settings = s;
-                        start
-                    }
-                    _ => {
-                        settings = requested.resolved_for(false);
-                        build_start(target, &field, &settings)?
-                    }
-                }
-            }
-            other => other?,
+        // A mesh's creases and the fit's tree over it depend on the field and the start only
+        // through the cell size and φ, both known from the settings: they are built on other
+        // threads while the field and the start are (bust: 255 ms of setup), for the start the
+        // settings ask for on a closed mesh, and again below in the rare case of another start.
+        let mesh_fit = |settings: &WrapSettings, cell: f64, phi: f64| {
+            let fits = settings.fit.enabled && settings.flow.use_target;
+            let key = MeshFitKey {
+                phi,
+                fit_radius: settings.fit.radius_cells * cell * phi,
+                crease_angle: (fits && !target.sampled && settings.fit.crease_angle_deg > 0.0)
+                    .then(|| settings.fit.crease_angle_deg.to_radians()),
+                fits,
+            };
+            (!target.triangles.is_empty()).then_some(key)
         };
+        let planned = DistanceField::planned_cell_size(target, &settings.field).and_then(|cell| {
+            let guess = settings.clone().resolved_for(true);
+            mesh_fit(&guess, cell, start_scale(target, cell, &guess))
+        });
+        let center = target.bbox.center();
+        let (prebuilt, start) = crate::parallel::beside(
+            || planned.map(|k| (k, k.build(target, center))),
+            || -> Result<_, EvolveError> {
+                let field = DistanceField::new_with_progress(target, &settings.field, progress)?;
+                let mut resolved = settings.clone().resolved_for(field.is_signed());
+                progress.report(START_PHASE, 0.0);
+                let start =
+                    Self::build_start_with_fallback(target, &field, &settings, &mut resolved)?;
+                Ok((field, start, resolved))
+            },
+        );
+        let (field, start, mut settings) = start?;
+        let c = field.cell_size();
         progress.report(START_PHASE, 1.0);
         if target.sampled {
             settings = settings.resolved_for_volume();
@@ -377,12 +414,10 @@ impl Evolver {
             };
             (fit_target, creases)
         } else {
-            // A mesh's creases and the fit's tree over it, each on one thread: side by side.
-            let (creases, fit_target) = crate::parallel::beside(
-                || find_creases.then(|| detect_creases(&framed(), &target.triangles, angle)),
-                new_fit_target,
-            );
-            (fit_target, creases)
+            match (prebuilt, mesh_fit(&settings, c, phi)) {
+                (Some((made, built)), Some(now)) if made == now => built,
+                (_, now) => now.map_or((None, None), |k| k.build(target, center)),
+            }
         };
         let d0 = settings.flow.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
         let empty_distance = phi * empty_distance(target, c, &settings);
@@ -425,6 +460,40 @@ impl Evolver {
         ev.refresh_distances();
         ev.done = ev.settings.stop.steps == 0;
         Ok(ev)
+    }
+
+    /// The start of `settings` (resolved), falling back as `auto` promises: its isosurface
+    /// start is tried again with the isosurface preset's coarser edges (a voxel plate with nine
+    /// holes intersected after the finer remesh, not after this one: genus 9 with 20 K vertices
+    /// in 13 s, against the icosphere's 95 K in 25 s); where the exterior leaked into gaps of the
+    /// target (noisy volumes, sparse clouds) the icosphere, which cannot leak, takes over.
+    /// `settings` becomes those of the start built.
+    fn build_start_with_fallback(
+        target: &Target,
+        field: &DistanceField,
+        requested: &WrapSettings,
+        settings: &mut WrapSettings,
+    ) -> Result<Start, EvolveError> {
+        match build_start(target, field, settings) {
+            Err(EvolveError::StartIntersects { .. })
+                if requested.start.surface == StartSurface::Auto =>
+            {
+                let coarser = coarser_isosurface_start(requested, settings);
+                match coarser.map(|s| (build_start(target, field, &s), s)) {
+                    // Only with the target's own topology: two linked voxel tori gave a clean
+                    // coarse start of 5 components (the offsets merge where they link).
+                    Some((Ok(start), s)) if same_topology(&start.mesh, target) => {
+                        *settings = s;
+                        Ok(start)
+                    }
+                    _ => {
+                        *settings = requested.clone().resolved_for(false);
+                        build_start(target, field, settings)
+                    }
+                }
+            }
+            other => other,
+        }
     }
 
     /// Samples d and −∇d at every vertex (the step reads both at these positions).

@@ -61,6 +61,89 @@ fn spread3(v: u64) -> u64 {
     (x | x << 2) & 0x1249249249249249
 }
 
+/// Below this many primitives a tree is built on one thread.
+const PARALLEL_BUILD: usize = 4096;
+
+/// The boxes a [`Bvh::new`] is built over.
+struct Boxes<'a> {
+    mins: &'a [DVec3],
+    maxs: &'a [DVec3],
+    centroids: &'a [DVec3],
+}
+
+impl Boxes<'_> {
+    /// Fills `node`'s box from the primitives `order` and, unless they fit a leaf, orders them
+    /// about the median along the longest axis of their centroids; returns that median index
+    /// (None for a leaf).
+    fn bound_and_split(&self, order: &mut [u32], node: &mut Node) -> Option<usize> {
+        let (mut bmin, mut bmax) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        let (mut cmin, mut cmax) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for &i in order.iter() {
+            bmin = bmin.min(self.mins[i as usize]);
+            bmax = bmax.max(self.maxs[i as usize]);
+            cmin = cmin.min(self.centroids[i as usize]);
+            cmax = cmax.max(self.centroids[i as usize]);
+        }
+        node.min = bmin;
+        node.max = bmax;
+        if order.len() <= LEAF_SIZE {
+            return None;
+        }
+        let ext = cmax - cmin;
+        let axis = if ext.x >= ext.y && ext.x >= ext.z {
+            0
+        } else if ext.y >= ext.z {
+            1
+        } else {
+            2
+        };
+        let mid = order.len() / 2;
+        order.select_nth_unstable_by(mid, |&a, &b| {
+            self.centroids[a as usize][axis]
+                .total_cmp(&self.centroids[b as usize][axis])
+                .then(a.cmp(&b))
+        });
+        Some(mid)
+    }
+
+    /// [`Boxes::bound_and_split`] for a range too big for a leaf.
+    fn split_range(&self, order: &mut [u32], node: &mut Node) -> usize {
+        self.bound_and_split(order, node).unwrap_or(order.len())
+    }
+
+    /// The nodes of the tree over `order` (which is `offset` into the whole order), its root
+    /// first; node links are indices into the returned list.
+    fn subtree(&self, order: &mut [u32], offset: usize) -> Vec<Node> {
+        let n = order.len();
+        let mut nodes = Vec::with_capacity(2 * n / LEAF_SIZE + 1);
+        nodes.push(Node::PLACEHOLDER);
+        // Explicit stack: (node index, start, end), relative to `order`.
+        let mut stack = vec![(0usize, 0usize, n)];
+        while let Some((ni, s, e)) = stack.pop() {
+            let mut node = nodes[ni];
+            match self.bound_and_split(&mut order[s..e], &mut node) {
+                None => {
+                    node.start = (offset + s) as u32;
+                    node.count = (e - s) as u32;
+                    nodes[ni] = node;
+                }
+                Some(half) => {
+                    let left = nodes.len();
+                    node.start = left as u32;
+                    node.right = left as u32 + 1;
+                    node.count = 0;
+                    nodes[ni] = node;
+                    nodes.push(Node::PLACEHOLDER);
+                    nodes.push(Node::PLACEHOLDER);
+                    stack.push((left, s, s + half));
+                    stack.push((left + 1, s + half, e));
+                }
+            }
+        }
+        nodes
+    }
+}
+
 impl Bvh {
     /// Builds the hierarchy fast, for one-off queries such as a self-overlap pass: primitives
     /// sorted along the Morton curve of their box centres, then split at the middle of each range
@@ -131,60 +214,51 @@ impl Bvh {
         bvh
     }
 
-    /// Builds the hierarchy over boxes `[mins[i], maxs[i]]`.
+    /// Builds the hierarchy over boxes `[mins[i], maxs[i]]`: median splits along the longest
+    /// axis of the centroids' box. Natively the root's two halves are built on two threads
+    /// (the same tree: nodes are only numbered differently).
     pub fn new(mins: &[DVec3], maxs: &[DVec3]) -> Self {
         let n = mins.len();
-        let mut bvh = Bvh {
-            nodes: Vec::with_capacity(2 * n / LEAF_SIZE + 1),
-            order: (0..n as u32).collect(),
-        };
+        let mut order: Vec<u32> = (0..n as u32).collect();
         if n == 0 {
-            return bvh;
+            return Bvh {
+                nodes: Vec::new(),
+                order,
+            };
         }
         let centroids: Vec<DVec3> = mins
             .iter()
             .zip(maxs)
             .map(|(a, b)| 0.5 * (*a + *b))
             .collect();
-        bvh.nodes.push(Node::PLACEHOLDER);
-        // Explicit stack: (node index, start, end).
-        let mut stack = vec![(0usize, 0usize, n)];
-        while let Some((ni, s, e)) = stack.pop() {
-            let (mut bmin, mut bmax) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-            let (mut cmin, mut cmax) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-            for &i in &bvh.order[s..e] {
-                bmin = bmin.min(mins[i as usize]);
-                bmax = bmax.max(maxs[i as usize]);
-                cmin = cmin.min(centroids[i as usize]);
-                cmax = cmax.max(centroids[i as usize]);
-            }
-            let node = &mut bvh.nodes[ni];
-            node.min = bmin;
-            node.max = bmax;
-            if e - s <= LEAF_SIZE {
-                node.start = s as u32;
-                node.count = (e - s) as u32;
-                continue;
-            }
-            let ext = cmax - cmin;
-            let axis = if ext.x >= ext.y && ext.x >= ext.z {
-                0
-            } else if ext.y >= ext.z {
-                1
-            } else {
-                2
-            };
-            let mid = s + (e - s) / 2;
-            bvh.order[s..e].select_nth_unstable_by(mid - s, |&a, &b| {
-                centroids[a as usize][axis]
-                    .total_cmp(&centroids[b as usize][axis])
-                    .then(a.cmp(&b))
-            });
-            let left = bvh.split(ni);
-            stack.push((left, s, mid));
-            stack.push((left + 1, mid, e));
+        let boxes = Boxes {
+            mins,
+            maxs,
+            centroids: &centroids,
+        };
+        if n < PARALLEL_BUILD {
+            let nodes = boxes.subtree(&mut order, 0);
+            return Bvh { nodes, order };
         }
-        bvh
+        let mut root = Node::PLACEHOLDER;
+        let mid = boxes.split_range(&mut order, &mut root);
+        let (lower, upper) = order.split_at_mut(mid);
+        let (left, right) =
+            crate::parallel::beside(|| boxes.subtree(lower, 0), || boxes.subtree(upper, mid));
+        let mut nodes = Vec::with_capacity(1 + left.len() + right.len());
+        root.start = 1;
+        root.right = 1 + left.len() as u32;
+        nodes.push(root);
+        for (sub, offset) in [(left, 1u32), (right, root.right)] {
+            nodes.extend(sub.into_iter().map(|mut node| {
+                if node.count == 0 {
+                    node.start += offset;
+                    node.right += offset;
+                }
+                node
+            }));
+        }
+        Bvh { nodes, order }
     }
 
     /// Turns node `ni` into an inner node with two new children (placeholders, filled in by the
@@ -583,6 +657,12 @@ impl PointBvh {
         self.bvh
             .nearest(p, |i| (self.points[i as usize] - p).length_squared())
     }
+    /// [`PointBvh::nearest`] among the points within squared distance `max_d2` of `p`.
+    pub fn nearest_within(&self, p: DVec3, max_d2: f64) -> Option<(u32, f64)> {
+        self.bvh.nearest_within(p, max_d2, |i| {
+            (self.points[i as usize] - p).length_squared()
+        })
+    }
     /// Nearest point other than point `me` (index and squared distance).
     pub fn nearest_other(&self, p: DVec3, me: u32) -> Option<(u32, f64)> {
         self.bvh.nearest(p, |i| {
@@ -677,6 +757,62 @@ mod tests {
                 .map(|q| (*q - p).length_squared())
                 .fold(f64::INFINITY, f64::min);
             assert_eq!(cloud.nearest(p).unwrap().1, brute);
+        }
+    }
+
+    /// Above [`PARALLEL_BUILD`] the root's halves are built apart: the tree is the one a
+    /// single thread builds (the same boxes, leaves and order, read depth-first), and nearest
+    /// queries agree with brute force.
+    #[test]
+    fn a_tree_built_in_two_halves_is_the_one_built_whole() {
+        let mut r = rng(11);
+        let n = 3 * PARALLEL_BUILD;
+        let mins: Vec<DVec3> = (0..n).map(|_| DVec3::new(r(), r(), 0.3 * r())).collect();
+        let maxs: Vec<DVec3> = mins
+            .iter()
+            .map(|&m| m + 0.01 * DVec3::new(r(), r(), r()))
+            .collect();
+        let centroids: Vec<DVec3> = mins
+            .iter()
+            .zip(&maxs)
+            .map(|(a, b)| 0.5 * (*a + *b))
+            .collect();
+        let boxes = Boxes {
+            mins: &mins,
+            maxs: &maxs,
+            centroids: &centroids,
+        };
+        let mut order: Vec<u32> = (0..n as u32).collect();
+        let whole = Bvh {
+            nodes: boxes.subtree(&mut order, 0),
+            order,
+        };
+        let halves = Bvh::new(&mins, &maxs);
+        assert_eq!(halves.order, whole.order);
+        // Depth-first, left first: (box, leaf range) of every node.
+        fn walk(b: &Bvh, ni: usize, out: &mut Vec<(DVec3, DVec3, u32, u32)>) {
+            let node = b.nodes[ni];
+            if node.count > 0 {
+                out.push((node.min, node.max, node.start, node.count));
+            } else {
+                out.push((node.min, node.max, u32::MAX, 0));
+                walk(b, node.start as usize, out);
+                walk(b, node.right as usize, out);
+            }
+        }
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        walk(&whole, 0, &mut a);
+        walk(&halves, 0, &mut b);
+        assert!(a.len() > 100);
+        assert_eq!(a, b);
+        for _ in 0..100 {
+            let p = DVec3::new(r(), r(), r());
+            let d2 = |i: u32| {
+                let (lo, hi) = (mins[i as usize], maxs[i as usize]);
+                box_dist2(p, lo, hi)
+            };
+            let brute = (0..n as u32).map(d2).fold(f64::INFINITY, f64::min);
+            assert_eq!(halves.nearest(p, d2).unwrap().1, brute);
         }
     }
 
