@@ -191,7 +191,8 @@ pub struct FieldTimings {
     pub band_ms: f64,
     /// Fast sweeping.
     pub sweep_ms: f64,
-    /// Sign (flood fill and pseudo-normals); 0 for unsigned fields.
+    /// Sign (flood fill and pseudo-normals; natively beside the sweep, so the phases overlap);
+    /// 0 for unsigned fields.
     pub sign_ms: f64,
     /// Normalised negative gradient.
     pub gradient_ms: f64,
@@ -306,26 +307,36 @@ impl DistanceField {
         } = b;
         let t2 = crate::clock::now_ms();
         progress.report("distance field: sweeps", 0.0);
-        let sweep = fast_sweep::fast_sweep(
-            &grid,
-            &mut values,
-            &frozen,
-            settings.max_sweep_passes,
-            settings.sweep_tolerance,
-            &mut |f| progress.report("distance field: sweeps", f),
+        // The sign reads only the band and the mesh: worked out beside the sweep, which fills
+        // in the values away from the band on one thread (bunny: 94 of its 240 ms).
+        let ((signedness, inside, sign_ms), sweep) = crate::parallel::beside(
+            || {
+                let t = crate::clock::now_ms();
+                let (kind, inside) = match (&nearest_triangle, settings.sign) {
+                    (Some(nearest), SignMode::Auto) => sign::mesh_inside(
+                        &grid,
+                        &frozen,
+                        nearest,
+                        &target.points,
+                        &target.triangles,
+                    ),
+                    _ => (Signedness::Unsigned, None),
+                };
+                (kind, inside, crate::clock::now_ms() - t)
+            },
+            || {
+                fast_sweep::fast_sweep(
+                    &grid,
+                    &mut values,
+                    &frozen,
+                    settings.max_sweep_passes,
+                    settings.sweep_tolerance,
+                    &mut |f| progress.report("distance field: sweeps", f),
+                )
+            },
         );
         let t3 = crate::clock::now_ms();
-        let signedness = match (&nearest_triangle, settings.sign) {
-            (Some(nearest), SignMode::Auto) => sign::apply_mesh_sign(
-                &grid,
-                &mut values,
-                &frozen,
-                nearest,
-                &target.points,
-                &target.triangles,
-            ),
-            _ => Signedness::Unsigned,
-        };
+        sign::negate_inside(&mut values, inside.as_deref());
         drop(nearest_triangle);
         let t4 = crate::clock::now_ms();
         progress.report("distance field: sweeps", 1.0);
@@ -341,7 +352,7 @@ impl DistanceField {
             timings: FieldTimings {
                 band_ms: t2 - t1,
                 sweep_ms: t3 - t2,
-                sign_ms: t4 - t3,
+                sign_ms: sign_ms + (t4 - t3),
                 gradient_ms: t5 - t4,
                 total_ms: t5 - t0,
             },

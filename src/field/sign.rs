@@ -173,16 +173,42 @@ pub fn apply_mesh_sign(
     points: &[DVec3],
     triangles: &[[u32; 3]],
 ) -> Signedness {
+    let (kind, inside) = mesh_inside(grid, frozen, nearest, points, triangles);
+    negate_inside(values, inside.as_deref());
+    kind
+}
+
+/// Negates `values` where `inside` (None: nowhere).
+pub fn negate_inside(values: &mut [f64], inside: Option<&[bool]>) {
+    for (v, _) in values
+        .iter_mut()
+        .zip(inside.unwrap_or_default())
+        .filter(|(_, &i)| i)
+    {
+        *v = -*v;
+    }
+}
+
+/// What [`apply_mesh_sign`] decides, without the values: the kind of field and which nodes are
+/// inside (None for an unsigned field). It reads only the band and the mesh, so it can be
+/// worked out while the sweep fills in the values away from the band.
+pub fn mesh_inside(
+    grid: &Grid,
+    frozen: &[bool],
+    nearest: &[u32],
+    points: &[DVec3],
+    triangles: &[[u32; 3]],
+) -> (Signedness, Option<Vec<bool>>) {
     let stars = Stars::new(points.len(), triangles);
     let cl = closure_with(&stars, triangles, points.len());
     let kind = if cl.bad_edges > 0 || cl.edges == 0 {
-        return Signedness::Unsigned;
+        return (Signedness::Unsigned, None);
     } else if cl.boundary_edges == 0 {
         Signedness::Signed
     } else if cl.boundary_edges * 50 <= cl.edges {
         Signedness::SignedWithHoles
     } else {
-        return Signedness::Unsigned;
+        return (Signedness::Unsigned, None);
     };
     let outside = flood_exterior(grid, frozen);
     let interior = outside
@@ -192,7 +218,7 @@ pub fn apply_mesh_sign(
         .count();
     if kind == Signedness::SignedWithHoles && interior == 0 {
         // The fill leaked through a hole (or the object is thinner than the band): no sign.
-        return Signedness::Unsigned;
+        return (Signedness::Unsigned, None);
     }
     let normals = PseudoNormals::new(points, triangles, &stars);
     let orientation = if signed_volume(points, triangles) < 0.0 {
@@ -200,8 +226,9 @@ pub fn apply_mesh_sign(
     } else {
         1.0
     };
-    for i in 0..values.len() {
-        let inside = if frozen[i] {
+    // (Each node on its own: in parallel natively.)
+    let inside = crate::parallel::map(frozen.len(), |i| {
+        if frozen[i] {
             let t = nearest[i] as usize;
             let tri = triangles[t];
             let [a, b, c] = tri.map(|v| points[v as usize]);
@@ -210,12 +237,9 @@ pub fn apply_mesh_sign(
             orientation * (p - q).dot(normals.of(t, tri, f)) < 0.0
         } else {
             !outside[i]
-        };
-        if inside {
-            values[i] = -values[i];
         }
-    }
-    kind
+    });
+    (kind, Some(inside))
 }
 
 #[cfg(test)]

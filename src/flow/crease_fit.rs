@@ -169,17 +169,18 @@ pub fn snap_to_creases(
             .is_some()
     };
     for e in 0..mesh.n_edges() as u32 {
-        if !mesh.is_flip_ok(e) {
+        // (The cheap tests first: few edges face two crease vertices.)
+        if mesh.is_deleted_edge(e) || !mesh.is_interior_edge(e) {
             continue;
         }
         let (h0, h1) = (2 * e, 2 * e + 1);
         let (a, b) = (mesh.to(h1), mesh.to(h0));
         let (c, d) = (mesh.to(mesh.next(h0)), mesh.to(mesh.next(h1)));
-        if ![a, b, c, d].into_iter().all(free) {
+        let on = |v: u32| features.vertices[v as usize];
+        if !(on(c) && on(d)) || ![a, b, c, d].into_iter().all(free) || !mesh.is_flip_ok(e) {
             continue;
         }
-        let on = |v: u32| features.vertices[v as usize];
-        if (on(a) && on(b) && along(mesh, a, b)) || !(on(c) && on(d)) || !along(mesh, c, d) {
+        if (on(a) && on(b) && along(mesh, a, b)) || !along(mesh, c, d) {
             continue;
         }
         // A crease vertex already joined along its line on both sides needs no more edges

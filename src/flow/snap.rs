@@ -183,11 +183,11 @@ fn fold_limited_shares(mesh: &HalfedgeMesh, old: &[DVec3], moves: &[Option<DVec3
     for _ in 0..FOLD_ROUNDS {
         let apply = |i: usize| partial(old[i], moves[i], share[i]);
         let mut changed = false;
-        let mut reject = vec![];
-        for f in 0..mesh.n_faces() as u32 {
-            let vs = mesh.face_vertices(f);
+        // (Each face on its own: in parallel natively, collected in face order.)
+        let rejected = crate::parallel::map(mesh.n_faces(), |f| {
+            let vs = mesh.face_vertices(f as u32);
             if !vs.iter().any(|&v| share[v as usize] > 0.0) {
-                continue;
+                return None;
             }
             let [a, b, c] = vs.map(|v| old[v as usize]);
             let [a2, b2, c2] = vs.map(|v| apply(v as usize));
@@ -204,9 +204,11 @@ fn fold_limited_shares(mesh: &HalfedgeMesh, old: &[DVec3], moves: &[Option<DVec3
                             .total_cmp(&(d[j] - mean).length_squared())
                     })
                     .unwrap_or(0);
-                reject.push(vs[k]);
+                return Some(vs[k]);
             }
-        }
+            None
+        });
+        let mut reject: Vec<u32> = rejected.into_iter().flatten().collect();
         reject.sort_unstable();
         reject.dedup();
         for v in reject {
