@@ -105,3 +105,20 @@ if [ -n "${LSW_BEFORE_FLAP:-}" ]; then
             "$OUT/bust-turned-flap-$mode.png" 1.0 0.05,0.32,-0.42,-0.18,-0.05,0.22
     done
 fi
+# The whole of issue 15 (2026-11-27, thirteenth session): LSW_BEFORE_ISSUE = an lsw built at
+# 46b8202 (before the issue's work), against LSW, both at their defaults: the bust and the fish,
+# their targets sampled with 300 000 points ("issue-before" / "issue-after").
+if [ -n "${LSW_BEFORE_ISSUE:-}" ]; then
+    for s in bust fish; do
+        "$LSW" demo "$s" -o "$OUT/$s.ply" >/dev/null
+        "$LSW" demo "$s" -o "$OUT/$s.obj" >/dev/null
+        [ -f "$OUT/$s-dense.ply" ] || python3 "$HERE/../peers/sample_obj.py" "$OUT/$s.obj" 300000 "$OUT/$s-dense.ply" 1 >/dev/null
+        for mode in before after; do
+            bin=$LSW; [ "$mode" = before ] && bin=$LSW_BEFORE_ISSUE
+            "$bin" wrap "$OUT/$s.ply" -o "$OUT/$s-issue-$mode.ply" >/dev/null
+            "$LSW" metrics "$OUT/$s-issue-$mode.ply" --target "$OUT/$s-dense.ply" \
+                --target-error-map "$OUT/$s-issue-$mode.vtk" >/dev/null
+            python3 "$HERE/render_points.py" "$OUT/$s-issue-$mode.vtk" "$OUT/$s-issue-$mode.png" 1.0
+        done
+    done
+fi
