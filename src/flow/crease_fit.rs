@@ -177,7 +177,7 @@ pub fn snap_to_creases(
         let (a, b) = (mesh.to(h1), mesh.to(h0));
         let (c, d) = (mesh.to(mesh.next(h0)), mesh.to(mesh.next(h1)));
         let on = |v: u32| features.vertices[v as usize];
-        if !(on(c) && on(d)) || ![a, b, c, d].into_iter().all(free) || !mesh.is_flip_ok(e) {
+        if !(on(c) && on(d) && [a, b, c, d].into_iter().all(free) && mesh.is_flip_ok(e)) {
             continue;
         }
         if (on(a) && on(b) && along(mesh, a, b)) || !along(mesh, c, d) {
