@@ -43,7 +43,8 @@ pub enum RemeshTrigger {
 pub struct StartSettings {
     /// Start surface: auto, icosphere or isosurface. Default auto.
     pub surface: StartSurface,
-    /// Icosphere subdivision level s (0–7). Default 2 (162 vertices).
+    /// Icosphere subdivision level s (0–7; 0–3 for a wrap, whose edge sizes follow the
+    /// icosphere's, see `WrapSettings::check`). Default 2 (162 vertices).
     pub icosphere_level: u32,
     /// Icosphere radius as a multiple of the paper's rule `r = 0.4·(β_min + 1.5·β_max)`
     /// (β = bounding-box sides). Range 0.1–10; default 1.
