@@ -163,21 +163,6 @@ fn flood_exterior(grid: &Grid, frozen: &[bool]) -> Vec<bool> {
     outside
 }
 
-/// Negates the values of inside nodes of an unsigned mesh field (see the module docs) and says
-/// which kind of field resulted. `nearest[i]` is the triangle realising band node `i`.
-pub fn apply_mesh_sign(
-    grid: &Grid,
-    values: &mut [f64],
-    frozen: &[bool],
-    nearest: &[u32],
-    points: &[DVec3],
-    triangles: &[[u32; 3]],
-) -> Signedness {
-    let (kind, inside) = mesh_inside(grid, frozen, nearest, points, triangles);
-    negate_inside(values, inside.as_deref());
-    kind
-}
-
 /// Negates `values` where `inside` (None: nowhere).
 pub fn negate_inside(values: &mut [f64], inside: Option<&[bool]>) {
     for (v, _) in values
@@ -189,9 +174,10 @@ pub fn negate_inside(values: &mut [f64], inside: Option<&[bool]>) {
     }
 }
 
-/// What [`apply_mesh_sign`] decides, without the values: the kind of field and which nodes are
-/// inside (None for an unsigned field). It reads only the band and the mesh, so it can be
-/// worked out while the sweep fills in the values away from the band.
+/// Which nodes of an unsigned mesh field lie inside (see the module docs), and which kind of
+/// field negating them ([`negate_inside`]) makes (None: unsigned). `nearest[i]` is the triangle
+/// realising band node `i`. It reads only the band and the mesh, not the values: it can be
+/// worked out while the sweep fills them in away from the band.
 pub fn mesh_inside(
     grid: &Grid,
     frozen: &[bool],
