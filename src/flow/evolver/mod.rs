@@ -283,36 +283,62 @@ struct StepParts<'a> {
     surgery: Vec<SurgeryEvent>,
 }
 
-/// What the fit's view of a mesh target (its creases and the tree the fit projects onto) is
-/// built from: equal keys build equal things.
+/// What the fit's view of the target (its creases, and the tree or grid the fit projects onto)
+/// is built from: equal keys build equal things.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct MeshFitKey {
+struct FitKey {
     /// The stabilisation factor of the frame they are built in.
     phi: f64,
     /// The fit's neighbourhood radius (stabilised frame).
     fit_radius: f64,
-    /// The crease angle (radians); None: no crease detection.
+    /// The crease angle (radians); None: no crease detection (none on a volume's iso-surface:
+    /// see `Target::sampled`).
     crease_angle: Option<f64>,
     /// Whether there is a final fit.
     fits: bool,
 }
 
-impl MeshFitKey {
-    /// `(fit target, creases)`, each on a thread of its own natively.
-    fn build(&self, target: &Target, center: DVec3) -> (Option<SnapTarget>, Option<Creases>) {
-        let phi = self.phi;
+impl FitKey {
+    /// The key of `settings` for a field of cells of size `cell` and a start scaled by `phi`.
+    fn new(settings: &WrapSettings, target: &Target, cell: f64, phi: f64) -> Self {
+        let fits = settings.fit.enabled && settings.flow.use_target;
+        Self {
+            phi,
+            fit_radius: settings.fit.radius_cells * cell * phi,
+            crease_angle: (fits && !target.sampled && settings.fit.crease_angle_deg > 0.0)
+                .then(|| settings.fit.crease_angle_deg.to_radians()),
+            fits,
+        }
+    }
+
+    /// The target's points in the stabilised frame.
+    fn framed(&self, target: &Target, center: DVec3) -> Vec<DVec3> {
+        target
+            .points
+            .iter()
+            .map(|&p| self.phi * (p - center))
+            .collect()
+    }
+
+    /// The fit target of `target` (None without a fit).
+    fn fit_target(&self, target: &Target, center: DVec3) -> Option<SnapTarget> {
+        self.fits
+            .then(|| SnapTarget::new(target, center, self.phi, self.fit_radius))
+    }
+
+    /// `(fit target, creases)` of a mesh target, each on a thread of its own natively.
+    fn build_for_mesh(
+        &self,
+        target: &Target,
+        center: DVec3,
+    ) -> (Option<SnapTarget>, Option<Creases>) {
         let (creases, fit_target) = crate::parallel::beside(
             || {
                 self.crease_angle.map(|angle| {
-                    let framed: Vec<DVec3> =
-                        target.points.iter().map(|&p| phi * (p - center)).collect();
-                    detect_creases(&framed, &target.triangles, angle)
+                    detect_creases(&self.framed(target, center), &target.triangles, angle)
                 })
             },
-            || {
-                self.fits
-                    .then(|| SnapTarget::new(target, center, phi, self.fit_radius))
-            },
+            || self.fit_target(target, center),
         );
         (fit_target, creases)
     }
@@ -355,24 +381,13 @@ impl Evolver {
         // through the cell size and φ, both known from the settings: they are built on other
         // threads while the field and the start are (bust: 255 ms of setup), for the start the
         // settings ask for on a closed mesh, and again below in the rare case of another start.
-        let mesh_fit = |settings: &WrapSettings, cell: f64, phi: f64| {
-            let fits = settings.fit.enabled && settings.flow.use_target;
-            let key = MeshFitKey {
-                phi,
-                fit_radius: settings.fit.radius_cells * cell * phi,
-                crease_angle: (fits && !target.sampled && settings.fit.crease_angle_deg > 0.0)
-                    .then(|| settings.fit.crease_angle_deg.to_radians()),
-                fits,
-            };
-            (!target.triangles.is_empty()).then_some(key)
-        };
-        let planned = DistanceField::planned_cell_size(target, &settings.field).and_then(|cell| {
+        let planned = DistanceField::planned_cell_size(target, &settings.field).map(|cell| {
             let guess = settings.clone().resolved_for(true);
-            mesh_fit(&guess, cell, start_scale(target, cell, &guess))
+            FitKey::new(&guess, target, cell, start_scale(target, cell, &guess))
         });
         let center = target.bbox.center();
         let (prebuilt, start) = crate::parallel::beside(
-            || planned.map(|k| (k, k.build(target, center))),
+            || planned.map(|k| (k, k.build_for_mesh(target, center))),
             || -> Result<_, EvolveError> {
                 let field = DistanceField::new_with_progress(target, &settings.field, progress)?;
                 let mut resolved = settings.clone().resolved_for(field.is_signed());
@@ -391,21 +406,15 @@ impl Evolver {
         let (mesh, phi, sizes) = (start.mesh, start.phi, start.sizes);
         let limits = divergence_limits(target, &mesh, phi, center, &settings);
         let field = field.scaled(center, phi);
-        let fits = settings.fit.enabled && settings.flow.use_target;
-        // (None on a volume's iso-surface: see `Target::sampled`.)
-        let find_creases = fits && settings.fit.crease_angle_deg > 0.0 && !target.sampled;
-        let angle = settings.fit.crease_angle_deg.to_radians();
-        let framed =
-            || -> Vec<DVec3> { target.points.iter().map(|&p| phi * (p - center)).collect() };
-        let fit_radius = settings.fit.radius_cells * c * phi;
-        let new_fit_target = || fits.then(|| SnapTarget::new(target, center, phi, fit_radius));
+        let key = FitKey::new(&settings, target, c, phi);
         let (fit_target, creases) = if target.triangles.is_empty() {
             // A cloud's creases are seen at the scale of the fit's plane fits, on the fit's own
             // grid. A smooth cloud's fit stays exactly as without crease detection.
-            let fit_target = new_fit_target();
-            let creases = match (&fit_target, find_creases) {
-                (Some(SnapTarget::Points(grid)), true) => {
-                    let c = detect_cloud_creases(&framed(), grid, fit_radius, angle, &mut |f| {
+            let fit_target = key.fit_target(target, center);
+            let creases = match (&fit_target, key.crease_angle) {
+                (Some(SnapTarget::Points(grid)), Some(angle)) => {
+                    let framed = key.framed(target, center);
+                    let c = detect_cloud_creases(&framed, grid, key.fit_radius, angle, &mut |f| {
                         progress.report(CREASE_PHASE, f)
                     });
                     (!c.is_empty()).then_some(c)
@@ -414,9 +423,9 @@ impl Evolver {
             };
             (fit_target, creases)
         } else {
-            match (prebuilt, mesh_fit(&settings, c, phi)) {
-                (Some((made, built)), Some(now)) if made == now => built,
-                (_, now) => now.map_or((None, None), |k| k.build(target, center)),
+            match prebuilt {
+                Some((made, built)) if made == key => built,
+                _ => key.build_for_mesh(target, center),
             }
         };
         let d0 = settings.flow.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
