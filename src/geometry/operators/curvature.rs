@@ -62,11 +62,16 @@ pub fn principal_curvatures(
 ) -> Curvatures {
     let nv = mesh.n_vertices();
     let ne = mesh.n_edges();
-    let lap = CotanLaplacian::new(mesh);
-    let mut fnormals = Vec::new();
-    face_normals(mesh, &mut fnormals);
-    let mut normals = Vec::new();
-    vertex_normals(mesh, &mut normals);
+    // Three independent face passes: the Laplacian beside the two kinds of normals.
+    let (lap, (fnormals, normals)) = crate::parallel::beside(
+        || CotanLaplacian::new(mesh),
+        || {
+            let (mut fnormals, mut normals) = (Vec::new(), Vec::new());
+            face_normals(mesh, &mut fnormals);
+            vertex_normals(mesh, &mut normals);
+            (fnormals, normals)
+        },
+    );
 
     // Per edge (in parallel natively): its signed dihedral angle and its tensor term, then summed
     // into its ends in edge order (the same sums whatever the thread count).
