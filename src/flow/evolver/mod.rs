@@ -507,13 +507,11 @@ impl Evolver {
 
     /// Samples d and −∇d at every vertex (the step reads both at these positions).
     fn refresh_distances(&mut self) {
-        let field = &self.field;
-        (self.distances, self.gradients) = self
-            .mesh
-            .positions()
-            .iter()
-            .map(|&p| field.sample_with_gradient(p))
-            .unzip();
+        let (field, pos) = (&self.field, self.mesh.positions());
+        (self.distances, self.gradients) =
+            crate::parallel::map(pos.len(), |i| field.sample_with_gradient(pos[i]))
+                .into_iter()
+                .unzip();
     }
 
     /// True when the step limit or the stopping rule has been reached.
