@@ -58,8 +58,6 @@ impl Hasher for CellHasher {
     }
 }
 
-type Cells<V> = HashMap<[i64; 3], V, BuildHasherDefault<CellHasher>>;
-
 /// A point needs at least this many points (itself included) within the radius to count as
 /// part of the sampled surface.
 pub const ISOLATED_BELOW: usize = 6;
@@ -71,82 +69,168 @@ pub fn isolated_points(points: &[DVec3], radius: f64) -> Vec<bool> {
     }
     let cell = radius / 3f64.sqrt();
     let origin = points.iter().fold(DVec3::INFINITY, |a, &p| a.min(p));
+    // Every point is at or above the origin, so truncation is the floor (and no libm call).
     let key = |p: DVec3| {
-        let q = ((p - origin) / cell).floor();
+        let q = (p - origin) / cell;
         [q.x as i64, q.y as i64, q.z as i64]
     };
-    // Points sorted by cell (a sort, not a vector per cell: a million points in 0.1 s, not 0.4),
-    // and each occupied cell's run in that order.
     let keys: Vec<[i64; 3]> = points.iter().map(|&p| key(p)).collect();
-    // Sorted as one integer per cell where the cells' indices fit 21 bits each (the same order:
-    // x, then y, then z), which sorts in half the time of the triples.
-    const BITS: u32 = 21;
-    let packs = keys.iter().flatten().all(|&c| (0..1 << BITS).contains(&c));
-    let order: Vec<([i64; 3], u32)> = if packs {
-        let mut packed: Vec<(u64, u32)> = (keys.iter().enumerate())
-            .map(|(i, k)| {
-                let [x, y, z] = k.map(|c| c as u64);
-                ((x << (2 * BITS)) | (y << BITS) | z, i as u32)
-            })
-            .collect();
-        packed.sort_unstable();
-        packed.iter().map(|&(_, i)| (keys[i as usize], i)).collect()
-    } else {
-        let mut order: Vec<([i64; 3], u32)> = (keys.iter().enumerate())
-            .map(|(i, &k)| (k, i as u32))
-            .collect();
-        order.sort_unstable();
-        order
-    };
-    let mut runs: Vec<([i64; 3], usize, usize)> = Vec::new();
-    for (i, &(k, _)) in order.iter().enumerate() {
-        match runs.last_mut() {
-            Some((last, _, end)) if *last == k => *end = i + 1,
-            _ => runs.push((k, i, i + 1)),
-        }
-    }
-    let cells: Cells<(usize, usize)> = runs.iter().map(|&(k, a, b)| (k, (a, b))).collect();
-    let members = |[x, y, z]: [i64; 3], d: [i64; 3]| {
-        cells
-            .get(&[x + d[0], y + d[1], z + d[2]])
-            .map(|&(a, b)| &order[a..b])
-    };
+    let cells = Cells::new(&keys);
+    // The points in cell order, so that a cell's are side by side in memory (looked up by index
+    // they were a cache miss each, most of the test's time on a million points).
+    let sorted: Vec<DVec3> = cells.order.iter().map(|&i| points[i as usize]).collect();
     let r2 = radius * radius;
-    let within = |p: DVec3, run: &[([i64; 3], u32)]| {
-        run.iter()
-            .filter(|&&(_, j)| (points[j as usize] - p).length_squared() <= r2)
+    let within = |p: DVec3, (a, b): (usize, usize)| {
+        sorted[a..b]
+            .iter()
+            .filter(|&&q| (q - p).length_squared() <= r2)
             .count()
     };
     // A cell short of points looks at its six face neighbours for each of its points, and only
     // a point still short of them at the other cells within reach (±2), nearest first.
-    let answers = crate::parallel::map(runs.len(), |c| {
-        let (k, a, b) = runs[c];
+    let answers = crate::parallel::map(cells.runs.len(), |c| {
+        let (k, a, b) = cells.runs[c];
         if b - a >= ISOLATED_BELOW {
             return vec![false; b - a];
         }
-        let faces: Vec<&[([i64; 3], u32)]> = FACES.iter().filter_map(|&d| members(k, d)).collect();
-        order[a..b]
+        let faces: Vec<(usize, usize)> = FACES.iter().filter_map(|&d| cells.get(k, d)).collect();
+        sorted[a..b]
             .iter()
-            .map(|&(_, i)| {
-                let p = points[i as usize];
-                let mut count = b - a + faces.iter().map(|run| within(p, run)).sum::<usize>();
+            .map(|&p| {
+                let mut count = b - a + faces.iter().map(|&run| within(p, run)).sum::<usize>();
                 for d in OTHERS.iter() {
                     if count >= ISOLATED_BELOW {
                         break;
                     }
-                    count += members(k, *d).map_or(0, |run| within(p, run));
+                    count += cells.get(k, *d).map_or(0, |run| within(p, run));
                 }
                 count < ISOLATED_BELOW
             })
             .collect::<Vec<bool>>()
     });
     let mut isolated = vec![false; points.len()];
-    for (&(_, a, b), answer) in runs.iter().zip(answers) {
-        for (&(_, i), yes) in order[a..b].iter().zip(answer) {
+    for (&(_, a, b), answer) in cells.runs.iter().zip(answers) {
+        for (&i, yes) in cells.order[a..b].iter().zip(answer) {
             isolated[i as usize] = yes;
         }
     }
     isolated
+}
+
+/// The points bucketed by cell: their indices sorted by cell, each occupied cell's run of that
+/// order, and a lookup from a cell to its run. (The order within a cell, and of the cells, never
+/// changes an answer: only counts.)
+struct Cells {
+    order: Vec<u32>,
+    /// (cell, start, end) per occupied cell.
+    runs: Vec<([i64; 3], usize, usize)>,
+    lookup: Lookup,
+}
+
+/// Where an occupied cell's run is.
+enum Lookup {
+    /// Cells numbered `(z·ny + y)·nx + x` in the points' box and sorted so: each (y, z) row's
+    /// runs are consecutive, in x order, found from a table of row starts.
+    Rows { dims: [u64; 3], row_start: Vec<u32> },
+    /// A hash map, where the box has too many rows (a stray point far off).
+    Hash(HashMap<[i64; 3], usize, BuildHasherDefault<CellHasher>>),
+}
+
+/// Most (y, z) rows of cells for which [`Lookup::Rows`] keeps a table.
+const MAX_ROWS: u64 = 1 << 24;
+
+impl Cells {
+    /// Buckets points by their non-negative cell `keys`: by a radix sort of one integer per cell
+    /// where the cells of the points' box can be numbered in 64 bits (a million points: a
+    /// comparison sort of the triples and its keys took 0.3 s), else by that sort.
+    fn new(keys: &[[i64; 3]]) -> Self {
+        let dims = keys.iter().fold([1u64; 3], |d, k| {
+            std::array::from_fn(|a| d[a].max(k[a] as u64 + 1))
+        });
+        let rows = dims[1].checked_mul(dims[2]).filter(|&r| r <= MAX_ROWS);
+        let total = rows
+            .and_then(|r| r.checked_mul(dims[0]))
+            .filter(|&n| n < 1 << 62);
+        // (cell, point) in cell order; the runs read the cells from it, not from `keys` by
+        // point index (a cache miss per point).
+        let mut runs: Vec<([i64; 3], usize, usize)> = Vec::new();
+        let mut add = |n: usize, k: [i64; 3]| match runs.last_mut() {
+            Some((last, _, end)) if *last == k => *end = n + 1,
+            _ => runs.push((k, n, n + 1)),
+        };
+        let order: Vec<u32> = match total {
+            Some(total) => {
+                let [nx, ny, _] = dims;
+                let index = |k: &[i64; 3]| (k[2] as u64 * ny + k[1] as u64) * nx + k[0] as u64;
+                let pairs: Vec<(u64, u32)> = (keys.iter().enumerate())
+                    .map(|(i, k)| (index(k), i as u32))
+                    .collect();
+                let pairs = super::radix::radix_sort_by_cell(pairs, total);
+                let (mut last, mut k) = (u64::MAX, [0; 3]);
+                for (n, &(c, _)) in pairs.iter().enumerate() {
+                    if c != last {
+                        k = [c % nx, c / nx % ny, c / nx / ny].map(|x| x as i64);
+                        last = c;
+                    }
+                    add(n, k);
+                }
+                pairs.into_iter().map(|(_, i)| i).collect()
+            }
+            None => {
+                let mut order: Vec<([i64; 3], u32)> = (keys.iter().enumerate())
+                    .map(|(i, &k)| (k, i as u32))
+                    .collect();
+                order.sort_unstable();
+                for (n, &(k, _)) in order.iter().enumerate() {
+                    add(n, k);
+                }
+                order.into_iter().map(|(_, i)| i).collect()
+            }
+        };
+        let lookup = match (total, rows) {
+            (Some(_), Some(rows)) => {
+                let mut row_start = vec![0u32; rows as usize + 1];
+                for (k, _, _) in &runs {
+                    row_start[(k[2] as u64 * dims[1] + k[1] as u64) as usize + 1] += 1;
+                }
+                for r in 1..row_start.len() {
+                    row_start[r] += row_start[r - 1];
+                }
+                Lookup::Rows { dims, row_start }
+            }
+            _ => Lookup::Hash(
+                runs.iter()
+                    .enumerate()
+                    .map(|(r, &(k, _, _))| (k, r))
+                    .collect(),
+            ),
+        };
+        Cells {
+            order,
+            runs,
+            lookup,
+        }
+    }
+
+    /// The run `(start, end)` of the cell `k + d`, if occupied.
+    fn get(&self, k: [i64; 3], d: [i64; 3]) -> Option<(usize, usize)> {
+        let c: [i64; 3] = std::array::from_fn(|a| k[a] + d[a]);
+        let run = match &self.lookup {
+            Lookup::Rows { dims, row_start } => {
+                if (0..3).any(|a| c[a] < 0 || c[a] as u64 >= dims[a]) {
+                    return None;
+                }
+                let row = (c[2] as u64 * dims[1] + c[1] as u64) as usize;
+                let (lo, hi) = (row_start[row] as usize, row_start[row + 1] as usize);
+                lo + self.runs[lo..hi]
+                    .binary_search_by_key(&c[0], |r| r.0[0])
+                    .ok()?
+            }
+            Lookup::Hash(map) => *map.get(&c)?,
+        };
+        let (_, a, b) = self.runs[run];
+        Some((a, b))
+    }
 }
 
 /// The six face neighbours of a cell.
@@ -220,16 +304,16 @@ mod tests {
         assert_eq!(a.iter().filter(|&&i| i).count(), 1);
     }
 
-    /// A stray point so far off that the cells' indices do not fit the packed sort: the same
-    /// answers by the other sort.
+    /// Stray points so far off that the cells of the points' box cannot be numbered in 64 bits:
+    /// the same answers by the other sort.
     #[test]
     fn a_far_stray_takes_the_unpacked_sort() {
         let mut pts = sphere(2000);
         pts.push(DVec3::splat(5.0));
         let near = isolated_points(&pts, 0.4);
-        pts.push(DVec3::new(1e7, 0.0, 0.0));
+        pts.extend([DVec3::new(1e7, 0.0, 0.0), DVec3::new(0.0, 1e7, 1e7)]);
         let far = isolated_points(&pts, 0.4);
         assert_eq!(far[..near.len()], near[..]);
-        assert!(far[near.len()]);
+        assert!(far[near.len()] && far[near.len() + 1]);
     }
 }
