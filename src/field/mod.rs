@@ -240,10 +240,11 @@ impl DistanceField {
         Ok(grid)
     }
 
-    /// The cell size the field of a mesh `target` will have, known before it is built (None for
-    /// a cloud, whose cells follow its point spacing, or where the build would fail).
+    /// The cell size the field of `target` will have, known before it is built (None where the
+    /// build would fail). (A cloud's follows its point spacing, which is remembered for the build
+    /// on this thread.)
     pub fn planned_cell_size(target: &Target, settings: &FieldSettings) -> Option<f64> {
-        if target.triangles.is_empty() || target.points.iter().any(|p| !p.is_finite()) {
+        if target.points.iter().any(|p| !p.is_finite()) {
             return None;
         }
         settings.check().ok()?;

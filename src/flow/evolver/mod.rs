@@ -326,15 +326,13 @@ impl FitKey {
             .then(|| SnapTarget::new(target, center, self.phi, self.fit_radius))
     }
 
-    /// `(fit target, creases)` of a mesh target, each on a thread of its own natively.
-    fn build_for_mesh(
-        &self,
-        target: &Target,
-        center: DVec3,
-    ) -> (Option<SnapTarget>, Option<Creases>) {
+    /// `(fit target, creases)`, each on a thread of its own natively; a cloud's creases are
+    /// found later, on its fit grid (None here).
+    fn build(&self, target: &Target, center: DVec3) -> (Option<SnapTarget>, Option<Creases>) {
+        let mesh = !target.triangles.is_empty();
         let (creases, fit_target) = crate::parallel::beside(
             || {
-                self.crease_angle.map(|angle| {
+                self.crease_angle.filter(|_| mesh).map(|angle| {
                     detect_creases(&self.framed(target, center), &target.triangles, angle)
                 })
             },
@@ -377,17 +375,18 @@ impl Evolver {
             }
             None => (target, 0),
         };
-        // A mesh's creases and the fit's tree over it depend on the field and the start only
-        // through the cell size and φ, both known from the settings: they are built on other
-        // threads while the field and the start are (bust: 255 ms of setup), for the start the
-        // settings ask for on a closed mesh, and again below in the rare case of another start.
+        // A mesh's creases and the fit's tree over it (a cloud's fit grid) depend on the field
+        // and the start only through the cell size and φ, both known from the settings: they are
+        // built on other threads while the field and the start are (bust: 255 ms of setup), for
+        // the start the settings ask for, and again below in the rare case of another start.
         let planned = DistanceField::planned_cell_size(target, &settings.field).map(|cell| {
-            let guess = settings.clone().resolved_for(true);
+            // (A cloud's field is never signed; a mesh's is where it is closed, the usual case.)
+            let guess = settings.clone().resolved_for(!target.triangles.is_empty());
             FitKey::new(&guess, target, cell, start_scale(target, cell, &guess))
         });
         let center = target.bbox.center();
         let (prebuilt, start) = crate::parallel::beside(
-            || planned.map(|k| (k, k.build_for_mesh(target, center))),
+            || planned.map(|k| (k, k.build(target, center))),
             || -> Result<_, EvolveError> {
                 let field = DistanceField::new_with_progress(target, &settings.field, progress)?;
                 let mut resolved = settings.clone().resolved_for(field.is_signed());
@@ -409,8 +408,12 @@ impl Evolver {
         let key = FitKey::new(&settings, target, c, phi);
         let (fit_target, creases) = if target.triangles.is_empty() {
             // A cloud's creases are seen at the scale of the fit's plane fits, on the fit's own
-            // grid. A smooth cloud's fit stays exactly as without crease detection.
-            let fit_target = key.fit_target(target, center);
+            // grid. A smooth cloud's fit stays exactly as without crease detection. (Its grid
+            // was built beside the field when the key was foreseen: 1 M points, 0.15 s.)
+            let fit_target = match prebuilt {
+                Some((made, (built, _))) if made == key => built,
+                _ => key.fit_target(target, center),
+            };
             let creases = match (&fit_target, key.crease_angle) {
                 (Some(SnapTarget::Points(grid)), Some(angle)) => {
                     let framed = key.framed(target, center);
@@ -425,7 +428,7 @@ impl Evolver {
         } else {
             match prebuilt {
                 Some((made, built)) if made == key => built,
-                _ => key.build_for_mesh(target, center),
+                _ => key.build(target, center),
             }
         };
         let d0 = settings.flow.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
