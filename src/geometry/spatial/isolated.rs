@@ -136,8 +136,9 @@ enum Lookup {
     Hash(HashMap<[i64; 3], usize, BuildHasherDefault<CellHasher>>),
 }
 
-/// Most (y, z) rows of cells for which [`Lookup::Rows`] keeps a table.
-const MAX_ROWS: u64 = 1 << 24;
+/// Most (y, z) rows of cells for which [`Lookup::Rows`] keeps a table (4 MB; a million-point
+/// bust's box has 1.3·10⁵ rows).
+const MAX_ROWS: u64 = 1 << 20;
 
 impl Cells {
     /// Buckets points by their non-negative cell `keys`: by a radix sort of one integer per cell
