@@ -119,7 +119,10 @@ pub fn isolated_points(points: &[DVec3], radius: f64) -> Vec<bool> {
 
 /// The points bucketed by cell: their indices sorted by cell, each occupied cell's run of that
 /// order, and a lookup from a cell to its run. (The order within a cell, and of the cells, never
-/// changes an answer: only counts.)
+/// changes an answer: only counts.) Not a [`super::point_grid::PointGrid`]: that one keeps a
+/// start for every cell of the box and caps the cells per axis, and this test's cells must stay
+/// exactly radius/√3 wide — a million-point bust has 5·10⁷ of them, a few hundred thousand
+/// occupied.
 struct Cells {
     order: Vec<u32>,
     /// (cell, start, end) per occupied cell.
