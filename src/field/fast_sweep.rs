@@ -254,9 +254,20 @@ impl<'a> Halves<'a> {
         if self.half == self.lattice.dims[1] {
             return self.first();
         }
+        /// Marks every plane's first half done when dropped, also when the first half panics,
+        /// so that the second never waits forever (the scope joins it before unwinding).
+        struct AllDone<'b>(&'b AtomicUsize);
+        impl Drop for AllDone<'_> {
+            fn drop(&mut self) {
+                self.0.store(usize::MAX, Release);
+            }
+        }
         std::thread::scope(|scope| {
             let second = scope.spawn(|| self.second());
-            let first = self.first();
+            let first = {
+                let _all_done = AllDone(&self.first_done);
+                self.first()
+            };
             match second.join() {
                 Ok(second) => first | second,
                 Err(panic) => std::panic::resume_unwind(panic),
@@ -538,13 +549,8 @@ mod tests {
                 dims,
             };
             let n = g.node_count();
-            let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-            let mut rand = || {
-                seed = seed
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                (seed >> 11) as f64 / (1u64 << 53) as f64
-            };
+            let mut rng = crate::demo::Rng::new(dims[1] as u64);
+            let mut rand = || rng.uniform();
             let hi = g.position_of(n - 1);
             let sources: Vec<glam::DVec3> = (0..7)
                 .map(|_| glam::DVec3::new(rand() * hi.x, rand() * hi.y, rand() * hi.z))
