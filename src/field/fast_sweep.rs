@@ -354,12 +354,12 @@ impl<'a> Halves<'a> {
                 sweep_rows(l, &mut group[..len], rx);
             }
             for job in &group[..len] {
-                l.row_work[job.start / nx].store(job.work, Relaxed);
+                let r = job.start / nx;
+                l.row_work[r].store(job.work, Relaxed);
                 if job.woke {
                     changed = true;
                     // Rows of the neighbours that may have been re-activated (a missing
                     // neighbour is the row itself).
-                    let r = job.start / nx;
                     let [ym, yp, zm, zp] = job.offsets;
                     for n in [r, r - ym / nx, r + yp / nx, r - zm / nx, r + zp / nx] {
                         l.row_active[n].store(true, Relaxed);
@@ -536,6 +536,24 @@ mod tests {
 
     #[test]
     fn two_halves_sweep_bit_for_bit_as_one() {
+        // Either half after the other on one thread, as late (all of the first, then the
+        // second) and as early (each second-half plane as soon as it is ready) as allowed.
+        fn lagging(h: &Halves) -> bool {
+            h.first() | h.second()
+        }
+        fn eager(h: &Halves) -> bool {
+            let [_, ny, nz] = h.lattice.dims;
+            let (mut changed, mut next) = (false, 0);
+            for kz in 0..nz {
+                changed |= h.plane(kz, 0, h.half);
+                h.first_done.store(kz + 1, Release);
+                while next < nz && h.ready(next) {
+                    changed |= h.plane(next, h.half, ny);
+                    next += 1;
+                }
+            }
+            changed
+        }
         // Scattered frozen seeds with exact distances to a few random points, so that the fronts
         // cross the seam between the halves in every direction and many passes run.
         for (dims, tolerance) in [
@@ -567,24 +585,6 @@ mod tests {
                     v[i] = d;
                     f[i] = true;
                 }
-            }
-            // Either half after the other on one thread, as late (all of the first, then the
-            // second) and as early (each second-half plane as soon as it is ready) as allowed.
-            fn lagging(h: &Halves) -> bool {
-                h.first() | h.second()
-            }
-            fn eager(h: &Halves) -> bool {
-                let [_, ny, nz] = h.lattice.dims;
-                let (mut changed, mut next) = (false, 0);
-                for kz in 0..nz {
-                    changed |= h.plane(kz, 0, h.half);
-                    h.first_done.store(kz + 1, Release);
-                    while next < nz && h.ready(next) {
-                        changed |= h.plane(next, h.half, ny);
-                        next += 1;
-                    }
-                }
-                changed
             }
             let mut one = v.clone();
             let a = sweep_split(&g, &mut one, &f, 64, tolerance, None, &mut |_| {});
