@@ -134,6 +134,60 @@ where
     }
 }
 
+/// A result computed off the caller's thread (natively), for work that only a much later call
+/// needs and that would otherwise hold up everything after it: see [`later`].
+pub struct Later<T>(LaterState<T>);
+
+enum LaterState<T> {
+    Ready(T),
+    #[cfg(not(target_arch = "wasm32"))]
+    Running(std::thread::JoinHandle<T>),
+}
+
+/// `f` on a thread of its own natively, its parallel loops kept on that one thread (a pool of
+/// one): it fills the idle core while the caller runs its sequential parts, and never holds the
+/// shared pool's threads that the caller's own parallel loops wait for. In wasm (one thread),
+/// or where no thread can be started, `f` runs here, now, with `progress`; natively its
+/// progress is not reported. Either way the value is the same.
+pub fn later<T, F>(f: F, progress: &mut dyn FnMut(f64)) -> Later<T>
+where
+    T: Send + 'static,
+    F: FnOnce(&mut dyn FnMut(f64)) -> T + Send + 'static,
+{
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        if let Ok(pool) = rayon::ThreadPoolBuilder::new().num_threads(1).build() {
+            let run = move || pool.install(|| f(&mut |_| {}));
+            return Later(LaterState::Running(std::thread::spawn(run)));
+        }
+    }
+    Later::ready(f(progress))
+}
+
+impl<T> Later<T> {
+    /// A value already at hand.
+    pub fn ready(value: T) -> Self {
+        Later(LaterState::Ready(value))
+    }
+
+    /// Whether the value is computed on another thread (it may be done already).
+    pub fn elsewhere(&self) -> bool {
+        !matches!(self.0, LaterState::Ready(_))
+    }
+
+    /// The value, waiting for it if it is still being computed (a panic there resumes here).
+    pub fn get(self) -> T {
+        match self.0 {
+            LaterState::Ready(value) => value,
+            #[cfg(not(target_arch = "wasm32"))]
+            LaterState::Running(handle) => match handle.join() {
+                Ok(value) => value,
+                Err(panic) => std::panic::resume_unwind(panic),
+            },
+        }
+    }
+}
+
 #[cfg(not(target_arch = "wasm32"))]
 fn extend_range<T: Send, F: Fn(usize) -> T + Sync + Send>(
     out: &mut Vec<T>,
@@ -178,6 +232,30 @@ mod tests {
         let data = [1, 2, 3];
         let (a, b) = beside(|| data.iter().sum::<i32>(), || data.len());
         assert_eq!((a, b), (6, 3));
+    }
+
+    #[test]
+    fn later_gives_the_value_of_its_work_and_its_loops_the_same_order() {
+        let work = |_: &mut dyn FnMut(f64)| map(5000, |i| i * 3);
+        let mut heard = 0;
+        let value = later(work, &mut |_| heard += 1).get();
+        assert_eq!(value, (0..5000).map(|i| i * 3).collect::<Vec<_>>());
+        let mut reported = vec![];
+        let now = later(
+            |p: &mut dyn FnMut(f64)| {
+                p(1.0);
+                7
+            },
+            &mut |f| reported.push(f),
+        );
+        assert_eq!(now.get(), 7);
+        // Natively the work runs elsewhere and reports nothing; in wasm it runs here.
+        let expected: Vec<f64> = if cfg!(target_arch = "wasm32") {
+            vec![1.0]
+        } else {
+            vec![]
+        };
+        assert_eq!(reported, expected);
     }
 
     #[test]

@@ -34,8 +34,9 @@ pub struct SnapParams {
 
 /// What the target looks like to the fit.
 pub enum SnapTarget {
-    /// A point cloud, bucketed.
-    Points(PointGrid),
+    /// A point cloud, bucketed (shared: a cloud's creases are found on the same grid, beside the
+    /// steps).
+    Points(std::sync::Arc<PointGrid>),
     /// A triangle mesh.
     Triangles(TriangleBvh),
 }
@@ -46,7 +47,7 @@ impl SnapTarget {
     pub fn new(target: &Target, center: DVec3, phi: f64, radius: f64) -> Self {
         let pts: Vec<DVec3> = target.points.iter().map(|&p| phi * (p - center)).collect();
         if target.triangles.is_empty() {
-            SnapTarget::Points(PointGrid::new(&pts, radius))
+            SnapTarget::Points(std::sync::Arc::new(PointGrid::new(&pts, radius)))
         } else {
             SnapTarget::Triangles(TriangleBvh::new(&pts, &target.triangles))
         }
@@ -506,7 +507,7 @@ mod tests {
         let moved = snap_to_target(
             &mut mesh,
             &normals,
-            &SnapTarget::Points(grid),
+            &SnapTarget::Points(grid.into()),
             &params,
             None,
             &mut |f| heard.push(f),
@@ -530,7 +531,7 @@ mod tests {
         let moved = snap_to_target(
             &mut mesh,
             &normals,
-            &SnapTarget::Points(PointGrid::new(&pts, 0.1)),
+            &SnapTarget::Points(PointGrid::new(&pts, 0.1).into()),
             &params,
             None,
             &mut |_| {},
@@ -553,7 +554,7 @@ mod tests {
             snap_to_target(
                 &mut far,
                 &normals,
-                &SnapTarget::Points(PointGrid::new(&pts, 0.1)),
+                &SnapTarget::Points(PointGrid::new(&pts, 0.1).into()),
                 &params,
                 None,
                 &mut |_| {}

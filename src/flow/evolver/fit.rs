@@ -40,6 +40,17 @@ impl Evolver {
             return None;
         }
         let t0 = now_ms();
+        if let Some(pending) = self.pending_creases.take() {
+            // Found beside the steps (natively): the fit waits here for what is left of that.
+            let elsewhere = pending.elsewhere();
+            if elsewhere {
+                progress.report(super::CREASE_PHASE, 0.0);
+            }
+            self.creases = pending.get();
+            if elsewhere {
+                progress.report(super::CREASE_PHASE, 1.0);
+            }
+        }
         let mut parts = FitTimes::default();
         let fitted = self.final_fit(progress, &mut parts);
         times.fit = now_ms() - t0;
