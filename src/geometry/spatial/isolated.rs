@@ -74,11 +74,12 @@ pub fn isolated_points(points: &[DVec3], radius: f64) -> Vec<bool> {
         let q = (p - origin) / cell;
         [q.x as i64, q.y as i64, q.z as i64]
     };
-    let keys: Vec<[i64; 3]> = points.iter().map(|&p| key(p)).collect();
+    let keys: Vec<[i64; 3]> = crate::parallel::map(points.len(), |i| key(points[i]));
     let cells = Cells::new(&keys);
     // The points in cell order, so that a cell's are side by side in memory (looked up by index
     // they were a cache miss each, most of the test's time on a million points).
-    let sorted: Vec<DVec3> = cells.order.iter().map(|&i| points[i as usize]).collect();
+    let sorted: Vec<DVec3> =
+        crate::parallel::map(cells.order.len(), |j| points[cells.order[j] as usize]);
     let r2 = radius * radius;
     let within = |p: DVec3, (a, b): (usize, usize)| {
         sorted[a..b]
@@ -166,9 +167,8 @@ impl Cells {
             Some(total) => {
                 let [nx, ny, _] = dims;
                 let index = |k: &[i64; 3]| (k[2] as u64 * ny + k[1] as u64) * nx + k[0] as u64;
-                let pairs: Vec<(u64, u32)> = (keys.iter().enumerate())
-                    .map(|(i, k)| (index(k), i as u32))
-                    .collect();
+                let pairs: Vec<(u64, u32)> =
+                    crate::parallel::map(keys.len(), |i| (index(&keys[i]), i as u32));
                 let pairs = super::radix::radix_sort_by_cell(pairs, total);
                 let (mut last, mut k) = (u64::MAX, [0; 3]);
                 for (n, &(c, _)) in pairs.iter().enumerate() {
