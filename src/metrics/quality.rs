@@ -178,13 +178,16 @@ pub fn quality_stats(positions: &[DVec3], triangles: &[[u32; 3]]) -> QualityStat
 pub fn vertex_kappa(mesh: &HalfedgeMesh) -> Vec<f64> {
     let mut sum = vec![0.0; mesh.n_vertices()];
     let mut cnt = vec![0u32; mesh.n_vertices()];
-    for f in 0..mesh.n_faces() as u32 {
-        if mesh.is_deleted_face(f) {
-            continue;
-        }
-        let vs = mesh.face_vertices(f);
-        let [a, b, c] = vs.map(|v| mesh.position(v));
-        let k = kappa(a, b, c);
+    // (The remesh trigger asks every step: the faces' κ on both cores, added up in face order.)
+    let faces = crate::parallel::map(mesh.n_faces(), |f| {
+        let f = f as u32;
+        (!mesh.is_deleted_face(f)).then(|| {
+            let vs = mesh.face_vertices(f);
+            let [a, b, c] = vs.map(|v| mesh.position(v));
+            (vs, kappa(a, b, c))
+        })
+    });
+    for (vs, k) in faces.into_iter().flatten() {
         if k.is_finite() {
             for v in vs {
                 sum[v as usize] += k;

@@ -10,21 +10,27 @@ use glam::DVec3;
 /// A vertex whose faces are all degenerate gets the zero vector.
 pub fn angle_weighted_normals(mesh: &HalfedgeMesh) -> Vec<DVec3> {
     let mut normals = vec![DVec3::ZERO; mesh.n_vertices()];
-    for f in 0..mesh.n_faces() as u32 {
-        let vs = mesh.face_vertices(f);
+    // Each face's three weighted normals on both cores, added up in face order (the same sums).
+    let faces = crate::parallel::map(mesh.n_faces(), |f| {
+        let vs = mesh.face_vertices(f as u32);
         let ps = vs.map(|v| mesh.position(v));
         let n = (ps[1] - ps[0]).cross(ps[2] - ps[0]);
         let len = n.length();
-        if len <= 0.0 {
-            continue;
-        }
-        let n = n / len;
-        for k in 0..3 {
-            let (a, b) = (ps[(k + 1) % 3] - ps[k], ps[(k + 2) % 3] - ps[k]);
-            // Not glam's `angle_between`: its `acos` is the platform's (see `crate::fmath`).
-            let angle = corner_angle(a.cross(b).length(), a.dot(b));
-            if angle.is_finite() {
-                normals[vs[k] as usize] += angle * n;
+        (len > 0.0).then(|| {
+            let n = n / len;
+            let weighted = [0, 1, 2].map(|k| {
+                let (a, b) = (ps[(k + 1) % 3] - ps[k], ps[(k + 2) % 3] - ps[k]);
+                // Not glam's `angle_between`: its `acos` is the platform's (see `crate::fmath`).
+                let angle = corner_angle(a.cross(b).length(), a.dot(b));
+                angle.is_finite().then(|| angle * n)
+            });
+            (vs, weighted)
+        })
+    });
+    for (vs, weighted) in faces.into_iter().flatten() {
+        for (v, w) in vs.into_iter().zip(weighted) {
+            if let Some(w) = w {
+                normals[v as usize] += w;
             }
         }
     }
