@@ -526,7 +526,7 @@ mod tests {
                 radius_cells: 3.0,
                 max_move_cells: 4.0,
                 passes: 1,
-                max_points: 128,
+                max_points: 64,
                 crease_angle_deg: 40.0,
                 refine_error_cells: 0.25,
                 refine_passes: 5,

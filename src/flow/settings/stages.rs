@@ -195,11 +195,14 @@ pub struct FitSettings {
     pub passes: u32,
     /// Most cloud points a vertex's plane is fitted to: the nearest within `radius_cells`. Keeps
     /// the fit's cost per vertex bounded on dense scans, where the radius holds thousands of
-    /// points. Range ≥ 6; default 128. Only dense clouds reach it (not the bunny's 35 K points
+    /// points. Range ≥ 6; default 64. Only dense clouds reach it (not the bunny's 35 K points
     /// nor the 20 K-point test clouds). On 1 M points sampled from spot, 256 → 128: fit
     /// 1.58 → 1.23 s, mean distances 0.006 / 0.030 → 0.004 / 0.027 % of the diagonal; on a
-    /// 1 M-point bust with noise of half a spacing 0.007 / 0.018 → 0.008 / 0.019 %. (An earlier
-    /// fit, without the quadric, needed more: 64 left spot's p95 at 0.93 % against 0.56 %.)
+    /// 1 M-point bust with noise of half a spacing 0.007 / 0.018 → 0.008 / 0.019 %.
+    /// 128 → 64 (2026-11-28): the fit's moves 0.48 → 0.28 s on 1 M points; the noise-free
+    /// clouds come closer (spot 0.0037 → 0.0026 %, bust 0.0024 → 0.0021 %), the noisy bust
+    /// 0.0082 → 0.0110 %, a twentieth of its noise. (An earlier fit, without the quadric,
+    /// needed more: 64 left spot's p95 at 0.93 % against 0.56 %.)
     pub max_points: usize,
     /// Sharp creases of the target: edges whose faces turn by more than this many degrees
     /// are kept sharp — the fit puts wrap vertices on the target's corners and crease lines and
@@ -236,7 +239,7 @@ impl Default for FitSettings {
             radius_cells: 2.0,
             max_move_cells: 2.5,
             passes: 2,
-            max_points: 128,
+            max_points: 64,
             crease_angle_deg: 40.0,
             refine_error_cells: 0.25,
             refine_passes: 5,
