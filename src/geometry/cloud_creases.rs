@@ -250,8 +250,8 @@ fn group_normals(flat: &[(DVec3, DVec3)], min_turn: f64, radius: f64) -> Option<
         .iter()
         .fold(DVec3::ZERO, |a, f| a + orient(f.1, flat[0].1))
         .normalize_or_zero();
-    // (Each normal's angle computed once, not once per comparison: on a million-point scan this
-    // was a quarter of the crease search.)
+    // (Each normal's angle computed once, not twice per comparison: `acos` is most of this
+    // function's cost.)
     let farthest = |key: &dyn Fn(DVec3) -> f64| {
         flat.iter()
             .map(|f| (key(f.1), f.1))
