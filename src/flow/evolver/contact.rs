@@ -89,13 +89,14 @@ impl Evolver {
         times.guard += now_ms() - t0;
         let mut reverted = false;
         if remesh_due {
+            // Where the remesh makes faces intersect (two membranes pressed together across a
+            // hole) it is done again around them, not undone everywhere: undone, the surface
+            // kept its coarse edges from step to step and never grew the vertices its
+            // membranes needed to be cut (a turned genus-4 chain ended at 720 vertices, genus 0).
             let before = self.mesh.clone();
-            self.remesh_phase(times)?;
+            self.remesh_phase(times, None)?;
             let t0 = now_ms();
-            if count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) > 0 {
-                self.mesh = before;
-                reverted = true;
-            }
+            reverted = !self.remesh_around_intersections(&before, times)?;
             times.guard += now_ms() - t0;
         }
         Ok(Some((report, reverted)))

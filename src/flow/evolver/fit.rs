@@ -4,6 +4,7 @@
 //! passes after the first also refine where target vertices are still missed
 //! ([`crate::flow::error_sizing`]) and move wrap vertices onto them ([`crate::flow::reach`]).
 
+use super::remeshing::{freeze_where_intersecting, REMESH_TRIES};
 use super::{round_as_written, written, Evolver, PhaseTimes};
 use crate::clock::now_ms;
 use crate::progress::Progress;
@@ -350,8 +351,7 @@ impl Evolver {
                             match freeze_where_intersecting(
                                 &self.mesh,
                                 before,
-                                phi,
-                                center,
+                                |p| written(p, phi, center),
                                 &mut frozen,
                             ) {
                                 None => lost = false,
@@ -495,7 +495,7 @@ fn tidy_slivers(mesh: &mut HalfedgeMesh, contact: bool, phi: f64, center: DVec3)
             *mesh = tidied;
             return;
         }
-        match freeze_where_intersecting(&tidied, mesh, phi, center, &mut frozen) {
+        match freeze_where_intersecting(&tidied, mesh, |p| written(p, phi, center), &mut frozen) {
             None => {
                 *mesh = tidied;
                 return;
@@ -622,58 +622,6 @@ fn resolve_contacts_as_written(
 /// a regular pass splits under twice per vertex (the open bunny's refinement 1.8), while plane
 /// fits over a 20-point cloud crumpled the wrap into a million splits per remesh, each undone.
 const FIT_SPLITS_PER_VERTEX: f64 = 4.0;
-
-/// Tries of a fit pass's remesh with the regions where it made faces intersect left alone.
-const REMESH_TRIES: usize = 3;
-/// At most this many intersecting pairs are frozen away; more and the remesh is given up.
-const MAX_FROZEN_PAIRS: usize = 64;
-
-/// Marks in `frozen` the vertices of `before` (a mesh before its remesh into `after`) around the
-/// faces of `after` that intersect as written: the vertex of `before` nearest to each corner of
-/// such a face and its neighbours two rings out. Returns None when no faces intersect, and
-/// whether it froze any (false: too many pairs to freeze) otherwise.
-fn freeze_where_intersecting(
-    after: &HalfedgeMesh,
-    before: &HalfedgeMesh,
-    phi: f64,
-    center: DVec3,
-    frozen: &mut [bool],
-) -> Option<bool> {
-    let pos: Vec<DVec3> = after
-        .positions()
-        .iter()
-        .map(|&p| written(p, phi, center))
-        .collect();
-    let tris = after.triangles();
-    let pairs = self_intersecting_pairs(&pos, &tris);
-    if pairs.is_empty() {
-        return None;
-    }
-    if pairs.len() > MAX_FROZEN_PAIRS {
-        return Some(false);
-    }
-    let old = before.positions();
-    let mut ring: Vec<u32> = Vec::new();
-    for (f, g) in pairs {
-        for v in tris[f as usize].into_iter().chain(tris[g as usize]) {
-            let p = after.position(v);
-            let nearest = (0..old.len() as u32)
-                .min_by(|&a, &b| {
-                    let (da, db) = (old[a as usize] - p, old[b as usize] - p);
-                    da.length_squared().total_cmp(&db.length_squared())
-                })
-                .unwrap_or(0);
-            ring.push(nearest);
-        }
-    }
-    for v in before.rings_around(&ring, FROZEN_RINGS) {
-        frozen[v as usize] = true;
-    }
-    Some(true)
-}
-
-/// How many rings around an intersection a remesh retry leaves alone.
-const FROZEN_RINGS: usize = 2;
 
 /// How far off a closed mesh target (in cells) a vertex may stay after the fit's last round.
 const SETTLED_CELLS: f64 = 0.02;

@@ -5,7 +5,13 @@ use super::{EvolveError, Evolver, PhaseTimes};
 use crate::clock::now_ms;
 use crate::flow::guard::check_divergence;
 use crate::flow::settings::RemeshTrigger;
-use crate::remesh::adaptive::{remesh, RemeshReport, RemeshSettings, CURVED_SPLITS_LAYER};
+use crate::mesh::HalfedgeMesh;
+use crate::metrics::intersections::self_intersecting_pairs;
+use crate::remesh::adaptive::{
+    remesh, remesh_with_features, RemeshReport, RemeshSettings, CURVED_SPLITS_LAYER,
+};
+use crate::remesh::features::{FeatureDetector, Features};
+use glam::DVec3;
 
 /// Distance beyond the offset level d₀, in grid cells, up to which remesh splits follow the
 /// surface's curvature (see [`RemeshSettings::curved_splits`]).
@@ -21,7 +27,7 @@ impl Evolver {
         if !(r.enabled && self.step >= r.from_step && self.needs_remesh()) {
             return Ok(None);
         }
-        let report = self.remesh_phase(times)?;
+        let report = self.remesh_phase(times, None)?;
         if let Err(reason) = check_divergence(&self.mesh, &self.limits) {
             self.step -= 1;
             return Err(self.roll_back(reason));
@@ -29,10 +35,13 @@ impl Evolver {
         Ok(Some(report))
     }
 
-    /// Adaptive remeshing with the current sizes.
+    /// Adaptive remeshing with the current sizes; `frozen` vertices (indexed like the mesh) are
+    /// left as they are, with their edges (ignored with a feature detector on: its features
+    /// would be lost).
     pub(super) fn remesh_phase(
         &mut self,
         times: &mut PhaseTimes,
+        frozen: Option<&[bool]>,
     ) -> Result<RemeshReport, EvolveError> {
         let t0 = now_ms();
         let s = &self.settings;
@@ -54,11 +63,42 @@ impl Evolver {
                 *l = if d <= near { 1.0 } else { 0.0 };
             }
         }
-        let report = remesh(&mut self.mesh, &rs);
+        let report = match frozen {
+            Some(f) if rs.features.detector == FeatureDetector::Off => {
+                let mut features = Features::none(&self.mesh);
+                features.frozen = f.to_vec();
+                remesh_with_features(&mut self.mesh, &rs, &features)
+            }
+            _ => remesh(&mut self.mesh, &rs),
+        };
         self.mesh.remove_vertex_scalar_layer(CURVED_SPLITS_LAYER);
         let report = report?;
         times.remesh += now_ms() - t0;
         Ok(report)
+    }
+
+    /// Remeshes (see [`Evolver::remesh_phase`]) the surface `before`, already remeshed into
+    /// the current one, again where that made faces intersect: up to [`REMESH_TRIES`] times
+    /// with those regions frozen. True when the surface is now free of intersections; false
+    /// (with `before` restored) when that failed.
+    pub(super) fn remesh_around_intersections(
+        &mut self,
+        before: &HalfedgeMesh,
+        times: &mut PhaseTimes,
+    ) -> Result<bool, EvolveError> {
+        let mut frozen = vec![false; before.n_vertices()];
+        for tries_left in (0..=REMESH_TRIES).rev() {
+            match freeze_where_intersecting(&self.mesh, before, |p| p, &mut frozen) {
+                None => return Ok(true),
+                Some(true) if tries_left > 0 => {
+                    self.mesh = before.clone();
+                    self.remesh_phase(times, Some(&frozen))?;
+                }
+                Some(_) => break,
+            }
+        }
+        self.mesh = before.clone();
+        Ok(false)
     }
 
     fn quality_left_band(&self) -> bool {
@@ -77,4 +117,51 @@ impl Evolver {
             }
         }
     }
+}
+
+/// Tries of a remesh with the regions where it made faces intersect left alone.
+pub(super) const REMESH_TRIES: usize = 3;
+/// At most this many intersecting pairs are frozen away; more and the remesh is given up.
+const MAX_FROZEN_PAIRS: usize = 64;
+/// How many rings around an intersection a remesh retry leaves alone.
+const FROZEN_RINGS: usize = 2;
+
+/// Marks in `frozen` the vertices of `before` (a mesh before its remesh into `after`) around the
+/// faces of `after` that intersect where `frame` puts them (the check that will judge the
+/// surface): the vertex of `before` nearest to each corner of such a face and its neighbours
+/// two rings out. Returns None when no faces intersect, and whether it froze any (false: too
+/// many pairs to freeze) otherwise.
+pub(super) fn freeze_where_intersecting(
+    after: &HalfedgeMesh,
+    before: &HalfedgeMesh,
+    frame: impl Fn(DVec3) -> DVec3,
+    frozen: &mut [bool],
+) -> Option<bool> {
+    let pos: Vec<DVec3> = after.positions().iter().map(|&p| frame(p)).collect();
+    let tris = after.triangles();
+    let pairs = self_intersecting_pairs(&pos, &tris);
+    if pairs.is_empty() {
+        return None;
+    }
+    if pairs.len() > MAX_FROZEN_PAIRS {
+        return Some(false);
+    }
+    let old = before.positions();
+    let mut ring: Vec<u32> = Vec::new();
+    for (f, g) in pairs {
+        for v in tris[f as usize].into_iter().chain(tris[g as usize]) {
+            let p = after.position(v);
+            let nearest = (0..old.len() as u32)
+                .min_by(|&a, &b| {
+                    let (da, db) = (old[a as usize] - p, old[b as usize] - p);
+                    da.length_squared().total_cmp(&db.length_squared())
+                })
+                .unwrap_or(0);
+            ring.push(nearest);
+        }
+    }
+    for v in before.rings_around(&ring, FROZEN_RINGS) {
+        frozen[v as usize] = true;
+    }
+    Some(true)
 }

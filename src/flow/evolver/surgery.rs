@@ -59,7 +59,7 @@ impl Evolver {
         self.mesh = operated.clone();
         // The tube's faces are as long as the loops' edges and as tall as the gap: remesh them,
         // keeping the unremeshed surface if the remesh leaves intersecting faces.
-        let remeshed = self.remesh_phase(times).is_ok()
+        let remeshed = self.remesh_phase(times, None).is_ok()
             && count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) == 0;
         if !remeshed {
             self.mesh = operated;

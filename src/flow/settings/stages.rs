@@ -267,7 +267,10 @@ pub struct SurgerySettings {
     /// Two facing sheets meet when their gap is below this fraction of their distance to the
     /// target. Range (0, 1]; default 0.25.
     pub gap_ratio: f64,
-    /// Smallest patch (vertices) that is cut. Range ≥ 3; default 6.
+    /// Smallest patch (vertices) that is cut. Range ≥ 3; default 3: a membrane across a hole
+    /// only a few edges wide has few vertices far from the data, and 6 left such holes closed
+    /// (seven of 96 rotated, noisy or sparse samplings of the genus 1–5 chains, cube-hole and
+    /// plate-holes came out with too small a genus, none with too large; benches/RESULTS.md).
     pub min_vertices: usize,
     /// Close gaps up to this fraction of the target's bounding-box diagonal: a handle whose hole
     /// is narrower stays closed (the app's "Close gaps up to" control). 0 leaves it to the
@@ -284,7 +287,7 @@ impl Default for SurgerySettings {
             empty_cells: 3.0,
             empty_spacings: 3.0,
             gap_ratio: 0.25,
-            min_vertices: 6,
+            min_vertices: 3,
             close_gaps: 0.0,
         }
     }
