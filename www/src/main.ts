@@ -75,6 +75,7 @@ const share = new ShareLink(
       dataset: mode.current === 'mcf' && lesson.kind === 'sphere' ? 'demo:mcf' : run.dataset,
       preset: settings.panel.preset,
       changed: settings.panel.changed(),
+      settings: settings.panel.all(),
       view: view.view,
       iso: mode.current === 'wrap' && run.volumeIso !== null ? run.volumeIso : undefined,
       file: (mode.current === 'wrap' && run.stamp) || undefined,

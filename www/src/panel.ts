@@ -93,6 +93,11 @@ export class SettingsPanel {
     return diff(this.values, this.base);
   }
 
+  /** Every setting's value (flattened). */
+  all(): Flat {
+    return { ...this.values };
+  }
+
   private build(): void {
     this.gui?.destroy();
     const gui = new GUI({ container: this.container, title: `Advanced settings (${this.preset})`, width: 340 });

@@ -1,15 +1,17 @@
 // App state <-> URL hash, versioned. The hash is plain `key=value` pairs (URLSearchParams):
-//   v=2  d=<dataset: demo id | https URL>  p=<preset>  s.<setting path>=<JSON literal>  view.<key>=<value>
+//   v=3  d=<dataset: demo id | https URL>  p=<preset>  s.<setting path>=<JSON literal>  view.<key>=<value>
 //   f.name, f.size, f.sha=<the dropped file the link was made with: name, bytes, SHA-256 prefix>
-// Version 2 added the f.* keys; version 1 links decode as before. Decoding never evaluates
+// Version 2 added the f.* keys; version 3 writes every setting, not only those that differ from
+// the defaults, so that a link reproduces its result after a later version changes a default
+// (versions 1 and 2 decode as before: what they leave out takes this version's defaults). Decoding never evaluates
 // anything: values are parsed with JSON.parse or as plain strings and checked against the
 // defaults' types; anything unknown, old or malformed falls back to the default and is reported
 // in `notices` (shown as text, never as HTML).
 
 /** The current hash format. */
-export const SHARE_VERSION = 2;
+export const SHARE_VERSION = 3;
 /** Versions whose settings this app reads (each one adds keys to the one before). */
-const READABLE_VERSIONS = ['1', '2'];
+const READABLE_VERSIONS = ['1', '2', '3'];
 
 /** A dropped file as a link names it: it cannot travel in the link, so the receiver drops it again. */
 export interface FileStamp {
@@ -55,6 +57,9 @@ export interface ShareState {
   preset: string;
   /** Settings that differ from the preset's defaults. */
   changed: Flat;
+  /** Every setting's value: what `encode` writes when present (else `changed`), so that the
+   * link does not depend on this version's defaults. `decode` leaves it unset. */
+  settings?: Flat;
   view: ViewState;
   /** Volumes: the iso-value wrapped (absent for meshes, clouds and Otsu's default). */
   iso?: number;
@@ -132,7 +137,8 @@ export function encode(state: ShareState): string {
     q.set('f.size', String(state.file.size));
     if (state.file.sha) q.set('f.sha', state.file.sha);
   }
-  for (const k of Object.keys(state.changed).sort()) q.set(`s.${k}`, JSON.stringify(state.changed[k]));
+  const written = state.settings ?? state.changed;
+  for (const k of Object.keys(written).sort()) q.set(`s.${k}`, JSON.stringify(written[k]));
   const v = state.view;
   for (const k of Object.keys(DEFAULT_VIEW) as (keyof ViewState)[]) {
     if (v[k] === DEFAULT_VIEW[k]) continue;
@@ -201,7 +207,10 @@ export function decode(hash: string, presets: Record<string, Flat>, opts: Decode
       } catch {
         parsed = value; // bare strings (enum values) may come unquoted
       }
-      if (sameType(parsed, defaults[path])) state.changed[path] = parsed as Leaf;
+      // A value equal to this version's default is no change (version 3 links carry them all).
+      if (sameType(parsed, defaults[path])) {
+        if (JSON.stringify(parsed) !== JSON.stringify(defaults[path])) state.changed[path] = parsed as Leaf;
+      }
       else notices.push(`Setting ${path} = "${value.slice(0, 40)}" has the wrong type; using the default.`);
     } else if (key.startsWith('view.')) {
       const k = key.slice(5) as keyof ViewState;

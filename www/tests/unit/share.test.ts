@@ -13,10 +13,24 @@ describe('URL state codec', () => {
       view: { ...DEFAULT_VIEW, wire: false, cmap: 'kappa', yaw: 1.25 },
     };
     const hash = encode(state);
-    expect(hash.startsWith('v=2')).toBe(true);
+    expect(hash.startsWith('v=3')).toBe(true);
     const { state: back, notices } = decode('#' + hash, presets, { colourMaps: ['distance', 'kappa', 'none'] });
     expect(notices).toEqual([]);
     expect(back).toEqual(state);
+  });
+
+  it('writes every setting, so a link keeps its result when a later version changes a default', () => {
+    const settings = { ...presets.obstacle, steps: 20 };
+    const state: ShareState = { dataset: 'demo:bunny-points', preset: 'obstacle', changed: { steps: 20 }, settings, view: { ...DEFAULT_VIEW } };
+    const hash = encode(state);
+    for (const k of Object.keys(settings)) expect(hash).toContain(`s.${k}=`);
+    // Read by this version: only the change is a change.
+    const back = decode(hash, presets);
+    expect(back.notices).toEqual([]);
+    expect(back.state.changed).toEqual({ steps: 20 });
+    // Read by a version whose obstacle τ default moved to 0.06: the link's 0.05 still applies.
+    const later = { ...presets, obstacle: { ...presets.obstacle, tau: 0.06 } };
+    expect(decode(hash, later).state.changed).toEqual({ steps: 20, tau: 0.05 });
   });
 
   it('carries a dropped file as name, size and fingerprint; version 1 links read as before', () => {
