@@ -80,7 +80,8 @@ impl Evolver {
     /// Remeshes (see [`Evolver::remesh_phase`]) the surface `before`, already remeshed into
     /// the current one, again where that made faces intersect: up to [`REMESH_TRIES`] times
     /// with those regions frozen. True when the surface is now free of intersections; false
-    /// (with `before` restored) when that failed.
+    /// (with `before` restored) when that failed. The checks count as the guard's time, the
+    /// remeshes as the remesh's.
     pub(super) fn remesh_around_intersections(
         &mut self,
         before: &HalfedgeMesh,
@@ -88,7 +89,10 @@ impl Evolver {
     ) -> Result<bool, EvolveError> {
         let mut frozen = vec![false; before.n_vertices()];
         for tries_left in (0..=REMESH_TRIES).rev() {
-            match freeze_where_intersecting(&self.mesh, before, |p| p, &mut frozen) {
+            let t0 = now_ms();
+            let check = freeze_where_intersecting(&self.mesh, before, |p| p, &mut frozen);
+            times.guard += now_ms() - t0;
+            match check {
                 None => return Ok(true),
                 Some(true) if tries_left > 0 => {
                     self.mesh = before.clone();
