@@ -3,10 +3,10 @@
 //   f.name, f.size, f.sha=<the dropped file the link was made with: name, bytes, SHA-256 prefix>
 // Version 2 added the f.* keys; version 3 writes every setting, not only those that differ from
 // the defaults, so that a link reproduces its result after a later version changes a default
-// (versions 1 and 2 decode as before: what they leave out takes this version's defaults). Decoding never evaluates
-// anything: values are parsed with JSON.parse or as plain strings and checked against the
-// defaults' types; anything unknown, old or malformed falls back to the default and is reported
-// in `notices` (shown as text, never as HTML).
+// (versions 1 and 2 decode as before: what they leave out takes this version's defaults).
+// Decoding never evaluates anything: values are parsed with JSON.parse or as plain strings and
+// checked against the defaults' types; anything unknown, old or malformed falls back to the
+// default and is reported in `notices` (shown as text, never as HTML).
 
 /** The current hash format. */
 export const SHARE_VERSION = 3;
@@ -207,11 +207,9 @@ export function decode(hash: string, presets: Record<string, Flat>, opts: Decode
       } catch {
         parsed = value; // bare strings (enum values) may come unquoted
       }
+      if (!sameType(parsed, defaults[path])) notices.push(`Setting ${path} = "${value.slice(0, 40)}" has the wrong type; using the default.`);
       // A value equal to this version's default is no change (version 3 links carry them all).
-      if (sameType(parsed, defaults[path])) {
-        if (JSON.stringify(parsed) !== JSON.stringify(defaults[path])) state.changed[path] = parsed as Leaf;
-      }
-      else notices.push(`Setting ${path} = "${value.slice(0, 40)}" has the wrong type; using the default.`);
+      else if (JSON.stringify(parsed) !== JSON.stringify(defaults[path])) state.changed[path] = parsed as Leaf;
     } else if (key.startsWith('view.')) {
       const k = key.slice(5) as keyof ViewState;
       if (!Object.prototype.hasOwnProperty.call(DEFAULT_VIEW, k)) {

@@ -260,8 +260,8 @@ pub struct SurgerySettings {
     pub check_every: u32,
     /// Empty space: farther from the target than this many cells of the distance grid (and than
     /// `empty_spacings`). Holes narrower than about twice this stay closed. Range ≥ 0; default 2
-    /// (the surface rests 0.87 cells off the data; 3 left seven of 96 unseen samplings of the
-    /// genus 4 and 5 chains, sparse ones, with too small a genus: benches/RESULTS.md).
+    /// (the surface rests 0.87 cells off the data; 3 kept the holes of seven sparse samplings of
+    /// the genus-4 and genus-5 chains closed, of the 96 of `benches/genus/sweep.sh`).
     pub empty_cells: f64,
     /// Empty space on a point cloud: also farther than this many median point spacings (gaps
     /// in a random sampling reach about three). Range ≥ 0; default 3.
@@ -270,9 +270,8 @@ pub struct SurgerySettings {
     /// target. Range (0, 1]; default 0.25.
     pub gap_ratio: f64,
     /// Smallest patch (vertices) that is cut. Range ≥ 3; default 3: a membrane across a hole
-    /// only a few edges wide has few vertices far from the data, and 6 left such holes closed
-    /// (seven of 96 rotated, noisy or sparse samplings of the genus 1–5 chains, cube-hole and
-    /// plate-holes came out with too small a genus, none with too large; benches/RESULTS.md).
+    /// only a few edges wide has few vertices far from the data, and 6 kept such holes closed in
+    /// seven turned, noisy or sparse samplings of the 96 of `benches/genus/sweep.sh`.
     pub min_vertices: usize,
     /// Close gaps up to this fraction of the target's bounding-box diagonal: a handle whose hole
     /// is narrower stays closed (the app's "Close gaps up to" control). 0 leaves it to the
