@@ -147,7 +147,7 @@ enum LaterState<T> {
 /// `f` on a thread of its own natively, its parallel loops kept on that one thread (a pool of
 /// one): it fills the idle core while the caller runs its sequential parts, and never holds the
 /// shared pool's threads that the caller's own parallel loops wait for. In wasm (one thread),
-/// or where no thread can be started, `f` runs here, now, with `progress`; natively its
+/// or where no thread can be started, `f` runs here, now, with `progress` (from 0); natively its
 /// progress is not reported. Either way the value is the same.
 pub fn later<T, F>(f: F, progress: &mut dyn FnMut(f64)) -> Later<T>
 where
@@ -161,6 +161,7 @@ where
             return Later(LaterState::Running(std::thread::spawn(run)));
         }
     }
+    progress(0.0);
     Later::ready(f(progress))
 }
 
@@ -249,9 +250,9 @@ mod tests {
             &mut |f| reported.push(f),
         );
         assert_eq!(now.get(), 7);
-        // Natively the work runs elsewhere and reports nothing; in wasm it runs here.
+        // Natively the work runs elsewhere and reports nothing; in wasm it runs here, from 0.
         let expected: Vec<f64> = if cfg!(target_arch = "wasm32") {
-            vec![1.0]
+            vec![0.0, 1.0]
         } else {
             vec![]
         };

@@ -1,6 +1,6 @@
 //! Progress of the long phases (issue 16, item 6): a cloud's stray-point test, the field build,
-//! the start surface, a cloud's crease detection and the final fit report a phase name and a fraction, in order, each phase
-//! reaching 100 %. Natively and in headless Chromium.
+//! the start surface, a cloud's crease detection and the final fit report a phase name and a
+//! fraction, in order, each phase from 0 to 100 %. Natively and in headless Chromium.
 
 use lsw::demo::shapes::generate;
 use lsw::flow::{Evolver, WrapSettings};
@@ -48,6 +48,8 @@ fn phases_report_in_order_and_each_reaches_the_end() {
     for phase in &phases {
         let fr: Vec<f64> = seen.iter().filter(|s| s.0 == *phase).map(|s| s.1).collect();
         assert!(fr.windows(2).all(|w| w[0] <= w[1]), "{phase}: {fr:?}");
+        // (A phase's first report starts its time in the app's breakdown by phase.)
+        assert_eq!(fr.first(), Some(&0.0), "{phase}: {fr:?}");
         assert_eq!(fr.last(), Some(&1.0), "{phase}: {fr:?}");
         assert!(
             fr.iter().all(|f| (0.0..=1.0).contains(f)),

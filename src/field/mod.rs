@@ -280,6 +280,8 @@ impl DistanceField {
 
         let t1 = crate::clock::now_ms();
         let mesh = !target.triangles.is_empty();
+        // (The band's own reports come after each batch: its start is announced here.)
+        progress.report(band::PHASE, 0.0);
         let b = if mesh && target.triangles.len() >= band::NODE_QUERY_TRIANGLES {
             band::triangles_band_by_nodes(
                 &grid,

@@ -192,6 +192,7 @@ bindDrop(byId('drop'), (f) => run.openFile(f));
   controlSeries: () => readout.controlSeries(),
   resultHash: () => kept.result?.hash ?? null,
   dropToDoneMs: () => run.lastDoneMs,
+  phaseTimes: () => run.phases,
   wasmMemoryBytes: () => run.wasmBytes,
   meshPixelFraction: () => renderer.meshPixelFraction(),
   fieldShown: () => field.shown,

@@ -384,7 +384,8 @@ export type FromWorker =
   | { type: 'target'; run: number; positions: Float32Array; indices: Uint32Array; info: TargetInfo; name: string; lessonMesh: string }
   /** The worker stopped stepping: paused, finished, cancelled, or loaded and `ready` to play (no autoplay). */
   | { type: 'stopped'; reason: StopReason }
-  | { type: 'result'; run: number; hash: string; name: string; positions: Float32Array; normals: Float32Array; indices: Uint32Array; elapsedMs: number; steps: number; certificate: Certificate; stopReason: string | null; start: string; wasmBytes: number; isolated: number }
+  /** `phases`: `elapsedMs` by phase, [name, ms] in the order they first ran (see Stopwatch). */
+  | { type: 'result'; run: number; hash: string; name: string; positions: Float32Array; normals: Float32Array; indices: Uint32Array; elapsedMs: number; phases: [string, number][]; steps: number; certificate: Certificate; stopReason: string | null; start: string; wasmBytes: number; isolated: number }
   | { type: 'exported'; bytes: Uint8Array; format: string }
   | { type: 'curves'; curves: ControlCurves }
   /** The field view asked for (neither slice nor iso: nothing to show). `label` describes it. */

@@ -28,7 +28,10 @@ export class StatusLine {
   /** Clears what described the previous run: progress bar, step statistics, colour legend. */
   clearReadout(): void {
     byId('progress').hidden = true;
-    byId('progress-text').textContent = '';
+    const line = byId('progress-text');
+    line.textContent = '';
+    line.title = '';
+    delete line.dataset.phases;
     const stats = byId('stats');
     stats.textContent = '';
     delete stats.dataset.step;

@@ -264,6 +264,8 @@ function scalarOf(session: WrapSession): Float32Array | null {
 let pendingReports: StepReport[] = [];
 
 function sendWrapFrame(session: WrapSession): void {
+  const was = clock.currentPhase;
+  clock.phase('frames');
   const positions = session.positions();
   const normals = session.normals();
   const indices = session.indices();
@@ -281,11 +283,13 @@ function sendWrapFrame(session: WrapSession): void {
     transfer,
   );
   pendingReports = [];
+  clock.phase(was);
 }
 
 function finish(session: WrapSession): void {
   playing = false;
-  clock.pause();
+  clock.resume(); // (a single step from the page runs with the clock paused)
+  clock.phase('certificate');
   if (result && result !== session) result.free();
   result = session;
   const positions = session.positions();
@@ -294,9 +298,10 @@ function finish(session: WrapSession): void {
   const report = session.report() as StepReport | null;
   post({ type: 'loading', what: 'Checking the result (certificate)…' });
   const certificate = plain(session.certificate()) as Certificate;
+  clock.pause();
   post(
     {
-      type: 'result', run: pageRun, hash: session.resultHash(), name: source?.name ?? 'result', positions, normals, indices, elapsedMs: clock.ms, steps: report?.step ?? 0,
+      type: 'result', run: pageRun, hash: session.resultHash(), name: source?.name ?? 'result', positions, normals, indices, elapsedMs: clock.ms, phases: clock.phases(), steps: report?.step ?? 0,
       certificate, stopReason: session.stopReason() ?? null, start: session.startSurface(), wasmBytes: wasmMemory?.buffer.byteLength ?? 0,
       isolated: session.isolatedPoints(),
     },
@@ -319,6 +324,7 @@ function wrapLoop(id: number): void {
   const session = wrap;
   try {
     const t0 = performance.now();
+    clock.phase('steps');
     let done = session.isDone();
     while (!done && performance.now() - t0 < 30) {
       done = session.step(1);
@@ -349,7 +355,7 @@ async function loadWrap(src: Source, settings: Record<string, unknown>, autoplay
   dropRun();
   const id = runId;
   mode = 'wrap';
-  clock.restart();
+  clock.restart(src.kind === 'url' ? 'downloading' : 'reading');
   post({ type: 'loading', what: src.kind === 'url' ? 'Downloading…' : 'Reading…' });
   const input = await sourceBytes(src);
   if (id !== runId) return;
@@ -368,7 +374,11 @@ async function startSession(autoplay: boolean, id: number): Promise<void> {
   if (id !== runId) return;
   if (volume) postVolume();
   // The core reports its long phases (field build, start surface, final fit) as they run.
-  const progress = (phase: string, fraction: number) => post({ type: 'progress', phase, fraction });
+  // (Its phases time the run too; between them the time counts as "other".)
+  const progress = (phase: string, fraction: number) => {
+    clock.phase(fraction < 1 ? phase : 'other');
+    post({ type: 'progress', phase, fraction });
+  };
   const session = volume
     ? WrapSession.withVolume(source.bytes, source.name, JSON.stringify(wrapSettings), volume.iso ?? undefined, volume.frame, false, progress)
     : new WrapSession(source.bytes, source.name, JSON.stringify(wrapSettings), progress);
@@ -451,6 +461,7 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
           sendMcfFrame();
         } else if (wrap && wrap !== result) {
           clock.resume();
+          clock.phase('steps');
           const done = wrap.step(msg.n);
           clock.pause();
           pendingReports.push(wrap.report() as StepReport);
@@ -482,7 +493,7 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
             volume.frame = msg.frame;
           }
           wrapSettings = msg.settings;
-          clock.restart();
+          clock.restart('setup');
           await startSession(true, runId);
         }
         break;

@@ -4,6 +4,7 @@
 import { byId } from './dom';
 import { HistogramPlot, LinePlot } from './plots';
 import type { ControlCurves, Frame } from './protocol';
+import { describePhases } from './stopwatch';
 import { TopologyTimeline } from './topology';
 
 export class WrapReadout {
@@ -13,6 +14,9 @@ export class WrapReadout {
   private readonly vertices = new LinePlot(byId('plot-vertices'), 'Vertices', ['vertices'], ['#ffb347']);
   private readonly kappa = new HistogramPlot(byId('plot-kappa'), 'Quality κ(J_Δ)', 'κ (1 = equilateral)');
   private readonly controls = new LinePlot(byId('plot-controls'), 'Controls ε(δ), η(δ)', ['ε', 'η facing', 'η side-on'], ['#4aa3ff', '#ffb347', '#ff7a59'], { xLabel: 'δ = d − d₀' });
+
+  /** The progress line's step and vertex count, from the last frame. */
+  private where = '';
 
   /** Genus per step and surgery events, for the scrubber and the health badge. */
   readonly topology = new TopologyTimeline();
@@ -37,7 +41,8 @@ export class WrapReadout {
     p.max = Math.max(1, limit);
     p.value = r?.step ?? 0;
     const verts = r?.vertices ?? msg.positions.length / 3;
-    byId('progress-text').textContent = `step ${r?.step ?? 0}/${limit} · ${verts} vertices · ${el} s`;
+    this.where = `step ${r?.step ?? 0}/${limit} · ${verts} vertices`;
+    byId('progress-text').textContent = `${this.where} · ${el} s`;
     byId('stats').dataset.step = String(r?.step ?? 0);
     this.topology.add(msg.reports ?? []);
     for (const q of msg.reports ?? []) {
@@ -52,6 +57,16 @@ export class WrapReadout {
         `settled ${(100 * r.settled_fraction).toFixed(1)} %   ${r.vertices} vertices, ${r.faces} faces\n` +
         `ms: assembly ${r.times.assembly.toFixed(0)}  solve ${r.times.solve.toFixed(0)}  remesh ${r.times.remesh.toFixed(0)}  total ${r.times.total.toFixed(0)}`;
     }
+  }
+
+  /** The run completed in `ms` of work: the progress line says where the time went (every
+   * phase, in the order they ran, in its tooltip). */
+  timed(ms: number, phases: [string, number][]): void {
+    const line = byId('progress-text');
+    const summary = describePhases(phases);
+    line.textContent = `${this.where} · ${(ms / 1000).toFixed(1)} s${summary ? ` (${summary})` : ''}`;
+    line.title = phases.map(([p, ms]) => `${p}: ${Math.round(ms)} ms`).join('\n');
+    line.dataset.phases = JSON.stringify(phases.map(([p, ms]) => [p, Math.round(ms)]));
   }
 
   curves(c: ControlCurves): void {

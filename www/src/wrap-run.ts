@@ -60,6 +60,8 @@ export class WrapRun {
   private workMs = 0;
   /** Stray points of the last result's cloud that the wrap left out. */
   private isolated = 0;
+  /** The last completed run's working time by phase (see Stopwatch). */
+  phases: [string, number][] = [];
   private input: Input | null = null;
   /** Whether the worker holds a session of the current input: false after a cancel, an error or
    * a worker restart, when Play, Step and Reset first load the input again. */
@@ -268,6 +270,8 @@ export class WrapRun {
     this.d.kept.keep(msg, this.target);
     this.wasmBytes = msg.wasmBytes;
     this.workMs = msg.elapsedMs;
+    this.phases = msg.phases;
+    this.d.readout.timed(msg.elapsedMs, msg.phases);
     this.isolated = msg.isolated;
     this.lastDoneMs = performance.now() - this.startedAt;
     byId('hash').dataset.ms = String(Math.round(this.lastDoneMs));

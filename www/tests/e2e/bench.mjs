@@ -1,6 +1,7 @@
 // A timed run in headless Chromium (issue 16's browser figures; not a test): drops FILE on the
 // built app with the default settings, waits for done, and prints one JSON line with drop → done
-// (the app's own clock), the certificate and the peak resident memory of the page's renderer
+// (the app's own clock), the worker's time by phase (reading, the core's long phases, steps,
+// frames, certificate), the certificate and the peak resident memory of the page's renderer
 // process (the tab: page, computation worker and render worker), sampled every 100 ms from /proc.
 // Usage: bash .ci/build && node tests/e2e/bench.mjs FILE [RUNS=1]
 import { readFileSync, readdirSync } from 'node:fs';
@@ -52,10 +53,12 @@ for (let run = 1; run <= runs; run++) {
   await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 600000 });
   clearInterval(sampler);
   const ms = await page.evaluate(() => window.__lsw.dropToDoneMs());
+  const phases = await page.evaluate(() => window.__lsw.phaseTimes());
   const status = await page.textContent('[data-testid=status]');
   console.log(JSON.stringify({
     file: basename(file), run, dropToDoneMs: Math.round(ms), peakRendererMB: Math.round(peak / 2 ** 20),
     status: status.trim().slice(0, 120), date: new Date().toISOString(),
+    phasesMs: Object.fromEntries(phases.map(([p, t]) => [p, Math.round(t)])),
   }));
   await page.close();
 }

@@ -181,10 +181,19 @@ test('drop bunnyPts_3.ply → default wrap to done → export PLY is closed genu
   assert(frac > 0.02, `canvas shows almost no mesh pixels (${(100 * frac).toFixed(2)} %)`);
   const dist = await page.evaluate(() => window.__lsw.distanceSeries());
   assert(dist[0].length >= 5, `distance plot has ${dist[0].length} points`);
+  // Where the time went: the worker's phases, in the order they ran, adding up to the working time.
+  const phases = await page.evaluate(() => window.__lsw.phaseTimes());
+  const names = phases.map(([p]) => p);
+  const order = ['reading', 'stray points', 'distance field: sweeps', 'steps', 'final fit', 'certificate'];
+  assert(order.every((p, i) => names.includes(p) && (i === 0 || names.indexOf(order[i - 1]) < names.indexOf(p))), `phases out of order or missing: ${names.join(', ')}`);
+  const phaseSum = phases.reduce((s, [, ms]) => s + ms, 0);
+  assert(phases.every(([, ms]) => ms >= 0) && phaseSum <= appMs + 1 && phaseSum > 0.5 * appMs, `phases add up to ${phaseSum.toFixed(0)} ms of ${appMs.toFixed(0)} ms drop → done`);
+  const line = await page.textContent('[data-testid=progress]');
+  assert(/final fit \d+\.\d s/.test(line), `the progress line does not say where the time went: ${line}`);
   assert(maxTask <= 100, `main thread had a ${maxTask.toFixed(0)} ms task during the wrap`);
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
   await page.screenshot({ path: join(out, 'bunny-done.png') });
-  await writeFile(join(out, 'bench-bunny.json'), JSON.stringify({ dropToDoneMs: appMs, wallMs, maxTask, date: new Date().toISOString() }, null, 1));
+  await writeFile(join(out, 'bench-bunny.json'), JSON.stringify({ dropToDoneMs: appMs, wallMs, maxTask, phases, date: new Date().toISOString() }, null, 1));
   // Determinism across platforms: the browser's mesh is the native CLI's, bit for bit (f32 hash).
   const browserHash = await resultHash(page);
   const native = lswWrap(join(shared, 'bunnyPts_3.ply'), join(out, 'bunny-native.ply'));
