@@ -106,3 +106,43 @@ fn time_bunny_sized_field() {
         now_ms() - t0
     );
 }
+
+#[wasm_bindgen_test]
+fn time_bunny_sized_sweep() {
+    // The sweep alone (the field's longest part in the browser), on the same grid: best and
+    // median of 5 runs from the same band.
+    let target = sphere_cloud(11_988);
+    let settings = lsw::field::FieldSettings::default();
+    let bbox = lsw::geometry::aabb::Aabb::from_points(&target.points);
+    let grid = lsw::field::grid::Grid::for_bbox(&bbox, &settings).unwrap();
+    let band = lsw::field::band::points_band(
+        &grid,
+        &target.points,
+        settings.band_cells,
+        f64::INFINITY,
+        &mut lsw::progress::Progress::none(),
+    );
+    let mut ms = vec![];
+    let mut passes = 0;
+    for _ in 0..5 {
+        let mut values = band.values.clone();
+        let t0 = now_ms();
+        let r = lsw::field::fast_sweep::fast_sweep(
+            &grid,
+            &mut values,
+            &band.frozen,
+            settings.max_sweep_passes,
+            settings.sweep_tolerance,
+            &mut |_| {},
+        );
+        ms.push(now_ms() - t0);
+        passes = r.passes;
+    }
+    ms.sort_by(f64::total_cmp);
+    console_log!(
+        "wasm sweep, {:?} nodes, {passes} passes: best {:.1} ms, median {:.1} ms",
+        grid.dims,
+        ms[0],
+        ms[2]
+    );
+}
