@@ -15,16 +15,7 @@ REF=$3
 shift 3
 SETTINGS=${*:-20/600 30/600 50/600 30/1500 50/1500 100/600}
 RUNS=${RUNS:-1}
-HERE=$(cd "$(dirname "$0")" && pwd)
-BIN=$HERE/../../target/peers/alpha_wrap
-if [ ! -x "$BIN" ] || [ "$HERE/alpha_wrap.cpp" -nt "$BIN" ]; then
-    mkdir -p "$(dirname "$BIN")"
-    echo "building the CGAL driver (about a minute)…" >&2
-    g++ -O3 -DNDEBUG -std=c++17 "$HERE/alpha_wrap.cpp" -o "$BIN" -lgmp -lmpfr
-fi
-TMP=$(mktemp -d)
-trap 'rm -rf "$TMP"' EXIT
-median() { sort -g | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'; }
+. "$(dirname "$0")/common.sh"
 timed() { # timed OUTFILE CMD...: seconds of CMD's wall time appended to OUTFILE
     local out=$1 s
     shift

@@ -10,16 +10,7 @@ set -eu -o pipefail
 LSW=$1
 IN=$2
 N=${3:-3}
-HERE=$(cd "$(dirname "$0")" && pwd)
-BIN=$HERE/../../target/peers/alpha_wrap
-if [ ! -x "$BIN" ] || [ "$HERE/alpha_wrap.cpp" -nt "$BIN" ]; then
-    mkdir -p "$(dirname "$BIN")"
-    echo "building the CGAL driver (about a minute)…" >&2
-    g++ -O3 -DNDEBUG -std=c++17 "$HERE/alpha_wrap.cpp" -o "$BIN" -lgmp -lmpfr
-fi
-TMP=$(mktemp -d)
-trap 'rm -rf "$TMP"' EXIT
-median() { sort -g | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'; }
+. "$(dirname "$0")/common.sh"
 for i in $(seq "$N"); do
     s=$(date +%s.%N)
     "$LSW" wrap "$IN" -o "$TMP/lsw.ply" >"$TMP/lsw$i.json"
