@@ -43,6 +43,13 @@ const browser = await chromium.launch({
 });
 for (let run = 1; run <= runs; run++) {
   const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  // A broken build (e.g. a post-processed module that fails in the worker) ends the run at once
+  // instead of waiting ten minutes for a done that never comes.
+  const broken = (what) => {
+    console.error(`bench: ${what}`);
+    process.exit(1);
+  };
+  page.on('pageerror', (e) => broken(`page error: ${e.message}`));
   await page.goto(server.url);
   await page.waitForSelector('[data-testid=status][data-state=idle]', { timeout: 30000 });
   let peak = 0;
@@ -50,7 +57,8 @@ for (let run = 1; run <= runs; run++) {
     for (const rss of rendererRss().values()) peak = Math.max(peak, rss);
   }, 100);
   await dropFile(page, basename(file), bytes);
-  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 600000 });
+  const end = await page.waitForSelector('[data-testid=status]:is([data-state=done], [data-state=invalid], [data-state=error])', { timeout: 600000 });
+  if ((await end.getAttribute('data-state')) !== 'done') broken(`the run ended as: ${(await end.textContent()).trim()}`);
   clearInterval(sampler);
   const ms = await page.evaluate(() => window.__lsw.dropToDoneMs());
   const phases = await page.evaluate(() => window.__lsw.phaseTimes());
