@@ -5,19 +5,31 @@ import { byId } from './dom';
 import { showCertificate } from './health';
 import type { Certificate, StepReport, SurgeryEvent } from './protocol';
 
-/** One line per event, in words. */
-function describe(e: SurgeryEvent): string {
+/** One line per event, in words; `n` events alike in one step (two handles opened at once) as one. */
+function describe(e: SurgeryEvent, n = 1): string {
   const parts = `components ${e.components_before} → ${e.components_after}`;
+  const times = n > 1 ? ` (${n}×)` : '';
   switch (e.kind) {
     case 'handle':
-      return `step ${e.step} opened a handle (genus ${e.genus_before} → ${e.genus_after})`;
+      return `step ${e.step} opened ${n > 1 ? `${n} handles` : 'a handle'} (genus ${e.genus_before} → ${e.genus_after})`;
     case 'merge':
-      return `step ${e.step} joined two parts (${parts})`;
+      return `step ${e.step} joined two parts (${parts})${times}`;
     case 'pinch':
-      return `step ${e.step} cut a neck in empty space (${parts})`;
+      return `step ${e.step} cut a neck in empty space (${parts})${times}`;
     case 'drop':
-      return `step ${e.step} dropped a part around nothing (${parts})`;
+      return `step ${e.step} dropped a part around nothing (${parts})${times}`;
   }
+}
+
+/** The events in words, those alike in one step together. */
+export function describeAll(events: SurgeryEvent[]): string[] {
+  const lines: { first: SurgeryEvent; n: number }[] = [];
+  for (const e of events) {
+    const last = lines.at(-1);
+    if (last && describe(last.first) === describe(e)) last.n++;
+    else lines.push({ first: e, n: 1 });
+  }
+  return lines.map((l) => describe(l.first, l.n));
 }
 
 export class TopologyTimeline {
@@ -43,7 +55,7 @@ export class TopologyTimeline {
     }
     if (!this.events.length) return;
     this.list.dataset.events = String(this.events.length);
-    this.list.textContent = 'Surgery: ' + this.events.map(describe).join('; ');
+    this.list.textContent = 'Surgery: ' + describeAll(this.events).join('; ');
   }
 
   /** Genus of the surface after `step` (the latest step at or before it). */
