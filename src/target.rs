@@ -154,7 +154,7 @@ impl Target {
         }
         let spacing = crate::geometry::spatial::spacing::median_spacing(&self.points);
         let isolated =
-            crate::geometry::spatial::isolated::isolated_points(&self.points, spacings * spacing);
+            crate::geometry::spatial::isolated::stray_points(&self.points, spacings * spacing);
         let removed = isolated.iter().filter(|&&i| i).count();
         if removed == 0 || removed as f64 > MOST_ISOLATED * self.points.len() as f64 {
             return None;

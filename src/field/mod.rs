@@ -83,9 +83,10 @@ pub struct FieldSettings {
     pub min_cell_spacings: f64,
     /// Point clouds only: a point is a stray return, left out of the field, the start and the
     /// fit, when fewer than 6 points (itself included) lie within this many median spacings of
-    /// it (see [`crate::geometry::spatial::isolated`]); at most a tenth of the cloud is left out
-    /// (more is a sparse scan, not strays). 0 keeps every point. Range 0–100; default 6 (a
-    /// region 3× sparser than the median still has about 12 points within it).
+    /// it and its nearest points are not as sparse as it is (a region sampled more sparsely than
+    /// the rest keeps its points; see [`crate::geometry::spatial::isolated::stray_points`]); at
+    /// most a tenth of the cloud is left out (more is a sparse scan, not strays). 0 keeps every
+    /// point. Range 0–100; default 6.
     pub outlier_spacings: f64,
 }
 

@@ -12,7 +12,11 @@
 //! count their neighbours in the face-adjacent cells, then in the rest of the 5 × 5 × 5 cells
 //! around, nearest first, until they have enough. The answer does not depend on the points'
 //! order.
+//!
+//! [`stray_points`] then keeps the isolated points whose neighbours are as sparse as they are:
+//! a region of the surface sampled more sparsely than the median, not a stray.
 
+use super::point_grid::PointGrid;
 use glam::DVec3;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
@@ -138,6 +142,80 @@ pub fn isolated_points(points: &[DVec3], radius: f64) -> Vec<bool> {
     }
     isolated
 }
+
+/// Which of `points` are stray: [isolated](isolated_points) at `radius`, and also far from the
+/// sampled surface as seen at their neighbours' own spacing.
+///
+/// The count alone also flags a part of the surface sampled more sparsely than the rest: a
+/// random sampling's median spacing is half its mean one, so a region with a third of the
+/// median density already has points with fewer than six within six median spacings (an
+/// ellipsoid sampled 3× more sparsely on one side lost 298 points there; 10× more sparsely, the
+/// whole side, and the wrap slipped inside and diverged). An isolated point is kept when the
+/// distance to its [`ISOLATED_BELOW`]−1-th nearest point is at most [`STRAY_RATIO`] times the
+/// median of that distance over its [`STRAY_NEIGHBOURS`] nearest points: a sparse patch's
+/// points all see the same wide spacing, while a stray's nearest points lie on a surface that
+/// is dense for its own points (or in a speck of fewer than six, whose nearest points beyond
+/// the speck are the surface's). Where no point is isolated (most scans) this costs nothing.
+pub fn stray_points(points: &[DVec3], radius: f64) -> Vec<bool> {
+    let mut stray = isolated_points(points, radius);
+    let candidates: Vec<usize> = (0..points.len()).filter(|&i| stray[i]).collect();
+    if candidates.is_empty() {
+        return stray;
+    }
+    // Farther than this, a point is alone whatever its neighbours are like.
+    let reach = STRAY_REACH * radius;
+    let grid = PointGrid::new(points, reach);
+    let nearest = |i: usize, k: usize| {
+        let mut out = Vec::new();
+        grid.nearest_within(points[i], reach, k, &mut out);
+        out
+    };
+    // The distance from a point to its (ISOLATED_BELOW − 1)-th nearest other point, the one the
+    // count tests against the radius (copies included, as there); infinite beyond the reach.
+    let spread = |i: usize| {
+        let near = nearest(i, ISOLATED_BELOW);
+        match near.len() == ISOLATED_BELOW {
+            true => near[ISOLATED_BELOW - 1].d2.sqrt(),
+            false => f64::INFINITY,
+        }
+    };
+    let keep = crate::parallel::map(candidates.len(), |c| {
+        let i = candidates[c];
+        let own = spread(i);
+        if !own.is_finite() {
+            return false;
+        }
+        let mut around: Vec<f64> = nearest(i, STRAY_NEIGHBOURS + 1)
+            .iter()
+            .filter(|n| n.index as usize != i)
+            .map(|n| spread(n.index as usize))
+            .collect();
+        if around.len() < STRAY_NEIGHBOURS {
+            return false;
+        }
+        let mid = around.len() / 2;
+        let typical = *around.select_nth_unstable_by(mid, f64::total_cmp).1;
+        own <= STRAY_RATIO * typical
+    });
+    for (&i, keep) in candidates.iter().zip(keep) {
+        stray[i] = !keep;
+    }
+    stray
+}
+
+/// How many nearest points [`stray_points`] takes as an isolated point's neighbourhood: a speck
+/// of up to half as many strays still has the surface's points as the majority.
+pub const STRAY_NEIGHBOURS: usize = 12;
+
+/// How much wider than its neighbours' an isolated point's spacing may be and the point still
+/// belong to the sampled surface (see [`stray_points`]). A point of a random sampling exceeds
+/// twice its neighbours' by chance about once in a thousand; a stray beyond the radius from a
+/// surface sampled at the median spacing is more than twice as far as that surface's own.
+pub const STRAY_RATIO: f64 = 2.0;
+
+/// Radii (of the isolation test) within which [`stray_points`] looks for an isolated point's
+/// neighbours: a sparse region's points are kept down to about a sixtieth of the median density.
+const STRAY_REACH: f64 = 4.0;
 
 /// The points bucketed by cell: their indices sorted by cell, each occupied cell's run of that
 /// order, and a lookup from a cell to its run. (The order within a cell, and of the cells, never
@@ -305,6 +383,7 @@ mod tests {
         pts.extend(strays);
         pts.extend([0.0, 0.01, 0.02].map(|e| DVec3::new(-3.0 + e, -3.0, 2.0)));
         let iso = isolated_points(&pts, 6.0 * spacing);
+        assert_eq!(stray_points(&pts, 6.0 * spacing), iso);
         assert!(
             iso[..5000].iter().all(|&i| !i),
             "a point of the sphere counted"
@@ -314,6 +393,48 @@ mod tests {
         // nothing is isolated.
         let sparse = sphere(5000 / 9);
         assert!(isolated_points(&sparse, 6.0 * spacing).iter().all(|&i| !i));
+    }
+
+    /// A random sampling (not a lattice) of an ellipsoid, one half of it sampled 3× to 20× more
+    /// sparsely than the other: the count alone flags hundreds of points of the sparse half; at
+    /// most a tenth of those are strays for the full test. Strays and a speck of three beside it still are.
+    #[test]
+    fn a_sparsely_sampled_region_is_not_strewn_with_strays() {
+        for ratio in [0.3, 0.1, 0.05] {
+            let mut rng = crate::demo::Rng::new(11);
+            let mut pts = Vec::new();
+            while pts.len() < 20_000 {
+                let d = DVec3::new(rng.normal(), rng.normal(), rng.normal()).normalize();
+                if d.x < 0.0 && rng.uniform() > ratio {
+                    continue;
+                }
+                pts.push(d * DVec3::new(1.0, 0.6, 0.4));
+            }
+            let surface = pts.len();
+            pts.extend([
+                DVec3::new(-1.3, 0.0, 0.0),
+                DVec3::new(0.0, 0.0, 0.6),
+                DVec3::new(-0.5, 0.9, 0.0),
+            ]);
+            pts.extend([0.0, 0.002, 0.004].map(|e| DVec3::new(-1.0, -0.8 + e, 0.3)));
+            let radius = 6.0 * crate::geometry::spatial::spacing::median_spacing(&pts);
+            let counted = isolated_points(&pts, radius);
+            let flagged = counted[..surface].iter().filter(|&&i| i).count();
+            assert!(flagged > 100, "{ratio}: the count flags only {flagged}");
+            let stray = stray_points(&pts, radius);
+            let lost = stray[..surface].iter().filter(|&&i| i).count();
+            // (The ones lost lie where the sparse half meets the dense one, whose points are
+            // their nearest, or alone by chance inside it: 0, 23 and 51 here.)
+            assert!(
+                lost * 10 <= flagged,
+                "{ratio}: {lost} of {flagged} surface points lost"
+            );
+            assert!(
+                stray[surface..].iter().all(|&s| s),
+                "{:?}",
+                &stray[surface..]
+            );
+        }
     }
 
     /// Against counting every pair: points scattered at random in a box, at densities from
