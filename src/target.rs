@@ -169,6 +169,31 @@ impl Target {
         Target::new(kept, vec![]).ok().map(|t| (t, removed))
     }
 
+    /// This mesh without its specks at grid cell `cell` (small closed parts floating apart, see
+    /// [`crate::geometry::specks`]), and how many there were; None when there are none, and for
+    /// clouds.
+    pub fn without_specks(&self, cell: f64) -> Option<(Target, usize)> {
+        let (speck, count) =
+            crate::geometry::specks::speck_triangles(&self.points, &self.triangles, cell)?;
+        let mut index = vec![u32::MAX; self.points.len()];
+        let mut points = Vec::new();
+        let triangles: Vec<[u32; 3]> = (self.triangles.iter().zip(&speck))
+            .filter(|(_, &s)| !s)
+            .map(|(t, _)| {
+                t.map(|v| {
+                    if index[v as usize] == u32::MAX {
+                        index[v as usize] = points.len() as u32;
+                        points.push(self.points[v as usize]);
+                    }
+                    index[v as usize]
+                })
+            })
+            .collect();
+        let mut kept = Target::new(points, triangles).ok()?;
+        kept.sampled = self.sampled;
+        Some((kept, count))
+    }
+
     /// Refuses targets no wrap can make sense of, before any work: fewer than 4 distinct points,
     /// all points on a line or in a plane (relative tolerance 1e-9 of the diagonal, measured
     /// along the principal axes so a tilted plane counts too), a target so far from the origin for

@@ -77,7 +77,8 @@ pub fn apply_overrides(
 /// target_components, target_points_outside, target_points_checked,
 /// target_part_outside}, contacts,
 /// surgery [{step, kind, position, genus_before, genus_after}], isolated_points_left_out (a
-/// cloud's stray points, see `field.outlier_spacings`), repairs (what reading mended in a mesh's
+/// cloud's stray points, see `field.outlier_spacings`), specks_left_out (a mesh's small closed
+/// parts floating apart, see `geometry::specks`), repairs (what reading mended in a mesh's
 /// indices, or null; see `lsw info`), vertices, faces, steps, stopped_early,
 /// scale, result_hash, iso_level, times_ms {read, field, start, evolve, write, total}, evolve_ms {normals,
 /// assembly, solve, remesh, guard, fit, surgery}, fit_ms (the final fit part by part, see
@@ -113,8 +114,11 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
     // The certificate's side of the target (a BVH, its topology) is built beside the steps, on
     // a core that their sequential parts leave idle (the bust's 329 K faces: 0.2 s). (Not
     // beside the setup: the field's band keeps both cores busy.)
+    // (Against the mesh as wrapped: without the specks it left out, which are reported.)
+    let despecked = ev.despecked_target().cloned();
+    let wrapped = despecked.as_ref().unwrap_or(&read.target);
     let (against, _) = crate::parallel::beside(
-        || CertificateTarget::new(&read.target),
+        || CertificateTarget::new(wrapped),
         // A divergence rolls the surface back and ends the run; it is reported below, not
         // written.
         || ev.run(|r| reports.push(r.clone())),
@@ -151,6 +155,7 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
             "start": ev.start_surface(),
             "stop_reason": ev.stop_reason(),
             "isolated_points_left_out": ev.isolated_points(),
+            "specks_left_out": ev.specks(),
             "certificate": certificate,
             "error_budget": error_budget(
                 &positions,
@@ -182,6 +187,7 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
         },
         "surgery": ev.surgery_events(),
         "isolated_points_left_out": ev.isolated_points(),
+        "specks_left_out": ev.specks(),
         "repairs": read.repairs,
         "vertices": positions.len(),
         "faces": triangles.len(),

@@ -12,4 +12,5 @@ pub mod operators;
 pub mod predicates;
 pub mod primitives;
 pub mod spatial;
+pub mod specks;
 pub mod sphere;

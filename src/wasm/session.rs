@@ -169,7 +169,7 @@ impl WrapSession {
         to_js(&crate::metrics::certificate::certify(
             &self.evolver.positions(),
             &self.evolver.triangles(),
-            Some(&self.target),
+            Some(self.evolver.despecked_target().unwrap_or(&self.target)),
         ))
     }
 
@@ -202,6 +202,12 @@ impl WrapSession {
     #[wasm_bindgen(js_name = isolatedPoints)]
     pub fn isolated_points(&self) -> u32 {
         self.evolver.isolated_points() as u32
+    }
+
+    /// How many specks of a mesh (small closed parts floating apart) the wrap left out.
+    #[wasm_bindgen(js_name = specksLeftOut)]
+    pub fn specks_left_out(&self) -> u32 {
+        self.evolver.specks() as u32
     }
 
     /// The start surface actually used ("icosphere" or "isosurface").

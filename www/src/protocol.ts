@@ -385,7 +385,7 @@ export type FromWorker =
   /** The worker stopped stepping: paused, finished, cancelled, or loaded and `ready` to play (no autoplay). */
   | { type: 'stopped'; reason: StopReason }
   /** `phases`: `elapsedMs` by phase, [name, ms] in the order they first ran (see Stopwatch). */
-  | { type: 'result'; run: number; hash: string; name: string; positions: Float32Array; normals: Float32Array; indices: Uint32Array; elapsedMs: number; phases: [string, number][]; steps: number; certificate: Certificate; stopReason: string | null; start: string; wasmBytes: number; isolated: number }
+  | { type: 'result'; run: number; hash: string; name: string; positions: Float32Array; normals: Float32Array; indices: Uint32Array; elapsedMs: number; phases: [string, number][]; steps: number; certificate: Certificate; stopReason: string | null; start: string; wasmBytes: number; isolated: number; specks: number }
   | { type: 'exported'; bytes: Uint8Array; format: string }
   | { type: 'curves'; curves: ControlCurves }
   /** The field view asked for (neither slice nor iso: nothing to show). `label` describes it. */

@@ -304,6 +304,7 @@ function finish(session: WrapSession): void {
       type: 'result', run: pageRun, hash: session.resultHash(), name: source?.name ?? 'result', positions, normals, indices, elapsedMs: clock.ms, phases: clock.phases(), steps: report?.step ?? 0,
       certificate, stopReason: session.stopReason() ?? null, start: session.startSurface(), wasmBytes: wasmMemory?.buffer.byteLength ?? 0,
       isolated: session.isolatedPoints(),
+      specks: session.specksLeftOut(),
     },
     [positions.buffer, normals.buffer, indices.buffer],
   );

@@ -60,6 +60,8 @@ export class WrapRun {
   private workMs = 0;
   /** Stray points of the last result's cloud that the wrap left out. */
   private isolated = 0;
+  /** Specks (small closed parts floating apart) of the last result's mesh that the wrap left out. */
+  private specks = 0;
   /** The last completed run's working time by phase (see Stopwatch). */
   phases: [string, number][] = [];
   private input: Input | null = null;
@@ -273,6 +275,7 @@ export class WrapRun {
     this.phases = msg.phases;
     this.d.readout.timed(msg.elapsedMs, msg.phases);
     this.isolated = msg.isolated;
+    this.specks = msg.specks;
     this.lastDoneMs = performance.now() - this.startedAt;
     byId('hash').dataset.ms = String(Math.round(this.lastDoneMs));
     this.d.draw({ type: 'fit' });
@@ -287,8 +290,7 @@ export class WrapRun {
     else if (reason === 'finished' && k && topologyDiffers(k.certificate)) status.set('invalid', `Done, but not the target's topology — ${k.why}`);
     else if (reason === 'finished' && k && partLeftOut(k.certificate)) status.set('invalid', `Done, but part of the target lies outside the wrap — ${k.why}`);
     else if (reason === 'finished') {
-      const strays = this.isolated > 0 ? ` (${this.isolated} stray point${this.isolated === 1 ? '' : 's'} left out)` : '';
-      status.set('done', `Done — ${this.name} wrapped in ${(this.workMs / 1000).toFixed(1)} s${strays}`);
+      status.set('done', `Done — ${this.name} wrapped in ${(this.workMs / 1000).toFixed(1)} s${leftOut(this.isolated, this.specks)}`);
     }
     else if (reason === 'cancelled') {
       this.live = false;
@@ -299,3 +301,11 @@ export class WrapRun {
   }
 }
 
+/** What the wrap left out of the target, for the done line: "" or " (3 stray points left out)". */
+export function leftOut(strays: number, specks: number): string {
+  const parts = [
+    strays > 0 ? `${strays} stray point${strays === 1 ? '' : 's'}` : '',
+    specks > 0 ? `${specks} small loose part${specks === 1 ? '' : 's'}` : '',
+  ].filter((p) => p !== '');
+  return parts.length > 0 ? ` (${parts.join(' and ')} left out)` : '';
+}

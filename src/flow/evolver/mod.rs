@@ -227,6 +227,10 @@ pub struct Evolver {
     pending_creases: Option<Later<Option<Creases>>>,
     /// Stray points of the cloud left out of the wrap (see [`Target::without_isolated_points`]).
     isolated_points: usize,
+    /// Specks of the mesh left out of the wrap (see [`Target::without_specks`]).
+    specks: usize,
+    /// The mesh without its specks, where it had any: what the wrap is certified against.
+    despecked: Option<Target>,
     /// The schedule changed the target edge lengths since the last remesh.
     sizes_changed: bool,
     /// The start surface actually built.
@@ -379,6 +383,19 @@ impl Evolver {
             }
             None => (target, 0),
         };
+        // A mesh's specks likewise, at the cell of the grid its whole box would get.
+        let despecked = match target.triangles.is_empty() {
+            true => None,
+            false => DistanceField::planned_cell_size(target, &settings.field)
+                .and_then(|cell| target.without_specks(cell)),
+        };
+        let (target, specks) = match &despecked {
+            Some((t, n)) => {
+                t.check_wrappable()?;
+                (t, *n)
+            }
+            None => (target, 0),
+        };
         // A mesh's creases and the fit's tree over it (a cloud's fit grid) depend on the field
         // and the start only through the cell size and φ, both known from the settings: they are
         // built on other threads while the field and the start are (bust: 255 ms of setup), for
@@ -463,6 +480,8 @@ impl Evolver {
             creases: None,
             pending_creases: Some(creases),
             isolated_points,
+            specks,
+            despecked: despecked.as_ref().map(|(t, _)| t.clone()),
             sizes_changed: true,
             start: start.kind,
             limits,
@@ -592,6 +611,19 @@ impl Evolver {
     /// How many stray points of the cloud the wrap left out (0 for meshes).
     pub fn isolated_points(&self) -> usize {
         self.isolated_points
+    }
+
+    /// How many specks of the mesh (small closed parts floating apart) the wrap left out (0 for
+    /// clouds; see [`crate::geometry::specks`]).
+    pub fn specks(&self) -> usize {
+        self.specks
+    }
+
+    /// The mesh as wrapped where that is not the target given: without its specks (see
+    /// [`Self::specks`]). The certificate's side of the target is this one, so that the specks
+    /// left out do not count as part of the target lying outside the wrap.
+    pub fn despecked_target(&self) -> Option<&Target> {
+        self.despecked.as_ref()
     }
 
     /// Every topology change so far, in order.
