@@ -20,6 +20,7 @@
 use super::creases::{Crease, Creases};
 use super::eigen3::smallest_eigenvector;
 use super::spatial::point_grid::{Near, PointGrid};
+use crate::mesh::disjoint::DisjointSets;
 use glam::{DMat3, DVec3};
 
 /// Points per neighbourhood of the plane fits.
@@ -143,14 +144,7 @@ fn long_lines(pieces: Vec<Crease>, radius: f64, min_turn: f64) -> Vec<Crease> {
     let dir = |c: &Crease| (c.ends[1] - c.ends[0]).normalize_or_zero();
     let mids: Vec<DVec3> = pieces.iter().map(mid).collect();
     let grid = PointGrid::new(&mids, radius);
-    let mut parent: Vec<usize> = (0..pieces.len()).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
+    let mut lines = DisjointSets::new(pieces.len());
     let parallel = crate::fmath::cos(GROUP_SPREAD * min_turn);
     let mut near = Vec::new();
     for (i, c) in pieces.iter().enumerate() {
@@ -161,27 +155,26 @@ fn long_lines(pieces: Vec<Crease>, radius: f64, min_turn: f64) -> Vec<Crease> {
             let off = point - mids[i];
             let on_line = (off - off.dot(d) * d).length() < 0.25 * radius;
             if j > i && on_line && dir(&pieces[j]).dot(d).abs() > parallel {
-                let (a, b) = (root(&mut parent, i), root(&mut parent, j));
-                parent[a.max(b)] = a.min(b);
+                lines.union(i as u32, j as u32);
             }
         }
     }
     // Each line's extent along its first piece's direction.
     let mut extent: std::collections::BTreeMap<usize, (DVec3, f64, f64)> = Default::default();
     for (i, m) in mids.iter().enumerate() {
-        let r = root(&mut parent, i);
+        let r = lines.find(i as u32) as usize;
         let e = extent
             .entry(r)
             .or_insert((dir(&pieces[r]), f64::INFINITY, f64::NEG_INFINITY));
         let t = m.dot(e.0);
         (e.1, e.2) = (e.1.min(t), e.2.max(t));
     }
-    let long = |i: usize, parent: &mut [usize]| {
-        let (_, lo, hi) = extent[&root(parent, i)];
+    let long = |i: usize, lines: &mut DisjointSets| {
+        let (_, lo, hi) = extent[&(lines.find(i as u32) as usize)];
         hi - lo + radius >= MIN_LINE * radius
     };
     (0..pieces.len())
-        .filter(|&i| long(i, &mut parent))
+        .filter(|&i| long(i, &mut lines))
         .map(|i| pieces[i])
         .collect()
 }

@@ -14,6 +14,7 @@
 //! mesh's area (more is a mesh of small parts, not a body with debris).
 
 use crate::geometry::aabb::Aabb;
+use crate::mesh::disjoint::DisjointSets;
 use glam::DVec3;
 use std::collections::HashMap;
 
@@ -71,14 +72,7 @@ pub fn speck_triangles(
     }
     // Candidates near one another form a cluster (debris often comes in bunches); a cluster
     // near any other part is not apart.
-    let mut cluster: Vec<usize> = (0..n_parts).collect();
-    fn root(c: &mut [usize], mut x: usize) -> usize {
-        while c[x] != x {
-            c[x] = c[c[x]];
-            x = c[x];
-        }
-        x
-    }
+    let mut cluster = DisjointSets::new(n_parts);
     let mut touching = vec![false; n_parts];
     for c in (0..n_parts).filter(|&c| candidate[c]) {
         let b = boxes[c].expanded(cell);
@@ -92,8 +86,7 @@ pub fn speck_triangles(
                             continue;
                         }
                         if candidate[o] {
-                            let (a, r) = (root(&mut cluster, c), root(&mut cluster, o));
-                            cluster[a.max(r)] = a.min(r);
+                            cluster.union(c as u32, o as u32);
                         } else {
                             touching[c] = true;
                         }
@@ -105,13 +98,13 @@ pub fn speck_triangles(
     let mut cluster_box = vec![Aabb::EMPTY; n_parts];
     let mut cluster_touching = vec![false; n_parts];
     for c in (0..n_parts).filter(|&c| candidate[c]) {
-        let r = root(&mut cluster, c);
+        let r = cluster.find(c as u32) as usize;
         cluster_box[r] = cluster_box[r].grow(boxes[c].min).grow(boxes[c].max);
         cluster_touching[r] |= touching[c];
     }
     let speck: Vec<bool> = (0..n_parts)
         .map(|c| {
-            let r = root(&mut cluster, c);
+            let r = cluster.find(c as u32) as usize;
             candidate[c] && !cluster_touching[r] && cluster_box[r].diagonal() < CLUSTER_CELLS * cell
         })
         .collect();
@@ -140,27 +133,16 @@ pub fn speck_triangles(
 
 /// The part (connected component, numbered from 0 in order of first vertex) of every vertex.
 fn parts(n: usize, tris: &[[u32; 3]]) -> Vec<u32> {
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn find(p: &mut [u32], mut x: u32) -> u32 {
-        while p[x as usize] != x {
-            p[x as usize] = p[p[x as usize] as usize];
-            x = p[x as usize];
-        }
-        x
-    }
+    let mut parts = DisjointSets::new(n);
     for t in tris {
-        for (a, b) in [(t[0], t[1]), (t[1], t[2])] {
-            let (a, b) = (find(&mut parent, a), find(&mut parent, b));
-            if a != b {
-                parent[a.max(b) as usize] = a.min(b);
-            }
-        }
+        parts.union(t[0], t[1]);
+        parts.union(t[1], t[2]);
     }
     let mut label = vec![u32::MAX; n];
     let mut next = 0;
     (0..n as u32)
         .map(|v| {
-            let r = find(&mut parent, v) as usize;
+            let r = parts.find(v) as usize;
             if label[r] == u32::MAX {
                 label[r] = next;
                 next += 1;

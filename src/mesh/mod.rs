@@ -4,6 +4,7 @@
 //! The halfedge structure (rather than an index list) is what the adaptive remesher needs:
 //! split, collapse and flip are local pointer edits on it.
 
+pub mod disjoint;
 mod edit;
 pub mod fingerprint;
 mod halfedge;

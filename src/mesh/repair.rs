@@ -27,6 +27,7 @@
 //! without, or closes boundary edges; an already closed and oriented mesh is touched only to turn
 //! a part wound against the others ([`facing_parts`]).
 
+use super::disjoint::DisjointSets;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
@@ -406,16 +407,12 @@ fn consistent_winding(tris: &[[u32; 3]], pairs: &[Pair]) -> Option<(Vec<bool>, V
 /// (its sign follows its volume), and beyond [`MOST_NESTED_PARTS`] parts (nesting unchecked, a
 /// hollow part's inner wall would be turned out).
 fn facing_parts(points: &[DVec3], tris: &[[u32; 3]]) -> Option<Mended> {
-    let mut parent: Vec<u32> = (0..points.len() as u32).collect();
+    let mut parts = DisjointSets::new(points.len());
     for t in tris {
-        for (a, b) in [(t[0], t[1]), (t[1], t[2])] {
-            let (a, b) = (find(&mut parent, a), find(&mut parent, b));
-            if a != b {
-                parent[a.max(b) as usize] = a.min(b);
-            }
-        }
+        parts.union(t[0], t[1]);
+        parts.union(t[1], t[2]);
     }
-    let roots: Vec<u32> = tris.iter().map(|t| find(&mut parent, t[0])).collect();
+    let roots: Vec<u32> = tris.iter().map(|t| parts.find(t[0])).collect();
     let mut ids: Vec<u32> = roots.clone();
     ids.sort_unstable();
     ids.dedup();
@@ -439,15 +436,6 @@ fn facing_parts(points: &[DVec3], tris: &[[u32; 3]]) -> Option<Mended> {
         ..Repairs::default()
     };
     Some((points.to_vec(), tris, repairs))
-}
-
-/// The root of `x` in a union–find forest, halving the path.
-fn find(p: &mut [u32], mut x: u32) -> u32 {
-    while p[x as usize] != x {
-        p[x as usize] = p[p[x as usize] as usize];
-        x = p[x as usize];
-    }
-    x
 }
 
 /// Faces with an edge not used exactly once each way.
@@ -632,7 +620,7 @@ fn split_fans(
     tris: &mut [[u32; 3]],
     pairs: &[Pair],
 ) -> (Vec<DVec3>, usize) {
-    let mut parent: Vec<u32> = (0..tris.len() as u32 * 3).collect();
+    let mut fans = DisjointSets::new(tris.len() * 3);
     let corner = |f: u32, v: u32| {
         let k = tris[f as usize].iter().position(|&w| w == v).unwrap_or(0);
         f * 3 + k as u32
@@ -640,17 +628,14 @@ fn split_fans(
     for p in pairs {
         for v in p.edge {
             let (x, y) = (corner(p.faces[0], v), corner(p.faces[1], v));
-            let (x, y) = (find(&mut parent, x), find(&mut parent, y));
-            if x != y {
-                parent[x.max(y) as usize] = x.min(y);
-            }
+            fans.union(x, y);
         }
     }
-    let mut vertex_of = vec![u32::MAX; parent.len()];
+    let mut vertex_of = vec![u32::MAX; fans.len()];
     let mut taken = vec![false; points.len()];
     let mut copies = 0;
-    for c in 0..parent.len() {
-        let root = find(&mut parent, c as u32) as usize;
+    for c in 0..fans.len() {
+        let root = fans.find(c as u32) as usize;
         let (f, k) = (c / 3, c % 3);
         if vertex_of[root] == u32::MAX {
             let v = tris[f][k] as usize;

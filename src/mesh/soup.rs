@@ -84,22 +84,12 @@ pub fn closed_topology(n_vertices: usize, tris: &[[u32; 3]]) -> Option<MeshRepor
 /// Connected components of `n_vertices` vertices joined by `edges` (union–find; isolated
 /// vertices count as components of their own).
 pub fn count_components(n_vertices: usize, edges: impl IntoIterator<Item = (u32, u32)>) -> usize {
-    let mut parent: Vec<u32> = (0..n_vertices as u32).collect();
-    fn find(p: &mut [u32], mut x: u32) -> u32 {
-        while p[x as usize] != x {
-            p[x as usize] = p[p[x as usize] as usize];
-            x = p[x as usize];
-        }
-        x
-    }
+    let mut sets = super::disjoint::DisjointSets::new(n_vertices);
     for (a, b) in edges {
-        let (a, b) = (find(&mut parent, a), find(&mut parent, b));
-        if a != b {
-            parent[a.max(b) as usize] = a.min(b);
-        }
+        sets.union(a, b);
     }
     (0..n_vertices as u32)
-        .filter(|&v| find(&mut parent, v) == v)
+        .filter(|&v| sets.find(v) == v)
         .count()
 }
 
