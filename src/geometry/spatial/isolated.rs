@@ -3,12 +3,13 @@
 //! of the shrinking surface or needs a component of its own; on the bunny cloud with 0.5 % of
 //! its points scattered over its box, the evolution diverged.
 //!
-//! The test: a point is isolated when fewer than [`ISOLATED_BELOW`] points (itself included)
-//! lie within `radius` of it. With a radius of several median spacings, a point of the sampled
+//! The test: a point is isolated when fewer than [`ISOLATED_BELOW`] distinct positions (its own
+//! included) lie within `radius` of it: copies of a point count once, so a stray recorded six
+//! times over is still a stray (a sphere cloud with ten such strays diverged). With a radius of several median spacings, a point of the sampled
 //! surface has dozens within it, also where the scan is a few times sparser than its median,
 //! along a thin wire or at a cube's corner; a stray point (or a speck of a few) farther than
 //! the radius from the surface has only itself. Points are bucketed on cells whose diagonal is
-//! the radius, so a cell holding enough points settles all of them at once, and the others
+//! the radius, so a cell holding enough distinct positions settles all of them at once, and the others
 //! count their neighbours in the face-adjacent cells, then in the rest of the 5 × 5 × 5 cells
 //! around, nearest first, until they have enough. The answer does not depend on the points'
 //! order.
@@ -16,7 +17,7 @@
 //! [`stray_points`] then keeps the isolated points whose neighbours are as sparse as they are:
 //! a region of the surface sampled more sparsely than the median, not a stray.
 
-use super::point_grid::PointGrid;
+use super::point_grid::{Near, PointGrid};
 use glam::DVec3;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
@@ -62,11 +63,13 @@ impl Hasher for CellHasher {
     }
 }
 
-/// A point needs at least this many points (itself included) within the radius to count as
+/// A point needs at least this many distinct positions (its own included) within the radius to
+/// count as
 /// part of the sampled surface.
 pub const ISOLATED_BELOW: usize = 6;
 
-/// Which of `points` are isolated: fewer than [`ISOLATED_BELOW`] points within `radius` (> 0).
+/// Which of `points` are isolated: fewer than [`ISOLATED_BELOW`] distinct positions within
+/// `radius` (> 0).
 pub fn isolated_points(points: &[DVec3], radius: f64) -> Vec<bool> {
     if radius.is_nan() || radius <= 0.0 || points.is_empty() {
         return vec![false; points.len()];
@@ -85,59 +88,77 @@ pub fn isolated_points(points: &[DVec3], radius: f64) -> Vec<bool> {
     let sorted: Vec<DVec3> =
         crate::parallel::map(cells.order.len(), |j| points[cells.order[j] as usize]);
     let r2 = radius * radius;
-    // How many points of a run lie within the radius of `p`, counted only up to `enough`.
-    let within = |p: DVec3, (a, b): (usize, usize), enough: usize| {
-        let mut n = 0;
-        for q in &sorted[a..b] {
-            if (*q - p).length_squared() <= r2 {
-                n += 1;
-                if n == enough {
-                    break;
-                }
+    // Distinct positions found so far around a point: copies of a point (a scan's repeated
+    // records, merged passes) are one sample of the surface, and a stray recorded six times is
+    // still a stray (such a cloud diverged).
+    struct Found {
+        at: [DVec3; ISOLATED_BELOW],
+        n: usize,
+    }
+    impl Found {
+        fn add(&mut self, q: DVec3) {
+            if self.n < ISOLATED_BELOW && !self.at[..self.n].contains(&q) {
+                self.at[self.n] = q;
+                self.n += 1;
             }
         }
-        n
+        fn enough(&self) -> bool {
+            self.n >= ISOLATED_BELOW
+        }
+    }
+    // Adds the distinct positions of a run within the radius of `p`, until there are enough.
+    let within = |p: DVec3, (a, b): (usize, usize), found: &mut Found| {
+        for q in &sorted[a..b] {
+            if found.enough() {
+                break;
+            }
+            if (*q - p).length_squared() <= r2 {
+                found.add(*q);
+            }
+        }
     };
-    // A cell short of points looks at its six face neighbours for each of its points, then at
-    // the other cells within reach (±2), nearest first, until the point has enough (nearly
-    // every cell of a random sampling is short: 359 K of the 379 K of a 1 M-point scan). The
-    // answer per cell is a mask of its (fewer than 8) points: no allocation per cell.
-    const _: () = assert!(ISOLATED_BELOW <= 8);
-    let answers: Vec<u8> = crate::parallel::map(cells.runs.len(), |c| {
+    // A cell short of distinct positions looks at its six face neighbours for each of its
+    // points, then at the other cells within reach (±2), nearest first, until the point has
+    // enough (nearly every cell of a random sampling is short: 359 K of the 379 K of a 1 M-point
+    // scan). The answer per cell is the list of its isolated points (empty: no allocation).
+    let answers: Vec<Vec<u32>> = crate::parallel::map(cells.runs.len(), |c| {
         let (k, a, b) = cells.runs[c];
-        if b - a >= ISOLATED_BELOW {
-            return 0;
+        // (Every point of a cell lies within the radius of every other: the cell's diagonal.)
+        let mut own = Found {
+            at: [DVec3::ZERO; ISOLATED_BELOW],
+            n: 0,
+        };
+        for &q in &sorted[a..b] {
+            own.add(q);
+            if own.enough() {
+                return Vec::new();
+            }
         }
         let faces = FACES.map(|d| cells.get(k, d));
-        let mut mask = 0u8;
+        let mut alone = Vec::new();
         for (j, &p) in sorted[a..b].iter().enumerate() {
-            let mut count = b - a;
+            let mut found = Found { ..own };
             for run in faces.iter().flatten() {
-                if count >= ISOLATED_BELOW {
-                    break;
-                }
-                count += within(p, *run, ISOLATED_BELOW - count);
+                within(p, *run, &mut found);
             }
             for d in OTHERS.iter() {
-                if count >= ISOLATED_BELOW {
+                if found.enough() {
                     break;
                 }
-                count += cells
-                    .get(k, *d)
-                    .map_or(0, |run| within(p, run, ISOLATED_BELOW - count));
+                if let Some(run) = cells.get(k, *d) {
+                    within(p, run, &mut found);
+                }
             }
-            if count < ISOLATED_BELOW {
-                mask |= 1 << j;
+            if !found.enough() {
+                alone.push(j as u32);
             }
         }
-        mask
+        alone
     });
     let mut isolated = vec![false; points.len()];
-    for (&(_, a, b), mask) in cells.runs.iter().zip(answers) {
-        if mask != 0 {
-            for (j, &i) in cells.order[a..b].iter().enumerate() {
-                isolated[i as usize] = mask >> j & 1 == 1;
-            }
+    for (&(_, a, _), alone) in cells.runs.iter().zip(answers) {
+        for j in alone {
+            isolated[cells.order[a + j as usize] as usize] = true;
         }
     }
     isolated
@@ -165,13 +186,30 @@ pub fn stray_points(points: &[DVec3], radius: f64) -> Vec<bool> {
     // Farther than this, a point is alone whatever its neighbours are like.
     let reach = STRAY_REACH * radius;
     let grid = PointGrid::new(points, reach);
+    // The `k` nearest distinct positions (the point's own first), as the count sees them.
     let nearest = |i: usize, k: usize| {
-        let mut out = Vec::new();
-        grid.nearest_within(points[i], reach, k, &mut out);
-        out
+        let mut asked = 2 * k;
+        loop {
+            let mut out = Vec::new();
+            grid.nearest_within(points[i], reach, asked, &mut out);
+            let full = out.len() == asked;
+            let mut distinct: Vec<Near> = Vec::with_capacity(k);
+            for n in out {
+                if !distinct.iter().any(|d| d.point == n.point) {
+                    distinct.push(n);
+                    if distinct.len() == k {
+                        return distinct;
+                    }
+                }
+            }
+            if !full || asked >= MOST_COPIES_ASKED {
+                return distinct;
+            }
+            asked *= 4;
+        }
     };
-    // The distance from a point to its (ISOLATED_BELOW − 1)-th nearest other point, the one the
-    // count tests against the radius (copies included, as there); infinite beyond the reach.
+    // The distance from a point to its (ISOLATED_BELOW − 1)-th nearest other position, the one
+    // the count tests against the radius; infinite beyond the reach.
     let spread = |i: usize| {
         let near = nearest(i, ISOLATED_BELOW);
         match near.len() == ISOLATED_BELOW {
@@ -187,7 +225,7 @@ pub fn stray_points(points: &[DVec3], radius: f64) -> Vec<bool> {
         }
         let mut around: Vec<f64> = nearest(i, STRAY_NEIGHBOURS + 1)
             .iter()
-            .filter(|n| n.index as usize != i)
+            .filter(|n| n.point != points[i])
             .map(|n| spread(n.index as usize))
             .collect();
         if around.len() < STRAY_NEIGHBOURS {
@@ -212,6 +250,9 @@ pub const STRAY_NEIGHBOURS: usize = 12;
 /// twice its neighbours' by chance about once in a thousand; a stray beyond the radius from a
 /// surface sampled at the median spacing is more than twice as far as that surface's own.
 pub const STRAY_RATIO: f64 = 2.0;
+
+/// Most points [`stray_points`] asks for to find enough distinct positions among copies.
+const MOST_COPIES_ASKED: usize = 4096;
 
 /// Radii (of the isolation test) within which [`stray_points`] looks for an isolated point's
 /// neighbours: a sparse region's points are kept down to about a sixtieth of the median density.
@@ -417,6 +458,9 @@ mod tests {
                 DVec3::new(-0.5, 0.9, 0.0),
             ]);
             pts.extend([0.0, 0.002, 0.004].map(|e| DVec3::new(-1.0, -0.8 + e, 0.3)));
+            // A stray recorded six times, and a speck of two recorded three times each.
+            pts.extend([DVec3::new(1.2, 0.5, 0.0); 6]);
+            pts.extend([DVec3::new(0.0, -0.9, -0.3), DVec3::new(0.01, -0.9, -0.3)].repeat(3));
             let radius = 6.0 * crate::geometry::spatial::spacing::median_spacing(&pts);
             let counted = isolated_points(&pts, radius);
             let flagged = counted[..surface].iter().filter(|&&i| i).count();
@@ -447,13 +491,20 @@ mod tests {
             let pts: Vec<DVec3> = (0..n)
                 .map(|_| DVec3::new(rng.uniform(), rng.uniform(), 0.3 * rng.uniform()))
                 .collect();
+            // Some points recorded several times over: copies count once.
+            let copies: Vec<DVec3> = (0..n / 10).flat_map(|i| [pts[i * 7]; 4]).collect();
+            let pts = [pts, copies].concat();
             let want: Vec<bool> = pts
                 .iter()
                 .map(|p| {
-                    let near = pts
+                    let mut near: Vec<[u64; 3]> = pts
                         .iter()
-                        .filter(|q| (**q - *p).length_squared() <= radius * radius);
-                    near.count() < ISOLATED_BELOW
+                        .filter(|q| (**q - *p).length_squared() <= radius * radius)
+                        .map(|q| q.to_array().map(f64::to_bits))
+                        .collect();
+                    near.sort_unstable();
+                    near.dedup();
+                    near.len() < ISOLATED_BELOW
                 })
                 .collect();
             let alone = want.iter().filter(|&&i| i).count();
