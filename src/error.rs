@@ -202,6 +202,9 @@ impl Explain for TargetError {
             | TargetError::Collinear { .. }
             | TargetError::Coplanar { .. }
             | TargetError::ZeroArea { .. } => TARGET_HINT,
+            TargetError::SparseCloud { .. } => {
+                "Give a denser scan of the object (a mesh with few vertices is fine)."
+            }
             TargetError::FarFromOrigin { .. } => {
                 "Translate the input near the origin (subtract its centre) and wrap it again."
             }
@@ -519,6 +522,11 @@ mod tests {
                 distinct: 2,
                 total: 2,
             },
+            TargetError::SparseCloud {
+                distinct: 8,
+                total: 8,
+                least: 20,
+            },
             TargetError::Collinear { count: 5 },
             TargetError::Coplanar {
                 count: 5,
@@ -542,6 +550,7 @@ mod tests {
             TargetError::NonFinite { .. } => "NonFinite",
             TargetError::IndexOutOfRange { .. } => "IndexOutOfRange",
             TargetError::TooFewPoints { .. } => "TooFewPoints",
+            TargetError::SparseCloud { .. } => "SparseCloud",
             TargetError::Collinear { .. } => "Collinear",
             TargetError::Coplanar { .. } => "Coplanar",
             TargetError::ZeroArea { .. } => "ZeroArea",

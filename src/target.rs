@@ -58,6 +58,14 @@ pub enum TargetError {
     /// give a scan of a solid object.
     #[error("the target has only {distinct} distinct point(s) ({total} in all); a wrap needs at least 4 that are not coplanar")]
     TooFewPoints { distinct: usize, total: usize },
+    /// A point cloud of fewer than [`MIN_CLOUD_POINTS`] distinct points: too few to outline a
+    /// surface. Fix: give a denser scan (a mesh of few vertices is fine).
+    #[error("the point cloud has only {distinct} distinct points ({total} in all); a cloud needs at least {least} to outline a surface")]
+    SparseCloud {
+        distinct: usize,
+        total: usize,
+        least: usize,
+    },
     /// Every point lies on one line (to 1e-9 of the target's size).
     #[error("all {count} points lie on one line; a wrap needs a 3-D shape")]
     Collinear { count: usize },
@@ -88,6 +96,9 @@ pub enum TargetError {
 /// The largest f32 step at a target's coordinates, as a fraction of its diagonal, that a wrap
 /// accepts (a target up to about 840 diagonals from the origin).
 pub const MOST_F32_STEP: f64 = 1e-4;
+
+/// The fewest distinct points a point cloud may have (see [`TargetError::SparseCloud`]).
+pub const MIN_CLOUD_POINTS: usize = 20;
 
 /// The largest share of a cloud [`Target::without_isolated_points`] leaves out.
 pub const MOST_ISOLATED: f64 = 0.1;
@@ -259,6 +270,27 @@ impl Target {
                 step,
             });
         }
+        if self.triangles.is_empty() {
+            // A handful of points outlines no surface: wraps of 5 to 8 points ran for 1.5 to
+            // 3 minutes (rolled back over and over) or diverged, and 12 gave a 139 K-vertex blob.
+            let mut seen: Vec<[u64; 3]> = Vec::with_capacity(MIN_CLOUD_POINTS);
+            for p in &self.points {
+                let key = crate::mesh::repair::position_key(*p);
+                if !seen.contains(&key) {
+                    seen.push(key);
+                    if seen.len() == MIN_CLOUD_POINTS {
+                        break;
+                    }
+                }
+            }
+            if seen.len() < MIN_CLOUD_POINTS {
+                return Err(TargetError::SparseCloud {
+                    distinct: seen.len(),
+                    total,
+                    least: MIN_CLOUD_POINTS,
+                });
+            }
+        }
         if !self.triangles.is_empty() {
             let area: f64 = self
                 .triangles
@@ -347,7 +379,10 @@ mod tests {
             let pts = (0..8)
                 .map(|i| offset + DVec3::new((i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2) as f64))
                 .collect();
-            Target::new(pts, vec![]).unwrap().check_wrappable()
+            // (As a mesh: 8 points are too few for a cloud.)
+            Target::new(pts, vec![[0, 1, 2], [4, 5, 6]])
+                .unwrap()
+                .check_wrappable()
         };
         assert_eq!(cube(DVec3::splat(100.0)), Ok(()));
         for offset in [DVec3::new(1e5, 0.0, 0.0), DVec3::new(0.0, 0.0, -1e5)] {
@@ -403,6 +438,21 @@ mod tests {
             })
             .collect();
         assert_eq!(check(plate, vec![]), Ok(()));
+        // Eight corners of a cube as a cloud: too few (the same as a mesh is fine).
+        let corners: Vec<DVec3> = (0..8)
+            .map(|k| DVec3::new((k & 1) as f64, (k >> 1 & 1) as f64, (k >> 2) as f64))
+            .collect();
+        let e = check(corners.repeat(3), vec![]).unwrap_err();
+        assert_eq!(
+            e,
+            TargetError::SparseCloud {
+                distinct: 8,
+                total: 24,
+                least: MIN_CLOUD_POINTS
+            }
+        );
+        assert!(e.to_string().contains("at least 20"), "{e}");
+        assert_eq!(check(corners, vec![[0, 1, 2], [4, 5, 6]]), Ok(()));
         let tet = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
         assert_eq!(check(tet.clone(), vec![[0, 1, 2]]), Ok(()));
         // Zero-area mesh: every triangle repeats a vertex position.
