@@ -5,14 +5,14 @@
 //!
 //! The test: a point is isolated when fewer than [`ISOLATED_BELOW`] distinct positions (its own
 //! included) lie within `radius` of it: copies of a point count once, so a stray recorded six
-//! times over is still a stray (a sphere cloud with ten such strays diverged). With a radius of several median spacings, a point of the sampled
-//! surface has dozens within it, also where the scan is a few times sparser than its median,
-//! along a thin wire or at a cube's corner; a stray point (or a speck of a few) farther than
-//! the radius from the surface has only itself. Points are bucketed on cells whose diagonal is
-//! the radius, so a cell holding enough distinct positions settles all of them at once, and the others
-//! count their neighbours in the face-adjacent cells, then in the rest of the 5 × 5 × 5 cells
-//! around, nearest first, until they have enough. The answer does not depend on the points'
-//! order.
+//! times over is still a stray (a sphere cloud with ten such strays diverged). With a radius of
+//! several median spacings, a point of a densely sampled surface has dozens within it, also
+//! along a thin wire or at a cube's corner; a stray point (or a speck of a few) farther than the
+//! radius from the surface has only itself. Points are bucketed on cells whose diagonal is the
+//! radius, so a cell holding enough distinct positions settles all of them at once, and the
+//! others count their neighbours in the face-adjacent cells, then in the rest of the 5 × 5 × 5
+//! cells around, nearest first, until they have enough. The answer does not depend on the
+//! points' order.
 //!
 //! [`stray_points`] then keeps the isolated points whose neighbours are as sparse as they are:
 //! a region of the surface sampled more sparsely than the median, not a stray.
@@ -64,8 +64,7 @@ impl Hasher for CellHasher {
 }
 
 /// A point needs at least this many distinct positions (its own included) within the radius to
-/// count as
-/// part of the sampled surface.
+/// count as part of the sampled surface.
 pub const ISOLATED_BELOW: usize = 6;
 
 /// Which of `points` are isolated: fewer than [`ISOLATED_BELOW`] distinct positions within
@@ -438,7 +437,8 @@ mod tests {
 
     /// A random sampling (not a lattice) of an ellipsoid, one half of it sampled 3× to 20× more
     /// sparsely than the other: the count alone flags hundreds of points of the sparse half; at
-    /// most a tenth of those are strays for the full test. Strays and a speck of three beside it still are.
+    /// most a tenth of those are strays for the full test. Strays beside it still are: lone
+    /// ones, a speck of three, one recorded six times, a speck of two recorded three times.
     #[test]
     fn a_sparsely_sampled_region_is_not_strewn_with_strays() {
         for ratio in [0.3, 0.1, 0.05] {
