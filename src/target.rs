@@ -211,14 +211,18 @@ impl Target {
     /// its size that 32-bit coordinates cannot resolve it, a mesh of zero total area.
     pub fn check_wrappable(&self) -> Result<(), TargetError> {
         let total = self.points.len();
-        // Four distinct points are enough to go on (and below four, these are all of them): no
-        // sort of every point (0.1 s on a million).
-        let mut distinct_keys: Vec<[u64; 3]> = Vec::with_capacity(4);
+        // Four distinct points are enough to go on, a cloud's [`MIN_CLOUD_POINTS`] (and below
+        // that, these are all of them): no sort of every point (0.1 s on a million).
+        let enough = match self.triangles.is_empty() {
+            true => MIN_CLOUD_POINTS,
+            false => 4,
+        };
+        let mut distinct_keys: Vec<[u64; 3]> = Vec::with_capacity(enough);
         for p in &self.points {
             let key = crate::mesh::repair::position_key(*p);
             if !distinct_keys.contains(&key) {
                 distinct_keys.push(key);
-                if distinct_keys.len() == 4 {
+                if distinct_keys.len() == enough {
                     break;
                 }
             }
@@ -270,26 +274,14 @@ impl Target {
                 step,
             });
         }
-        if self.triangles.is_empty() {
-            // A handful of points outlines no surface: wraps of 5 to 8 points ran for 1.5 to
-            // 3 minutes (rolled back over and over) or diverged, and 12 gave a 139 K-vertex blob.
-            let mut seen: Vec<[u64; 3]> = Vec::with_capacity(MIN_CLOUD_POINTS);
-            for p in &self.points {
-                let key = crate::mesh::repair::position_key(*p);
-                if !seen.contains(&key) {
-                    seen.push(key);
-                    if seen.len() == MIN_CLOUD_POINTS {
-                        break;
-                    }
-                }
-            }
-            if seen.len() < MIN_CLOUD_POINTS {
-                return Err(TargetError::SparseCloud {
-                    distinct: seen.len(),
-                    total,
-                    least: MIN_CLOUD_POINTS,
-                });
-            }
+        // A handful of points outlines no surface: wraps of 5 to 8 points ran for 1.5 to 3
+        // minutes (rolled back over and over) or diverged, and 12 gave a 139 K-vertex blob.
+        if distinct < enough {
+            return Err(TargetError::SparseCloud {
+                distinct,
+                total,
+                least: MIN_CLOUD_POINTS,
+            });
         }
         if !self.triangles.is_empty() {
             let area: f64 = self

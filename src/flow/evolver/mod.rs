@@ -481,7 +481,7 @@ impl Evolver {
             pending_creases: Some(creases),
             isolated_points,
             specks,
-            despecked: despecked.as_ref().map(|(t, _)| t.clone()),
+            despecked: despecked.map(|(t, _)| t),
             sizes_changed: true,
             start: start.kind,
             limits,
