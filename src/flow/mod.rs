@@ -10,6 +10,7 @@ pub mod guard;
 pub mod mcf;
 pub mod mcf_mesh;
 pub mod reach;
+pub mod regrow;
 pub mod scaling;
 pub mod settings;
 pub mod snap;

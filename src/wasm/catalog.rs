@@ -26,6 +26,8 @@ use wasm_bindgen::prelude::*;
 /// * `closeGaps`: `[{label, value}]` — the "Close gaps up to" choices, `surgery.close_gaps`
 ///   values ([`crate::flow::detail::CLOSE_GAPS`]).
 /// * `lessonColourMaps`: the colour-map names the MCF lesson offers.
+/// * `settingsAdded`: `{key: value}` — settings added since share links carry every setting, with
+///   the value a link made before them gets ([`crate::flow::settings::aliases::ADDED`]).
 /// * `lessons`: `[{name, label, title, needsMesh}]` — the MCF lessons
 ///   ([`crate::flow::LESSONS`]): the sphere, and the loaded mesh (offered only for a mesh).
 pub fn catalog_json() -> serde_json::Value {
@@ -43,6 +45,10 @@ pub fn catalog_json() -> serde_json::Value {
         "presetLabels": Preset::ALL.map(Preset::label),
         "exportFormats": Format::WRITABLE.map(Format::name),
         "settingRanges": RANGES,
+        "settingsAdded": crate::flow::settings::aliases::ADDED
+            .iter()
+            .map(|&(key, before)| (key.to_string(), serde_json::json!(before)))
+            .collect::<serde_json::Map<_, _>>(),
     })
 }
 

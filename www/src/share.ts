@@ -49,6 +49,9 @@ export interface DecodeOptions {
   aliases?: Record<string, string>;
   /** Colour-map names a link may ask for (the core's catalog, plus 'none'); without it only the default. */
   colourMaps?: readonly string[];
+  /** Settings added since links carry every setting → the value that gives a link made before
+   * them its result (the core's `settingsAdded`): a versioned link without the key gets it. */
+  added?: Record<string, Leaf>;
 }
 
 export interface ShareState {
@@ -152,7 +155,7 @@ export function encode(state: ShareState): string {
  * throws: whatever cannot be used is dropped and explained in `notices`.
  */
 export function decode(hash: string, presets: Record<string, Flat>, opts: DecodeOptions = {}): Decoded {
-  const { defaultPreset = 'full-wrap', aliases = {}, colourMaps = [DEFAULT_VIEW.cmap, 'none'] } = opts;
+  const { defaultPreset = 'full-wrap', aliases = {}, colourMaps = [DEFAULT_VIEW.cmap, 'none'], added = {} } = opts;
   const notices: string[] = [];
   const state: ShareState = { dataset: null, preset: defaultPreset, changed: {}, view: { ...DEFAULT_VIEW } };
   const raw = hash.replace(/^#/, '');
@@ -230,6 +233,13 @@ export function decode(hash: string, presets: Record<string, Flat>, opts: Decode
       }
     } else if (!(key.startsWith('s.') && old)) {
       unknown.push(key);
+    }
+  }
+  // A setting added after the link was made: the value that computed the link's result.
+  if (!old) {
+    for (const [path, before] of Object.entries(added)) {
+      const known = Object.prototype.hasOwnProperty.call(defaults, path);
+      if (known && !q.has(`s.${path}`) && JSON.stringify(before) !== JSON.stringify(defaults[path])) state.changed[path] = before;
     }
   }
   if (unknown.length) notices.push(`Ignored unknown key${unknown.length > 1 ? 's' : ''}: ${unknown.slice(0, 8).map((k) => k.slice(0, 40)).join(', ')}.`);

@@ -6,6 +6,7 @@ use super::{Evolver, PhaseTimes};
 use crate::clock::now_ms;
 use crate::flow::controls::Controls;
 use crate::flow::guard::held_mask;
+use crate::flow::regrow::{outward_to_offset, Regrow};
 use crate::flow::surface_terms::SurfaceTerms;
 use glam::DVec3;
 
@@ -41,6 +42,14 @@ impl Evolver {
         let normals = &terms.normals;
         let held = held_mask(&self.mesh);
         let (mut eps, mut eta) = (vec![1.0; n], vec![0.0; n]);
+        let cell = self.field.cell_size();
+        let regrow = Regrow {
+            d0: self.d0,
+            min_depth: s.flow.regrow_depth * self.d0,
+            reach: s.flow.regrow_cells * cell,
+            spacing: 0.5 * cell,
+        };
+        let regrows = s.flow.regrow_depth > 0.0 && s.flow.regrow_edges > 0.0;
         if s.flow.use_target {
             for i in 0..n {
                 let delta = self.distances[i] - self.d0;
@@ -48,6 +57,17 @@ impl Evolver {
                 let advects = eps[i] != 0.0 || !s.flow.advection_positive_support || delta >= 0.0;
                 if advects && !held[i] {
                     eta[i] = controls.eta(delta, self.gradients[i].dot(normals[i]));
+                }
+                // A held-still vertex on a chord through a thin part moves out (its row is the
+                // identity, so this η is its whole move).
+                if regrows && eps[i] == 0.0 && !held[i] && delta < 0.0 {
+                    let p = self.mesh.position(i as u32);
+                    let sample = |q| self.field.sample(q);
+                    let d = self.distances[i];
+                    if let Some(along) = outward_to_offset(sample, p, d, normals[i], &regrow) {
+                        let most = s.flow.regrow_edges * self.mesh.mean_edge_length(i as u32);
+                        eta[i] = along.min(most) / self.tau;
+                    }
                 }
             }
         }

@@ -4,6 +4,11 @@
 
 use serde_json::{Map, Value};
 
+/// Settings added since share links carry every setting (version 3), with the value that
+/// computes what a link made before them computed: a link without the key decodes to it, so
+/// the link keeps its result (`flow.regrow_depth` 0 is the flow before `flow::regrow`).
+pub const ADDED: &[(&str, f64)] = &[("flow.regrow_depth", 0.0)];
+
 /// `(old flat key, key in the nested settings)`. An old key that was an object (`features`)
 /// also maps its sub-keys (`features.enabled` → `remesh.features.enabled`).
 pub const ALIASES: &[(&str, &str)] = &[
@@ -170,6 +175,16 @@ mod tests {
             let v = new.split('.').try_fold(&defaults, |v, k| v.get(k));
             assert!(v.is_some_and(|v| !v.is_object()), "{old} → {new}");
             assert_eq!(&canonical_key(old), new);
+        }
+    }
+
+    #[test]
+    fn added_settings_are_numeric_leaves_whose_old_value_differs_from_the_default() {
+        let defaults = serde_json::to_value(super::super::WrapSettings::default()).unwrap();
+        for &(key, before) in ADDED {
+            let v = key.split('.').try_fold(&defaults, |v, k| v.get(k));
+            let now = v.and_then(|v| v.as_f64());
+            assert!(now.is_some_and(|now| now != before), "{key}: {v:?}");
         }
     }
 

@@ -205,6 +205,9 @@ pub const RANGES: &[SettingRange] = &[
     SettingRange::new("flow.c1", 0.0, f64::INFINITY, false, "≥ 0"),
     SettingRange::new("flow.d1", 0.0, f64::INFINITY, false, "≥ 0"),
     SettingRange::new("flow.d2", 0.0, f64::INFINITY, false, "≥ 0"),
+    SettingRange::new("flow.regrow_depth", 0.0, 100.0, false, "0–100"),
+    SettingRange::new("flow.regrow_cells", 0.0, 1000.0, false, "0–1000"),
+    SettingRange::new("flow.regrow_edges", 0.0, 100.0, false, "0–100"),
     SettingRange::new("fit.max_points", 6.0, 1e6, false, "6–1000000"),
     SettingRange::new("fit.crease_angle_deg", 0.0, 180.0, false, "0–180"),
     SettingRange::new("fit.refine_error_cells", 0.0, 1e6, false, "≥ 0"),
@@ -505,6 +508,7 @@ mod tests {
                 schedule: vec![2, 4],
                 decay: 0.5,
                 max_retries: 2,
+                ..FlowSettings::default()
             },
             remesh: RemeshingSettings {
                 enabled: false,

@@ -104,6 +104,17 @@ pub struct FlowSettings {
     pub decay: f64,
     /// Times a failed step is retried with τ halved before giving up. Default 4.
     pub max_retries: u32,
+    /// A vertex inside the offset surface whose offset level lies farther than this many d₀
+    /// along its normal sits on a chord through a thin part of the target and moves out to
+    /// that level ([`crate::flow::regrow`]); a vertex that settled just inside finds it within
+    /// a fraction of d₀. 0 turns this off. Default 1.5 (the bunny's wrap is unchanged).
+    pub regrow_depth: f64,
+    /// How far along its normal such a vertex looks for the offset level, in grid cells.
+    /// Default 16.
+    pub regrow_cells: f64,
+    /// The most such a vertex moves in one step, in its mean edge lengths (longer moves grew
+    /// spikes that the remesh split without end). Default 2.
+    pub regrow_edges: f64,
 }
 
 impl Default for FlowSettings {
@@ -123,6 +134,9 @@ impl Default for FlowSettings {
             schedule: vec![3, 10, 20, 50, 100, 120, 140, 145],
             decay: 0.7,
             max_retries: 4,
+            regrow_depth: 1.5,
+            regrow_cells: 16.0,
+            regrow_edges: 2.0,
         }
     }
 }

@@ -96,6 +96,18 @@ describe('URL state codec', () => {
     expect(decode('v=1&s.flow.tau=0.04', nested, { aliases }).state.changed).toEqual({ 'flow.tau': 0.04 });
   });
 
+  it('a link made before a setting was added gets the value that computed its result', () => {
+    const nested: Record<string, Flat> = { 'full-wrap': flatten({ flow: { tau: 0.07, regrow_depth: 1.5 } }) };
+    const added = { 'flow.regrow_depth': 0 };
+    // Made before: the key is missing, so the flow of then (0), not today's default.
+    expect(decode('v=3&p=full-wrap&s.flow.tau=0.07', nested, { added }).state.changed).toEqual({ 'flow.regrow_depth': 0 });
+    // Made after: the link carries the key, today's default stays no change.
+    expect(decode('v=3&p=full-wrap&s.flow.tau=0.07&s.flow.regrow_depth=1.5', nested, { added }).state.changed).toEqual({});
+    expect(decode('v=3&s.flow.regrow_depth=2', nested, { added }).state.changed).toEqual({ 'flow.regrow_depth': 2 });
+    // A link without a version uses no settings at all.
+    expect(decode('p=full-wrap', nested, { added }).state.changed).toEqual({});
+  });
+
   it('unknown keys, wrong types and bad values fall back to defaults with notices', () => {
     const { state, notices } = decode('v=1&p=nope&s.bogus=1&s.tau="fast"&s.steps=1e999&view.cmap=<img>&view.zoom=abc&zzz=1', presets);
     expect(state.preset).toBe('full-wrap');

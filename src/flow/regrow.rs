@@ -1,0 +1,122 @@
+//! Regrowing a wrap that cuts through a thin part of the target.
+//!
+//! Early in the evolution the wrap's edges are longer than a thin plate is thick. Where its two
+//! sheets settle onto the plate's faces, the triangles that turn around the plate's rim join a
+//! vertex on one face to a vertex on the other, a chord through the plate a whole edge short of
+//! the rim, and more at a corner. Later splits put new vertices on that chord, inside the
+//! offset surface (δ = d − d₀ < 0), where the flow holds them still: the rim stays cut for the
+//! rest of the run (a 1 % plate cloud lost its corners, 704 of its 20 000 points outside the wrap
+//! and a Hausdorff distance of 5.2 % of the diagonal).
+//!
+//! Such a vertex is told apart from one that merely settled a little inside d₀ by looking along
+//! its outward normal: on a chord the offset level lies beyond the rim, farther than d₀ away;
+//! for a settled vertex it lies within a fraction of d₀. The chord's vertices move out to that
+//! level, a little each step, and the remesh splits the edges they stretch; the new vertices
+//! move out in turn until the wrap goes round the rim again.
+
+use glam::DVec3;
+
+/// How a vertex inside the offset surface finds its way out (see the module doc). Lengths are
+/// in the evolution's (stabilised) frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Regrow {
+    /// The offset level d₀.
+    pub d0: f64,
+    /// The offset level must lie farther than this along the normal (a vertex that settled
+    /// just inside d₀ finds it within a fraction of d₀).
+    pub min_depth: f64,
+    /// How far along the normal to look for it.
+    pub reach: f64,
+    /// Spacing of the samples along the normal (half a grid cell: the field is trilinear).
+    pub spacing: f64,
+}
+
+/// The distance along the unit normal `n` from `p` (where the distance is `at_p`, already
+/// sampled by the step) to where `distance` first reaches the offset level, when `p` lies inside
+/// it and that level is farther than `min_depth` and within `reach`; None otherwise. The
+/// crossing is interpolated between the two samples that bracket it.
+pub fn outward_to_offset(
+    distance: impl Fn(DVec3) -> f64,
+    p: DVec3,
+    at_p: f64,
+    n: DVec3,
+    r: &Regrow,
+) -> Option<f64> {
+    let mut prev = at_p;
+    // (Written so that a NaN answers no.)
+    let inside = prev < r.d0;
+    let stepped = r.spacing > 0.0;
+    if !inside || !stepped {
+        return None;
+    }
+    let steps = (r.reach / r.spacing).ceil() as usize;
+    for k in 1..=steps {
+        let d = distance(p + (k as f64 * r.spacing) * n);
+        if d >= r.d0 {
+            let t = (r.d0 - prev) / (d - prev);
+            let along = (k as f64 - 1.0 + t) * r.spacing;
+            return (along > r.min_depth && along <= r.reach).then_some(along);
+        }
+        prev = d;
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Distance to the plate |x| ≤ 0.5, |y| ≤ 0.3, |z| ≤ 0.005.
+    fn plate(p: DVec3) -> f64 {
+        let h = DVec3::new(0.5, 0.3, 0.005);
+        (p.abs() - h).max(DVec3::ZERO).length()
+    }
+
+    fn settings() -> Regrow {
+        Regrow {
+            d0: 0.006,
+            min_depth: 0.009,
+            reach: 0.12,
+            spacing: 0.004,
+        }
+    }
+
+    #[test]
+    fn a_vertex_on_a_chord_through_the_plate_finds_the_level_beyond_its_rim() {
+        let r = settings();
+        let along =
+            outward_to_offset(plate, DVec3::new(0.44, 0.0, 0.0), 0.0, DVec3::X, &r).unwrap();
+        // The rim is 0.06 away and the level d₀ beyond it; the field here is exact, so only
+        // the interpolation's bracket (one spacing) limits the answer.
+        assert!((along - 0.066).abs() < 1e-9, "{along}");
+        // Diagonally, towards a corner cut off by the chord from (0.44, 0.3) to (0.5, 0.24).
+        let n = DVec3::new(1.0, 1.0, 0.0).normalize();
+        let along = outward_to_offset(plate, DVec3::new(0.47, 0.27, 0.0), 0.0, n, &r);
+        let want = DVec3::new(0.03, 0.03, 0.0).length() + 0.006;
+        assert!(
+            (along.unwrap() - want).abs() < 0.004,
+            "{along:?} against {want}"
+        );
+    }
+
+    #[test]
+    fn a_vertex_settled_just_inside_the_level_stays() {
+        let r = settings();
+        let p = DVec3::new(0.1, 0.1, 0.005 + 0.9 * r.d0);
+        assert_eq!(outward_to_offset(plate, p, plate(p), DVec3::Z, &r), None);
+        // Outside the level, nothing to do either.
+        let p = DVec3::new(0.1, 0.1, 0.005 + 1.5 * r.d0);
+        assert_eq!(outward_to_offset(plate, p, plate(p), DVec3::Z, &r), None);
+    }
+
+    #[test]
+    fn a_rim_beyond_the_reach_is_left_alone() {
+        let r = settings();
+        // 0.3 from the rim, along the plate: the level lies beyond the reach of 0.12.
+        let p = DVec3::new(0.2, 0.0, 0.0);
+        assert_eq!(outward_to_offset(plate, p, 0.0, DVec3::X, &r), None);
+        let reach = Regrow { reach: 0.4, ..r };
+        let along = outward_to_offset(plate, p, 0.0, DVec3::X, &reach).unwrap();
+        assert!((along - 0.306).abs() < 1e-9, "{along}");
+    }
+}
