@@ -214,6 +214,47 @@ fn a_thin_plate_cloud_keeps_its_rim_and_corners() {
     );
 }
 
+/// Two spheres' cloud at the defaults: the wrap pinches into two parts. Around the pinch a vertex
+/// whose faces collapse gets negative cotangent weights, and the solve once converged to a
+/// near-singular solution that threw it 20 box sizes away (the run diverged with no mesh); such a
+/// solve is now retried with non-negative weights.
+#[test]
+fn two_spheres_pinch_apart_at_the_defaults() {
+    // As `lsw demo` writes it: single-precision coordinates.
+    let (p, t) = generate("two-spheres-apart-cloud").unwrap();
+    let p = p.iter().map(|q| q.as_vec3().as_dvec3()).collect();
+    let target = Target::new(p, t).unwrap();
+    let (_, _, c) = wrap_target("two-spheres-apart-cloud", &target, WrapSettings::default());
+    assert_valid("two-spheres-apart-cloud", &c);
+    assert_eq!((c.genus, c.components), (Some(0), Some(2)), "{c:?}");
+}
+
+/// Lengths are relative to the target: the same cloud in other units (×1024, exact in floating
+/// point) wraps to the same mesh, vertex for vertex. The curved splits' reach was once taken in
+/// units of the input (metres and millimetres gave different wraps of the same scan).
+#[test]
+fn a_wrap_does_not_depend_on_the_units() {
+    let name = "torus-g2-cloud";
+    let (p, t) = generate(name).unwrap();
+    let scaled = Target::new(p.iter().map(|&q| 1024.0 * q).collect(), t.clone()).unwrap();
+    let ev = |target: &Target| {
+        let mut ev = Evolver::new(target, coarse()).unwrap();
+        ev.run(|_| {}).unwrap();
+        ev.positions()
+    };
+    let (a, b) = (ev(&Target::new(p, t).unwrap()), ev(&scaled));
+    assert_eq!(a.len(), b.len(), "{name}: vertex counts differ");
+    let worst = a
+        .iter()
+        .zip(&b)
+        .map(|(x, y)| (1024.0 * *x - *y).length())
+        .fold(0.0, f64::max);
+    assert_eq!(
+        worst, 0.0,
+        "{name}: vertices differ by up to {worst} (×1024 units)"
+    );
+}
+
 /// A mesh with debris: the unit cube and twenty closed cubes a fifth of a grid cell wide floating
 /// around it. Wrapped, five such cubes already left 18 intersecting face pairs, and a hundred made
 /// the evolution diverge. The specks are left out and counted, and the wrap is valid.

@@ -698,7 +698,7 @@ impl Evolver {
         let forces = self.forces(&mut times);
         let old = self.mesh.positions().to_vec();
         let solved = self.solve(&forces, &old, &mut times)?;
-        let tau_used = self.tau;
+        let tau_used = solved.tau;
         let moved = self.advance(&solved.x, &old, &mut times)?;
         let ends = self.ends(moved.settled_fraction);
         // On a cloud, the step that ends the run leaves the remesh to the final fit, whose

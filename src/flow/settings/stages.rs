@@ -102,7 +102,8 @@ pub struct FlowSettings {
     pub schedule: Vec<u32>,
     /// λ_dec, the schedule's decay factor. Range (0, 1]; default 0.7.
     pub decay: f64,
-    /// Times a failed step is retried with τ halved before giving up. Default 4.
+    /// Times a failed solve is retried before giving up: first at the same τ with negative
+    /// cotangent weights clamped at zero, then with τ halved each time. Default 4.
     pub max_retries: u32,
     /// A vertex inside the offset surface whose offset level lies farther than this many d₀
     /// along its normal sits on a chord through a thin part of the target and moves out to
