@@ -84,3 +84,43 @@ fn cli_errors_carry_the_hint() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A refused wrap (here a solver that cannot converge: the first step diverges) exits non-zero,
+/// writes no mesh, and still prints its JSON report on stdout, with the reason under `error`, so
+/// that `lsw wrap … > report.json` over a folder of scans keeps why each one was refused.
+#[test]
+fn a_refused_wrap_still_reports_on_stdout() {
+    let dir = std::env::temp_dir().join(format!("lsw_refused_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (input, output) = (dir.join("torus.ply"), dir.join("wrap.ply"));
+    assert!(
+        lsw(&["demo", "torus-sparse-cloud", "-o", input.to_str().unwrap()])
+            .status
+            .success()
+    );
+    let out = lsw(&[
+        "wrap",
+        input.to_str().unwrap(),
+        "-o",
+        output.to_str().unwrap(),
+        "--set",
+        "solver.max_iterations=1",
+        "--set",
+        "solver.tolerance=1e-30",
+        "--set",
+        "flow.max_retries=0",
+    ]);
+    assert!(!out.status.success());
+    assert!(!output.exists(), "a refused wrap wrote its mesh");
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["written"], false);
+    let why = report["error"].as_str().unwrap();
+    assert!(why.contains("diverged"), "{why}");
+    assert!(report["certificate"]["valid"].is_boolean());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.starts_with("lsw: error: the wrap stopped early"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

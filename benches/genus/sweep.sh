@@ -30,6 +30,7 @@ for m in torus-g1 torus-g2 torus-g3 torus-g4 torus-g5 cube-hole plate-holes cad-
                 r=$("$BIN" wrap "$f" -o "$OUT/result.ply" "$@" 2>/dev/null | python3 -c "
 import json, sys
 j = json.load(sys.stdin); c = j['certificate']
+if j.get('error'): sys.exit(1)  # refused (its report is on stdout too): FAILED
 print(c['valid'], c['genus'], j['result_hash'], round(j['times_ms']['total']), j['vertices'], round(c['distance_max'], 4))" 2>/dev/null || echo "FAILED")
                 printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$m" "$g" "$n" "$noise" "$seed" "$r"
                 total=$((total + 1))

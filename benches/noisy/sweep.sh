@@ -29,6 +29,8 @@ j, err, rc = sys.argv[1:]
 try:
     d = json.load(open(j))
     c = d["certificate"]
+    if d.get("error"):
+        raise ValueError(d["error"])  # refused: its report is on stdout too
     print(f"valid={c['valid']} genus={c['genus']} V={d.get('vertices')}")
 except Exception:
     lines = [l for l in open(err).read().splitlines() if l.startswith("lsw: error")]

@@ -17,8 +17,11 @@ fn main() {
                 _ => {}
             }
         }
-        Err(msg) => {
-            eprintln!("lsw: error: {msg}");
+        Err(failure) => {
+            if let Some(report) = failure.report {
+                println!("{report}");
+            }
+            eprintln!("lsw: error: {}", failure.message);
             std::process::exit(1);
         }
     }

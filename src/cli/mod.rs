@@ -77,14 +77,32 @@ pub fn preset_help() -> String {
     )
 }
 
+/// A command that failed: the message for stderr and, where the command still has one, the JSON
+/// report for stdout (a refused `wrap`'s certificate and `stop_reason`, so that a script looping
+/// over scans records why with `> report.json`).
+#[derive(Debug)]
+pub struct Failure {
+    pub message: String,
+    pub report: Option<String>,
+}
+
+impl From<String> for Failure {
+    fn from(message: String) -> Self {
+        Self {
+            message,
+            report: None,
+        }
+    }
+}
+
 /// Runs a parsed command line; `Ok` holds the JSON text to print.
-pub fn run(cli: Cli) -> Result<String, String> {
+pub fn run(cli: Cli) -> Result<String, Failure> {
     match cli.command {
-        Command::Mcf(a) => mcf::run(&a),
-        Command::Sdf(a) => sdf::run(&a),
-        Command::Info(a) => info::run(&a),
-        Command::Metrics(a) => metrics::run(&a),
+        Command::Mcf(a) => Ok(mcf::run(&a)?),
+        Command::Sdf(a) => Ok(sdf::run(&a)?),
+        Command::Info(a) => Ok(info::run(&a)?),
+        Command::Metrics(a) => Ok(metrics::run(&a)?),
         Command::Wrap(a) => wrap::run(&a),
-        Command::Demo(a) => demo::run(&a),
+        Command::Demo(a) => Ok(demo::run(&a)?),
     }
 }

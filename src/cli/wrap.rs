@@ -83,8 +83,9 @@ pub fn apply_overrides(
 /// scale, result_hash, iso_level, times_ms {read, field, start, evolve, write, total}, evolve_ms {normals,
 /// assembly, solve, remesh, guard, fit, surgery}, fit_ms (the final fit part by part, see
 /// `flow::FitTimes`), distance_mean, distance_max; for volumes also iso (the iso-value
-/// wrapped) and volume (see [`super::volume::volume_json`]).
-pub fn run(a: &WrapArgs) -> Result<String, String> {
+/// wrapped) and volume (see [`super::volume::volume_json`]); error (why, when the wrap was
+/// refused: the report is then the [`super::Failure`]'s, printed on stdout all the same).
+pub fn run(a: &WrapArgs) -> Result<String, super::Failure> {
     let t0 = crate::clock::now_ms();
     let preset = Preset::from_name(&a.preset).ok_or_else(|| {
         let names = Preset::ALL.map(Preset::name);
@@ -172,7 +173,7 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
     let sum = |f: fn(&StepReport) -> f64| reports.iter().map(f).sum::<f64>();
     let last = reports.last();
     let field = ev.field().timings();
-    let out = serde_json::to_string_pretty(&json!({
+    let mut report = json!({
         "input": a.input.display().to_string(),
         "output": a.output.display().to_string(),
         "preset": preset.name(),
@@ -219,18 +220,26 @@ pub fn run(a: &WrapArgs) -> Result<String, String> {
             "surgery": sum(|r| r.times.surgery),
         },
         "fit_ms": last.map(|r| r.times.fit_parts),
-    }))
-    .expect("JSON of plain values");
+    });
+    if let Some(why) = &failure {
+        report["error"] = Value::String(why.clone());
+    }
+    let out = serde_json::to_string_pretty(&report).expect("JSON of plain values");
     match failure {
         None => Ok(out),
-        Some(why) => Err(format!(
-            "{why}; {}\n{out}",
-            if a.keep_invalid {
-                "the mesh was written anyway (--keep-invalid)"
-            } else {
-                "no mesh was written (--keep-invalid writes it anyway)"
-            }
-        )),
+        // The report goes to stdout as on success, and (as before it went there too) after
+        // the message on stderr.
+        Some(why) => Err(super::Failure {
+            message: format!(
+                "{why}; {}\n{out}",
+                if a.keep_invalid {
+                    "the mesh was written anyway (--keep-invalid)"
+                } else {
+                    "no mesh was written (--keep-invalid writes it anyway)"
+                }
+            ),
+            report: Some(out),
+        }),
     }
 }
 

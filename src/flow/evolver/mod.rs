@@ -117,9 +117,10 @@ pub enum EvolveError {
         previous: u32,
         reason: Divergence,
     },
-    /// A step failed even after retrying with τ halved `retries` times (the surface is the last
-    /// certified one and the evolution stopped).
-    #[error("step {step} failed after {retries} retries with τ halved down to {tau:.3e}: {cause}")]
+    /// A step's solve failed even after `retries` retries (non-negative weights, then τ halved;
+    /// `tau` is the last one tried): the surface is the last certified one and the evolution
+    /// stopped.
+    #[error("the solve diverged at step {step} after {retries} retries (τ {tau:.3e} at the last): {cause}")]
     Diverged {
         step: u32,
         retries: u32,
