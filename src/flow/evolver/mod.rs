@@ -748,10 +748,15 @@ impl Evolver {
         }
         self.schedule();
         self.done = ends;
+        let last_cut = match ends {
+            true => self.surgery_last(&mut times),
+            false => Vec::new(),
+        };
         parts.fitted = self.fit_if_done(&mut times, progress);
         parts.remesh = remesh;
         self.refresh_distances();
         parts.surgery = self.surgery_if_due(&mut times);
+        parts.surgery.splice(0..0, last_cut);
         times.total = now_ms() - t_start;
         Ok(self.report(parts, times))
     }

@@ -13,16 +13,35 @@ impl Evolver {
     /// Operates when due and needed; the events of this step (empty when nothing happened).
     pub(super) fn surgery_if_due(&mut self, times: &mut PhaseTimes) -> Vec<SurgeryEvent> {
         let s = &self.settings.surgery;
-        if self.step % s.check_every.max(1) != 0 {
+        if self.step % s.check_every.max(1) != 0 || self.done {
             return Vec::new();
         }
-        self.surgery_now(times)
+        self.surgery_now(times, false)
     }
 
-    /// Operates when needed (surgery on and the evolution not over).
-    fn surgery_now(&mut self, times: &mut PhaseTimes) -> Vec<SurgeryEvent> {
+    /// The last look, on the step that ends the evolution (before the final fit): membranes
+    /// still closing in on each other are cut as they are. The wait for them to settle exists
+    /// so that a hole is not cut twice, and there is no later look; without this, membranes
+    /// that met late (a cube's hole in a cloud with noise of 1 % of the diagonal: first touch
+    /// at step 120 of 146) stayed uncut and the wrap lost the handle. The distances are
+    /// sampled at the current surface for the look and kept only if it operated.
+    pub(super) fn surgery_last(&mut self, times: &mut PhaseTimes) -> Vec<SurgeryEvent> {
+        if !self.settings.surgery.enabled {
+            return Vec::new();
+        }
+        let kept = (self.distances.clone(), self.gradients.clone());
+        self.refresh_distances();
+        let events = self.surgery_now(times, true);
+        if events.is_empty() {
+            (self.distances, self.gradients) = kept;
+        }
+        events
+    }
+
+    /// Operates when needed; `last`: no later look will come (see [`Evolver::surgery_last`]).
+    fn surgery_now(&mut self, times: &mut PhaseTimes, last: bool) -> Vec<SurgeryEvent> {
         let s = &self.settings.surgery;
-        if !s.enabled || self.done {
+        if !s.enabled {
             return Vec::new();
         }
         let t0 = now_ms();
@@ -42,12 +61,18 @@ impl Evolver {
             gap_ratio: s.gap_ratio,
             opened,
         };
+        // (Settled: the count of paired vertices compared with "no limit".)
+        let previous = if last {
+            usize::MAX
+        } else {
+            self.surgery_paired
+        };
         let look = open_handles(
             &self.mesh,
             &self.distances,
             &query,
             s.min_vertices,
-            self.surgery_paired,
+            previous,
         );
         self.surgery_paired = look.paired;
         let Some(op) = look.operated else {
