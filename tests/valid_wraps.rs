@@ -216,7 +216,7 @@ fn a_thin_plate_cloud_keeps_its_rim_and_corners() {
 
 /// Two spheres' cloud at the defaults: the wrap pinches into two parts. Around the pinch a vertex
 /// whose faces collapse gets negative cotangent weights, and the solve once converged to a
-/// near-singular solution that threw it 20 box sizes away (the run diverged with no mesh); such a
+/// near-singular solution that threw it five box sizes away (the run diverged with no mesh); such a
 /// solve is now retried with non-negative weights.
 #[test]
 fn two_spheres_pinch_apart_at_the_defaults() {

@@ -102,7 +102,7 @@ fn longest_edge(mesh: &HalfedgeMesh) -> f64 {
 /// else None. The smoothing alone only pulls a vertex towards its neighbours; with negative
 /// cotangent weights around a collapsed vertex the system can be near-singular, and BiCGStab
 /// then converges to a solution that throws that vertex across the scene (two spheres pinching
-/// apart: a vertex moved 20 box sizes in one step). Such a solve is failed and retried with
+/// apart: a vertex moved five box sizes in one step). Such a solve is failed and retried with
 /// non-negative weights, whose solutions keep the maximum principle.
 fn runaway(old: &[DVec3], rhs: &[DVec3], x: &[DVec3], reach: f64) -> Option<String> {
     let push = old
