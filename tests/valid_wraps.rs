@@ -594,3 +594,23 @@ fn a_mesh_read_with_dropped_faces_has_its_holes_closed() {
     assert_eq!(start, StartSurface::Isosurface);
     assert_eq!(c.genus, Some(1));
 }
+
+/// A plate cloud with three round through-holes as deep as the smallest is wide (demo
+/// `plate-holes`, turned so that no hole lies along an axis). The distance field is flat along a
+/// hole's axis, so the membranes over its two ends never meet; the surgery's tunnel test opens
+/// them (`surgery.tunnel_ratio`). Without it (`surgery.tunnel_ratio=0`) this cloud's wrap has
+/// genus 1: both smaller holes stay closed.
+#[test]
+fn a_turned_plate_cloud_opens_its_narrow_through_holes() {
+    let (p, t) = lsw::demo::sculpted::plate_holes();
+    let turn = glam::DQuat::from_euler(glam::EulerRot::XYZ, 0.4, -1.0, 2.0);
+    let points: Vec<glam::DVec3> = lsw::demo::sample_mesh(&p, &t, 30_000, 4)
+        .unwrap()
+        .into_iter()
+        .map(|q| turn * q)
+        .collect();
+    let target = Target::new(points, vec![]).unwrap();
+    let (_, _, c) = wrap_target("plate-holes cloud", &target, WrapSettings::default());
+    assert_valid("plate-holes cloud", &c);
+    assert_eq!(c.genus, Some(3), "{c:?}");
+}

@@ -9,6 +9,11 @@ use crate::flow::surgery::{drop_empty_components, events, open_handles, SurgeryE
 use crate::metrics::intersections::count_self_intersections;
 use glam::DVec3;
 
+/// Tunnels are looked for from this share of the step limit on: by then membranes over holes
+/// they can reach have met, and the ones left are stuck (cut earlier, while still far from the
+/// walls, a tube fits a genus-5 chain's holes worse: 2.6× the largest distance).
+const TUNNELS_FROM: f64 = 0.5;
+
 impl Evolver {
     /// Operates when due and needed; the events of this step (empty when nothing happened).
     pub(super) fn surgery_if_due(&mut self, times: &mut PhaseTimes) -> Vec<SurgeryEvent> {
@@ -60,6 +65,11 @@ impl Evolver {
             empty: self.empty_distance,
             gap_ratio: s.gap_ratio,
             opened,
+            tunnel_ratio: if self.step as f64 >= TUNNELS_FROM * self.settings.stop.steps as f64 {
+                s.tunnel_ratio
+            } else {
+                0.0
+            },
         };
         // (Settled: the count of paired vertices compared with "no limit".)
         let previous = if last {
@@ -67,9 +77,11 @@ impl Evolver {
         } else {
             self.surgery_paired
         };
+        let field = &self.field;
         let look = open_handles(
             &self.mesh,
             &self.distances,
+            &|p| field.sample(p),
             &query,
             s.min_vertices,
             previous,

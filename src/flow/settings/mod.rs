@@ -217,6 +217,7 @@ pub const RANGES: &[SettingRange] = &[
     SettingRange::new("surgery.empty_cells", 0.0, 1e6, false, "≥ 0"),
     SettingRange::new("surgery.empty_spacings", 0.0, 1e6, false, "≥ 0"),
     SettingRange::new("surgery.gap_ratio", 0.0, 1.0, true, "(0, 1]"),
+    SettingRange::new("surgery.tunnel_ratio", 0.0, 1e6, false, "≥ 0"),
     SettingRange::new("surgery.min_vertices", 3.0, 1e9, false, "≥ 3"),
     SettingRange::new("surgery.close_gaps", 0.0, 1.0, false, "0–1"),
 ];

@@ -284,6 +284,12 @@ pub struct SurgerySettings {
     /// Two facing sheets meet when their gap is below this fraction of their distance to the
     /// target. Range (0, 1]; default 0.25.
     pub gap_ratio: f64,
+    /// Through-holes at least as deep as they are wide: two facing sheets far from the data also
+    /// meet when their gap is below this multiple of their distance to the target and the path
+    /// between them is ringed by data (the membranes over a tunnel's two ends feel no pull
+    /// towards each other, see [`crate::flow::surgery::detect`]). 0: off (links made before it
+    /// decode to 0). Range ≥ 0; default 4 (a round hole 2 radii deep has a gap ratio ≈ 2.5).
+    pub tunnel_ratio: f64,
     /// Smallest patch (vertices) that is cut. Range ≥ 3; default 3: a membrane across a hole
     /// only a few edges wide has few vertices far from the data, and 6 kept such holes closed in
     /// seven turned, noisy or sparse samplings of the 96 of `benches/genus/sweep.sh`.
@@ -303,6 +309,7 @@ impl Default for SurgerySettings {
             empty_cells: 2.0,
             empty_spacings: 3.0,
             gap_ratio: 0.25,
+            tunnel_ratio: 4.0,
             min_vertices: 3,
             close_gaps: 0.0,
         }

@@ -123,9 +123,12 @@ pub fn glue_facing_regions(
         if !(spans(la, a) && spans(lb, b)) {
             continue;
         }
+        let Some(tube) = zip_loops(mesh, la, lb) else {
+            continue;
+        };
         remove_region(mesh, &region, &[a, b], &mut removed);
         let start = tubes_tris.len();
-        tubes_tris.extend(zip_loops(mesh, la, lb));
+        tubes_tris.extend(tube);
         tubes.push(record(mesh, Cut::Tube, la, lb, a, start..tubes_tris.len()));
     }
     // Necks: a ring facing itself across its axis.
@@ -370,7 +373,11 @@ fn cap(positions: &mut Vec<DVec3>, lp: &[u32], away: DVec3) -> Vec<[u32; 3]> {
 
 /// The tube between loops `a` and `b` (each in its region's halfedge direction): `a` forwards,
 /// `b` backwards from its vertex nearest `a[0]`, advancing on the side whose diagonal is shorter.
-fn zip_loops(mesh: &HalfedgeMesh, a: &[u32], b: &[u32]) -> Vec<[u32; 3]> {
+/// A zip is a staircase of rungs (a_i, b_k) from (0, 0) round to (n, m); a rung met twice would
+/// be an edge of three faces (a 3-vertex loop against a 6-vertex one went round `a` first and
+/// back over its first rung), so a step onto a rung already used takes the other side instead.
+/// `None` when both sides are used up that way.
+fn zip_loops(mesh: &HalfedgeMesh, a: &[u32], b: &[u32]) -> Option<Vec<[u32; 3]>> {
     let (n, m) = (a.len(), b.len());
     let p = |v: u32| mesh.position(v);
     let j0 = (0..m)
@@ -381,11 +388,23 @@ fn zip_loops(mesh: &HalfedgeMesh, a: &[u32], b: &[u32]) -> Vec<[u32; 3]> {
         .unwrap_or(0);
     let bk = |k: usize| b[(j0 + m - k % m) % m];
     let ai = |i: usize| a[i % n];
+    let mut used = vec![false; n * m];
+    used[0] = true;
+    // A rung is free when not used yet, or when it is the last one, (n, m) = (0, 0).
+    let free = |used: &[bool], i: usize, k: usize| (i, k) == (n, m) || !used[(i % n) * m + k % m];
     let (mut i, mut k) = (0, 0);
     let mut tris = Vec::with_capacity(n + m);
     while i < n || k < m {
-        let advance_a =
+        let can_a = i < n && free(&used, i + 1, k);
+        let can_b = k < m && free(&used, i, k + 1);
+        let shorter_a =
             k == m || (i < n && p(ai(i + 1)).distance(p(bk(k))) <= p(ai(i)).distance(p(bk(k + 1))));
+        let advance_a = match (can_a, can_b) {
+            (true, true) => shorter_a,
+            (true, false) => true,
+            (false, true) => false,
+            (false, false) => return None,
+        };
         if advance_a {
             tris.push([ai(i), ai(i + 1), bk(k)]);
             i += 1;
@@ -393,8 +412,9 @@ fn zip_loops(mesh: &HalfedgeMesh, a: &[u32], b: &[u32]) -> Vec<[u32; 3]> {
             tris.push([bk(k + 1), bk(k), ai(i)]);
             k += 1;
         }
+        used[(i % n) * m + k % m] = true;
     }
-    tris
+    Some(tris)
 }
 
 /// Drops unreferenced vertices, keeping the order of the others.
@@ -414,4 +434,66 @@ pub(super) fn compact(positions: &[DVec3], tris: &[[u32; 3]]) -> (Vec<DVec3>, Ve
     }
     let tris = tris.iter().map(|t| t.map(|v| map[v as usize])).collect();
     (out, tris)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Loops of 3 to 8 vertices at random (a fixed generator; sizes, centres and radii) on two
+    /// parallel planes: every
+    /// zip made uses each loop edge once and no edge twice in one direction (an edge of three
+    /// faces). A 3-vertex loop zipped against a 6-vertex one used to go round its short loop
+    /// first and back over its first rung.
+    #[test]
+    fn a_zip_never_uses_an_edge_twice() {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut rand = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut zipped = 0;
+        for _ in 0..2000 {
+            let (n, m) = (3 + (rand() * 6.0) as usize, 3 + (rand() * 6.0) as usize);
+            let mut positions = Vec::new();
+            for (count, z, r) in [(n, 1.0, 0.05 + rand()), (m, 0.0, 0.05 + rand())] {
+                let (phase, cx, cy) = (rand() * 6.3, rand() - 0.5, rand() - 0.5);
+                for k in 0..count {
+                    let angle =
+                        phase + std::f64::consts::TAU * (k as f64 + 0.4 * rand()) / count as f64;
+                    positions.push(DVec3::new(
+                        cx + r * crate::fmath::cos(angle),
+                        cy + r * crate::fmath::sin(angle),
+                        z,
+                    ));
+                }
+            }
+            // Two fans, so that every vertex is in the mesh; only the positions are used.
+            let fan = |o: u32, c: u32| (1..c - 1).map(move |k| [o, o + k, o + k + 1]);
+            let tris: Vec<[u32; 3]> = fan(0, n as u32).chain(fan(n as u32, m as u32)).collect();
+            let mesh = HalfedgeMesh::from_triangles(positions, &tris).unwrap();
+            let a: Vec<u32> = (0..n as u32).collect();
+            let b: Vec<u32> = (n as u32..(n + m) as u32).rev().collect();
+            let Some(tube) = zip_loops(&mesh, &a, &b) else {
+                continue;
+            };
+            zipped += 1;
+            let mut edges: Vec<(u32, u32)> = tube
+                .iter()
+                .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+                .collect();
+            let count = edges.len();
+            edges.sort_unstable();
+            edges.dedup();
+            assert_eq!(
+                edges.len(),
+                count,
+                "an edge used twice: n {n}, m {m}, {tube:?}"
+            );
+            assert_eq!(tube.len(), n + m);
+        }
+        assert!(zipped > 1500, "{zipped}");
+    }
 }

@@ -5,7 +5,16 @@
 //! pairs found here. Sheets meeting *at the data* (the two sides of one scan layer, a membrane
 //! sagging onto the inside of a scan) are never paired: their vertices are near the target.
 //!
-//! Cost: one bucket grid over the far vertices and one k-nearest query per far vertex, O(V).
+//! A membrane stuck in a *tunnel* is paired too: a through-hole at least as deep as it is wide
+//! has a distance field that is flat along its axis (every point of the axis is the hole's radius
+//! from the wall), so the membranes over its two ends feel no pull towards each other and never
+//! meet. Two facing far vertices are also paired when the straight path between them stays in
+//! empty space and data rings it all the way (see [`tunnel_partner`]); a slot or a notch open on
+//! one side is not ringed and stays closed, as do the two sides of a part (data between them).
+//!
+//! Cost: one bucket grid over the far vertices and one k-nearest query per far vertex, O(V); the
+//! tunnel search marches the distance field inwards from each far vertex left unpaired and stops
+//! at the first data, so it costs a few field samples per vertex except in tunnels.
 
 use crate::geometry::spatial::point_grid::{Near, PointGrid};
 use crate::mesh::HalfedgeMesh;
@@ -29,73 +38,301 @@ pub struct FacingQuery {
     /// around a fresh tube still faces its other half across the tube; cutting it again would
     /// open a second handle in the same hole.
     pub opened: Vec<(DVec3, f64)>,
+    /// Tunnels: two facing sheets also pair when their gap is below this multiple of the smaller
+    /// of their distances to the target and the path between them is a tunnel through the data
+    /// ([`tunnel_partner`]). 0: off.
+    pub tunnel_ratio: f64,
 }
+
+/// Directions of the ring of rays cast around a tunnel's axis.
+const RING_RAYS: usize = 8;
+/// A ring ray looks for data this many times its start's distance to the target: a round hole's
+/// wall is at 1×, an oval hole's far wall at its aspect ratio.
+const RING_REACH: f64 = 4.0;
+/// Points along a tunnel's path where the ring is tested (fractions of the path).
+const RING_AT: [f64; 3] = [0.25, 0.5, 0.75];
 
 /// For every vertex, the nearest vertex of a facing sheet in empty space (`None` when there is
 /// none). `distances` are the vertices' distances to the target, `normals` their unit normals.
+/// `probe` is the distance to the target at any point (its absolute value is used).
 /// Deterministic: ties go to the smaller index.
 pub fn facing_pairs(
     mesh: &HalfedgeMesh,
     normals: &[DVec3],
     distances: &[f64],
     q: &FacingQuery,
+    probe: &dyn Fn(DVec3) -> f64,
 ) -> Vec<Option<u32>> {
     let n = mesh.n_vertices();
     let mut partner = vec![None; n];
-    let far: Vec<u32> = (0..n as u32)
-        .filter(|&v| !mesh.is_deleted_vertex(v) && distances[v as usize].abs() > q.empty)
-        .filter(|&v| {
-            let p = mesh.position(v);
-            q.opened.iter().all(|&(c, r)| p.distance_squared(c) > r * r)
-        })
-        .collect();
-    if far.len() < 2 {
-        return partner;
-    }
-    let pts: Vec<DVec3> = far.iter().map(|&v| mesh.position(v)).collect();
-    let part = components(mesh);
-    // Vertices are spaced by their edges, which may be far longer than the gap between two
-    // sheets: the gap is measured along the normal, and a partner may sit up to an edge away
-    // sideways.
-    let edge = |v: u32| {
-        let (mut sum, mut k) = (0.0, 0);
-        for u in mesh.neighbors(v) {
-            sum += mesh.position(u).distance(mesh.position(v));
-            k += 1;
+    if let Some(s) = Sheet::beyond(mesh, normals, distances, q, q.empty) {
+        let part = components(mesh);
+        let mut near: Vec<Near> = Vec::with_capacity(NEIGHBOURS);
+        for (i, &v) in s.far.iter().enumerate() {
+            let (p, nv, dv) = (s.pts[i], normals[v as usize], distances[v as usize].abs());
+            s.grid
+                .nearest_within(p, q.gap_ratio * dv + s.edges[i], NEIGHBOURS, &mut near);
+            partner[v as usize] = near.iter().find_map(|c| {
+                let j = c.index as usize;
+                let u = s.far[j];
+                let (nu, du) = (normals[u as usize], distances[u as usize].abs());
+                let w = c.point - p;
+                // Separation along the normals and sideways. Back to back (u behind v and v
+                // behind u: a slab of the inside between them) on one surface; face to face (the
+                // outside between them) only across two components, which then merge.
+                let (sv, su) = (-w.dot(nv), w.dot(nu));
+                let side = (w + sv * nv).length();
+                let back_to_back = sv > 0.0 && su > 0.0;
+                let face_to_face = sv < 0.0 && su < 0.0 && part[u as usize] != part[v as usize];
+                let facing = nv.dot(nu) < FACING_COS
+                    && (back_to_back || face_to_face)
+                    && sv.abs().max(su.abs()) < q.gap_ratio * du.min(dv)
+                    && side <= s.edges[i].max(s.edges[j]);
+                (u != v && facing).then_some(u)
+            });
         }
-        sum / k.max(1) as f64
-    };
-    let edges: Vec<f64> = far.iter().map(|&v| edge(v)).collect();
-    let reach = |i: usize| q.gap_ratio * distances[far[i] as usize].abs() + edges[i];
-    let max_reach = (0..far.len()).map(reach).fold(0.0, f64::max);
-    if !(max_reach > 0.0 && max_reach.is_finite()) {
-        return partner;
     }
-    let grid = PointGrid::new(&pts, max_reach);
-    let mut near: Vec<Near> = Vec::with_capacity(NEIGHBOURS);
-    for (i, &v) in far.iter().enumerate() {
-        let (p, nv, dv) = (pts[i], normals[v as usize], distances[v as usize].abs());
-        grid.nearest_within(p, reach(i), NEIGHBOURS, &mut near);
-        partner[v as usize] = near.iter().find_map(|c| {
-            let j = c.index as usize;
-            let u = far[j];
-            let (nu, du) = (normals[u as usize], distances[u as usize].abs());
-            let w = c.point - p;
-            // Separation along the normals and sideways. Back to back (u behind v and v behind
-            // u: a slab of the inside between them) on one surface; face to face (the outside
-            // between them) only across two components, which then merge.
-            let (sv, su) = (-w.dot(nv), w.dot(nu));
-            let side = (w + sv * nv).length();
-            let back_to_back = sv > 0.0 && su > 0.0;
-            let face_to_face = sv < 0.0 && su < 0.0 && part[u as usize] != part[v as usize];
-            let facing = nv.dot(nu) < FACING_COS
-                && (back_to_back || face_to_face)
-                && sv.abs().max(su.abs()) < q.gap_ratio * du.min(dv)
-                && side <= edges[i].max(edges[j]);
-            (u != v && facing).then_some(u)
-        });
+    // Tunnels: the membranes over a narrow hole may rest nearer the data than `empty` (a hole
+    // of 3 `empty` across has its axis 1.5 away); the clear path and the ring tell it from a part.
+    let tunnels = (q.tunnel_ratio > 0.0)
+        .then(|| Sheet::beyond(mesh, normals, distances, q, TUNNEL_FAR * q.empty))
+        .flatten();
+    if let Some(s) = tunnels {
+        // Only the vertices near a membrane's centre look straight down the tunnel (the others'
+        // normals tilt towards its wall): each membrane is the patch of far vertices around the
+        // one that found the tunnel, and the two patches pair with each other.
+        let mut slot = vec![u32::MAX; n];
+        for (i, &v) in s.far.iter().enumerate() {
+            slot[v as usize] = i as u32;
+        }
+        for i in 0..s.far.len() {
+            let v = s.far[i];
+            if partner[v as usize].is_some() {
+                continue;
+            }
+            let Some((u, width)) = tunnel_partner(&s, i, q, probe) else {
+                continue;
+            };
+            let reach = (PATCH_WIDTHS * width).max(PATCH_EDGES * s.edges[i]);
+            let (a, b) = (
+                s.patch(mesh, &slot, v, reach),
+                s.patch(mesh, &slot, u, reach),
+            );
+            for (side, other) in [(&a, u), (&b, v)] {
+                for &x in side.iter() {
+                    partner[x as usize].get_or_insert(other);
+                }
+            }
+        }
     }
     partner
+}
+
+/// A tunnel's membrane reaches this many times the tunnel's half-width (the distance to the
+/// target at its middle) from the vertex that found it. At 2, wider tubes were cut in a genus-5
+/// chain's holes and three of its twelve clouds of `benches/genus/sweep.sh` ended 3× farther
+/// from the data (0.02 → 0.06); at 1, a plate's hole was missed.
+const PATCH_WIDTHS: f64 = 1.5;
+/// … and at least this many of its edges: a hole a few edges wide (the smallest of a plate's)
+/// needs a patch of a ring or two to make a tube.
+const PATCH_EDGES: f64 = 2.0;
+
+/// Vertices of a tunnel's membranes are farther from the data than this share of `empty`.
+const TUNNEL_FAR: f64 = 0.5;
+/// A tunnel's path keeps farther from the data than this share of `empty`: 2.25 point spacings,
+/// a gap that a random sampling of a wall leaves about once in 10⁷ spacings². At 0.5 (1.5
+/// spacings) a path slipped through both faces of a 3 000-point plate, whose inside then looked
+/// like a tunnel, and the plate got a fourth handle.
+const PATH_CLEAR: f64 = 0.75;
+/// A ring ray meets the data within this share of `empty` (1.5 spacings, one cell: it does not
+/// slip through the gaps of a sampled wall).
+const RING_HIT: f64 = 0.5;
+
+/// Vertices farther from the data than a threshold, bucketed for neighbour queries.
+struct Sheet<'a> {
+    far: Vec<u32>,
+    pts: Vec<DVec3>,
+    /// Mean length of each far vertex's edges.
+    edges: Vec<f64>,
+    normals: &'a [DVec3],
+    distances: &'a [f64],
+    grid: PointGrid,
+}
+
+impl<'a> Sheet<'a> {
+    /// The vertices farther than `beyond` from the data and outside the opened holes, bucketed
+    /// for queries up to the largest reach of `q`; `None` when fewer than two.
+    fn beyond(
+        mesh: &HalfedgeMesh,
+        normals: &'a [DVec3],
+        distances: &'a [f64],
+        q: &FacingQuery,
+        beyond: f64,
+    ) -> Option<Self> {
+        let far: Vec<u32> = (0..mesh.n_vertices() as u32)
+            .filter(|&v| !mesh.is_deleted_vertex(v) && distances[v as usize].abs() > beyond)
+            .filter(|&v| {
+                let p = mesh.position(v);
+                q.opened.iter().all(|&(c, r)| p.distance_squared(c) > r * r)
+            })
+            .collect();
+        if far.len() < 2 {
+            return None;
+        }
+        let pts: Vec<DVec3> = far.iter().map(|&v| mesh.position(v)).collect();
+        // Vertices are spaced by their edges, which may be far longer than the gap between two
+        // sheets: the gap is measured along the normal, and a partner may sit up to an edge
+        // away sideways.
+        let edges: Vec<f64> = far
+            .iter()
+            .map(|&v| {
+                let (mut sum, mut k) = (0.0, 0);
+                for u in mesh.neighbors(v) {
+                    sum += mesh.position(u).distance(mesh.position(v));
+                    k += 1;
+                }
+                sum / k.max(1) as f64
+            })
+            .collect();
+        let max_reach = far
+            .iter()
+            .zip(&edges)
+            .map(|(&v, e)| q.gap_ratio * distances[v as usize].abs() + e)
+            .fold(0.0, f64::max);
+        if !(max_reach > 0.0 && max_reach.is_finite()) {
+            return None;
+        }
+        let grid = PointGrid::new(&pts, max_reach);
+        Some(Self {
+            far,
+            pts,
+            edges,
+            normals,
+            distances,
+            grid,
+        })
+    }
+
+    /// The far vertices joined to `from` through far vertices within `radius` of it (`slot`:
+    /// each vertex's index in `far`, `u32::MAX` when not far).
+    fn patch(&self, mesh: &HalfedgeMesh, slot: &[u32], from: u32, radius: f64) -> Vec<u32> {
+        let centre = mesh.position(from);
+        let mut seen = vec![from];
+        let mut k = 0;
+        while k < seen.len() {
+            let v = seen[k];
+            k += 1;
+            for u in mesh.neighbors(v) {
+                let inside = slot[u as usize] != u32::MAX
+                    && mesh.position(u).distance_squared(centre) <= radius * radius;
+                if inside && !seen.contains(&u) {
+                    seen.push(u);
+                }
+            }
+        }
+        seen
+    }
+}
+
+/// The facing far vertex across a tunnel from far vertex `i`, if any, and the tunnel's
+/// half-width (the distance to the data half-way). The path marches inwards along the vertex's
+/// normal in steps of half an edge, drawn at each step towards the tunnel's axis (up the distance
+/// across the path: a membrane's normals tilt towards the wall, and a hole only a little wider
+/// than `empty` leaves no room for a straight path from off its axis). It must keep farther than
+/// [`PATH_CLEAR`] from the data until it comes within an edge of a far vertex whose normal
+/// faces back (a slab of the inside between them), within `tunnel_ratio` times the smaller
+/// distance. Then, at a quarter, half and three quarters of the way, the path must be farther
+/// than [`RING_HIT`] from the data and rays in every direction across it must meet the data
+/// within [`RING_REACH`] times that distance (the hole's wall). The ring is what tells a tunnel
+/// from a path that slipped through a sparse wall: beside a wall, rays along it never meet it.
+fn tunnel_partner(
+    s: &Sheet,
+    i: usize,
+    q: &FacingQuery,
+    probe: &dyn Fn(DVec3) -> f64,
+) -> Option<(u32, f64)> {
+    let v = s.far[i];
+    let (p, nv, dv) = (
+        s.pts[i],
+        s.normals[v as usize],
+        s.distances[v as usize].abs(),
+    );
+    let clear = PATH_CLEAR * q.empty;
+    let step = 0.5 * s.edges[i];
+    if !(step > 0.0 && clear > 0.0 && nv.length_squared() > 0.5) {
+        return None;
+    }
+    let dir = -nv;
+    let d = |x: DVec3| probe(x).abs();
+    let mut near: Vec<Near> = Vec::with_capacity(4);
+    let mut path = Vec::new();
+    let mut x = p;
+    let u = loop {
+        if path.len() as f64 * step > q.tunnel_ratio * dv {
+            return None;
+        }
+        x += step * dir;
+        let h = 0.5 * step;
+        let g = DVec3::new(
+            d(x + h * DVec3::X) - d(x - h * DVec3::X),
+            d(x + h * DVec3::Y) - d(x - h * DVec3::Y),
+            d(x + h * DVec3::Z) - d(x - h * DVec3::Z),
+        ) / (2.0 * h);
+        x += 0.5 * step * (g - g.dot(dir) * dir).clamp_length_max(1.0);
+        if d(x) <= clear {
+            return None;
+        }
+        path.push(x);
+        s.grid.nearest_within(x, s.edges[i], 4, &mut near);
+        let found = near.iter().find_map(|c| {
+            let u = s.far[c.index as usize];
+            let nu = s.normals[u as usize];
+            let w = c.point - p;
+            let du = s.distances[u as usize].abs();
+            (u != v
+                && nv.dot(nu) < FACING_COS
+                && -w.dot(nv) > 0.0
+                && w.dot(nu) > 0.0
+                && -w.dot(nv) < q.tunnel_ratio * du.min(dv))
+            .then_some(u)
+        });
+        if let Some(u) = found {
+            break u;
+        }
+    };
+    let (a, b) = dir.any_orthonormal_pair();
+    let at = |f: f64| path[((f * path.len() as f64) as usize).min(path.len() - 1)];
+    let ringed = RING_AT.iter().all(|&f| {
+        let m = at(f);
+        let dm = d(m);
+        dm > clear
+            && (0..RING_RAYS).all(|k| {
+                let angle = std::f64::consts::TAU * k as f64 / RING_RAYS as f64;
+                let ray = a * crate::fmath::cos(angle) + b * crate::fmath::sin(angle);
+                ray_meets_data(m, ray, RING_REACH * dm, RING_HIT * q.empty, probe)
+            })
+    });
+    ringed.then_some((u, d(at(0.5))))
+}
+
+/// True when the ray from `o` along unit `dir` comes within `clear` of the data before `length`
+/// (sphere tracing: each step is the distance to the data less `clear`, at least a tenth of it).
+fn ray_meets_data(
+    o: DVec3,
+    dir: DVec3,
+    length: f64,
+    clear: f64,
+    probe: &dyn Fn(DVec3) -> f64,
+) -> bool {
+    let mut t = 0.0;
+    while t <= length {
+        let d = probe(o + t * dir).abs();
+        if d <= clear {
+            return true;
+        }
+        t += (d - clear).max(0.1 * clear);
+    }
+    false
 }
 
 /// The connected component of every vertex (deterministic numbering).
@@ -131,6 +368,7 @@ mod tests {
     use super::*;
     use crate::geometry::icosphere::icosphere;
     use crate::geometry::operators::normals::angle_weighted_normals;
+    use glam::DVec2;
 
     /// A sphere squashed into a pancake: its top and bottom face each other across a small gap.
     fn pancake(gap: f64) -> HalfedgeMesh {
@@ -150,8 +388,9 @@ mod tests {
             empty: 0.5,
             gap_ratio: 0.25,
             opened: vec![],
+            tunnel_ratio: 0.0,
         };
-        let pairs = facing_pairs(&m, &normals, &far, &q);
+        let pairs = facing_pairs(&m, &normals, &far, &q, &|_| 1.0);
         let paired: Vec<u32> = (0..m.n_vertices() as u32)
             .filter(|&v| pairs[v as usize].is_some())
             .collect();
@@ -164,9 +403,67 @@ mod tests {
         }
         // Nothing pairs inside a hole already opened.
         q.opened.push((DVec3::ZERO, 2.0));
-        assert!(facing_pairs(&m, &normals, &far, &q)
+        assert!(facing_pairs(&m, &normals, &far, &q, &|_| 1.0)
             .iter()
             .all(Option::is_none));
+    }
+
+    /// Distance to a plate `|z| ≤ h` with a round hole of radius `r` about the z axis, or (slot)
+    /// with a straight slot `|y| < r` across it, open at both ends.
+    fn plate_distance(p: DVec3, r: f64, h: f64, slot: bool) -> f64 {
+        let across = if slot {
+            p.y.abs()
+        } else {
+            p.truncate().length()
+        };
+        let above = (p.z.abs() - h).max(0.0);
+        if across < r {
+            DVec2::new(r - across, above).length()
+        } else {
+            above
+        }
+    }
+
+    /// A pancake 1 thick with its faces over a hole 1.2 wide and 0.6 deep: the faces are 1
+    /// apart and 1.2 from the wall, far above a quarter of their distance, so only the tunnel
+    /// test pairs them; over a slot (open at its ends) or over a solid plate it does not.
+    #[test]
+    fn membranes_over_a_deep_hole_pair_as_a_tunnel_and_only_there() {
+        let m = pancake(1.0);
+        let normals = angle_weighted_normals(&m);
+        let pairs = |tunnel_ratio: f64, probe: &dyn Fn(DVec3) -> f64| {
+            let d: Vec<f64> = m.positions().iter().map(|&p| probe(p)).collect();
+            let q = FacingQuery {
+                empty: 0.5,
+                gap_ratio: 0.25,
+                opened: vec![],
+                tunnel_ratio,
+            };
+            facing_pairs(&m, &normals, &d, &q, probe)
+        };
+        let hole = |p: DVec3| plate_distance(p, 1.2, 0.3, false);
+        let found = pairs(4.0, &hole);
+        let paired: Vec<u32> = (0..m.n_vertices() as u32)
+            .filter(|&v| found[v as usize].is_some())
+            .collect();
+        assert!(paired.len() > 20, "{}", paired.len());
+        for v in paired {
+            let (pv, pu) = (m.position(v), m.position(found[v as usize].unwrap()));
+            assert!(
+                pv.z * pu.z < 0.0,
+                "pairs join top and bottom: {pv:?} {pu:?}"
+            );
+        }
+        let none = |f: &[Option<u32>]| f.iter().all(Option::is_none);
+        assert!(none(&pairs(0.0, &hole)), "off at 0");
+        assert!(
+            none(&pairs(0.5, &hole)),
+            "the gap is over half the distance"
+        );
+        let slot = |p: DVec3| plate_distance(p, 1.2, 0.3, true);
+        assert!(none(&pairs(4.0, &slot)), "a slot is open at its ends");
+        let solid = |p: DVec3| (p.z.abs() - 0.05).max(0.0).min(hole(p));
+        assert!(none(&pairs(4.0, &solid)), "a part lies between the faces");
     }
 
     #[test]
@@ -177,16 +474,19 @@ mod tests {
             empty: 0.5,
             gap_ratio: 0.25,
             opened: vec![],
+            tunnel_ratio: 0.0,
         };
         // At the data: every vertex within `empty` of the target.
         let near = vec![0.1; m.n_vertices()];
-        assert!(facing_pairs(&m, &normals, &near, &q)
+        assert!(facing_pairs(&m, &normals, &near, &q, &|_| 1.0)
             .iter()
             .all(Option::is_none));
         // A round sphere: opposite sides are 2 apart, far above a quarter of their distance.
         let s = icosphere(4, 1.0, DVec3::ZERO).unwrap();
         let far = vec![1.0; s.n_vertices()];
         let ns = angle_weighted_normals(&s);
-        assert!(facing_pairs(&s, &ns, &far, &q).iter().all(Option::is_none));
+        assert!(facing_pairs(&s, &ns, &far, &q, &|_| 1.0)
+            .iter()
+            .all(Option::is_none));
     }
 }

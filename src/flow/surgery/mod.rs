@@ -67,16 +67,18 @@ pub struct Look {
 /// cuts each neck that faces itself, capping both sides. The result is kept only when it is a
 /// closed, oriented manifold free of self-intersections whose Euler characteristic changed by
 /// −2 per tube and +2 per cut neck (else the surface stays as it was). `distances` are
-/// the vertices' distances to the target; `previous` is the last look's `paired`.
+/// the vertices' distances to the target, `probe` the distance at any point (for tunnels, see
+/// [`detect`]); `previous` is the last look's `paired`.
 pub fn open_handles(
     mesh: &HalfedgeMesh,
     distances: &[f64],
+    probe: &dyn Fn(DVec3) -> f64,
     query: &FacingQuery,
     min_vertices: usize,
     previous: usize,
 ) -> Look {
     let normals = angle_weighted_normals(mesh);
-    let partner = facing_pairs(mesh, &normals, distances, query);
+    let partner = facing_pairs(mesh, &normals, distances, query, probe);
     let paired = partner.iter().filter(|p| p.is_some()).count();
     let settled = paired as f64 <= SETTLED_GROWTH * previous as f64;
     let operated = if paired < 2 * min_vertices {
