@@ -213,6 +213,7 @@ fn a_membrane_across_a_ring_becomes_a_tube() {
         gap_ratio: 0.25,
         opened: vec![],
         tunnel_ratio: 0.0,
+        min_width: 0.0,
     };
     // It spans the hole (its rim near the ring): cut at the first look.
     let op = open_handles(&m, &d, &|_| 1.0, &q, 6, 0)
@@ -257,6 +258,7 @@ fn a_first_contact_waits_until_the_membranes_settle() {
         gap_ratio: 0.25,
         opened: vec![],
         tunnel_ratio: 0.0,
+        min_width: 0.0,
     };
     let first = open_handles(&m, &deep, &|_| 1.0, &q, 6, 0);
     assert!(first.paired > 0 && first.operated.is_none());
@@ -270,6 +272,7 @@ fn far_query() -> FacingQuery {
         gap_ratio: 0.25,
         opened: vec![],
         tunnel_ratio: 0.0,
+        min_width: 0.0,
     }
 }
 
@@ -336,6 +339,7 @@ fn a_membrane_at_the_data_is_left_alone() {
         gap_ratio: 0.25,
         opened: vec![],
         tunnel_ratio: 0.0,
+        min_width: 0.0,
     };
     let look = open_handles(&m, &near, &|_| 1.0, &q, 6, 1 << 20);
     assert_eq!(look.paired, 0);

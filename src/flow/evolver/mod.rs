@@ -246,6 +246,9 @@ pub struct Evolver {
     guarded_left: u32,
     /// Surgery's "far from the data" distance (stabilised frame).
     empty_distance: f64,
+    /// Half of `surgery.close_gaps` diagonals (stabilised frame): a tunnel narrower than this
+    /// stays closed.
+    close_gap_distance: f64,
     /// Every topology change so far.
     surgery_events: Vec<SurgeryEvent>,
     /// Vertices paired with a facing sheet at surgery's last look.
@@ -462,6 +465,7 @@ impl Evolver {
         };
         let d0 = settings.flow.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
         let empty_distance = phi * empty_distance(target, c, &settings);
+        let close_gap_distance = phi * close_gap_distance(target, &settings);
         let mut ev = Evolver {
             tau: settings.flow.tau,
             d1: settings.flow.d1,
@@ -497,6 +501,7 @@ impl Evolver {
             },
             guarded_left: 0,
             empty_distance,
+            close_gap_distance,
             surgery_events: Vec::new(),
             surgery_paired: 0,
         };
@@ -840,10 +845,15 @@ fn empty_distance(target: &Target, cell: f64, settings: &WrapSettings) -> f64 {
     } else {
         0.0
     };
-    let gaps = 0.5 * s.close_gaps * target.bbox.size().length();
     (s.empty_cells * cell)
         .max(s.empty_spacings * spacing)
-        .max(gaps)
+        .max(close_gap_distance(target, settings))
+}
+
+/// Half of `surgery.close_gaps` target diagonals, in the target's units: a hole of that width
+/// has its centre that far from the data.
+fn close_gap_distance(target: &Target, settings: &WrapSettings) -> f64 {
+    0.5 * settings.surgery.close_gaps * target.bbox.size().length()
 }
 
 /// The divergence guard's limits in the stabilised frame: the box of the start surface and the

@@ -65,6 +65,7 @@ impl Evolver {
             empty: self.empty_distance,
             gap_ratio: s.gap_ratio,
             opened,
+            min_width: self.close_gap_distance,
             tunnel_ratio: if self.step as f64 >= TUNNELS_FROM * self.settings.stop.steps as f64 {
                 s.tunnel_ratio
             } else {

@@ -42,6 +42,10 @@ pub struct FacingQuery {
     /// of their distances to the target and the path between them is a tunnel through the data
     /// ([`tunnel_partner`]). 0: off.
     pub tunnel_ratio: f64,
+    /// A tunnel narrower than this (its distance to the data along the way) stays closed (the
+    /// `surgery.close_gaps` width: `empty` alone admits tunnels a little narrower, see
+    /// [`PATH_CLEAR`]).
+    pub min_width: f64,
 }
 
 /// Directions of the ring of rays cast around a tunnel's axis.
@@ -305,7 +309,7 @@ fn tunnel_partner(
     let ringed = RING_AT.iter().all(|&f| {
         let m = at(f);
         let dm = d(m);
-        dm > clear
+        dm > clear.max(q.min_width)
             && (0..RING_RAYS).all(|k| {
                 let angle = std::f64::consts::TAU * k as f64 / RING_RAYS as f64;
                 let ray = a * crate::fmath::cos(angle) + b * crate::fmath::sin(angle);
@@ -389,6 +393,7 @@ mod tests {
             gap_ratio: 0.25,
             opened: vec![],
             tunnel_ratio: 0.0,
+            min_width: 0.0,
         };
         let pairs = facing_pairs(&m, &normals, &far, &q, &|_| 1.0);
         let paired: Vec<u32> = (0..m.n_vertices() as u32)
@@ -431,16 +436,19 @@ mod tests {
     fn membranes_over_a_deep_hole_pair_as_a_tunnel_and_only_there() {
         let m = pancake(1.0);
         let normals = angle_weighted_normals(&m);
-        let pairs = |tunnel_ratio: f64, probe: &dyn Fn(DVec3) -> f64| {
+        let pairs_wider = |tunnel_ratio: f64, min_width: f64, probe: &dyn Fn(DVec3) -> f64| {
             let d: Vec<f64> = m.positions().iter().map(|&p| probe(p)).collect();
             let q = FacingQuery {
                 empty: 0.5,
                 gap_ratio: 0.25,
                 opened: vec![],
                 tunnel_ratio,
+                min_width,
             };
             facing_pairs(&m, &normals, &d, &q, probe)
         };
+        let pairs =
+            |tunnel_ratio: f64, probe: &dyn Fn(DVec3) -> f64| pairs_wider(tunnel_ratio, 0.0, probe);
         let hole = |p: DVec3| plate_distance(p, 1.2, 0.3, false);
         let found = pairs(4.0, &hole);
         let paired: Vec<u32> = (0..m.n_vertices() as u32)
@@ -475,6 +483,7 @@ mod tests {
             gap_ratio: 0.25,
             opened: vec![],
             tunnel_ratio: 0.0,
+            min_width: 0.0,
         };
         // At the data: every vertex within `empty` of the target.
         let near = vec![0.1; m.n_vertices()];
