@@ -251,6 +251,8 @@ pub struct Evolver {
     close_gap_distance: f64,
     /// Every topology change so far.
     surgery_events: Vec<SurgeryEvent>,
+    /// The tunnels opened so far (middle, farthest wall; stabilised frame): nothing pairs there.
+    tunnels_opened: Vec<(DVec3, f64)>,
     /// Vertices paired with a facing sheet at surgery's last look.
     surgery_paired: usize,
 }
@@ -503,6 +505,7 @@ impl Evolver {
             empty_distance,
             close_gap_distance,
             surgery_events: Vec::new(),
+            tunnels_opened: Vec::new(),
             surgery_paired: 0,
         };
         ev.save_checkpoint();

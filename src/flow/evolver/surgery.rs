@@ -60,6 +60,11 @@ impl Evolver {
                 let c = phi * (DVec3::from_array(e.position) - center);
                 (c, phi * e.radius + 1.5 * self.empty_distance)
             })
+            .chain(
+                self.tunnels_opened
+                    .iter()
+                    .map(|&(c, r)| (c, r + 1.5 * self.empty_distance)),
+            )
             .collect();
         let query = FacingQuery {
             empty: self.empty_distance,
@@ -92,6 +97,12 @@ impl Evolver {
             times.surgery += now_ms() - t0;
             return Vec::new();
         };
+        // A tunnel with a tube through it is opened all across (the tube may be narrower).
+        for &(c, r) in &look.tunnels {
+            if op.tubes.iter().any(|t| t.position.distance(c) <= r) {
+                self.tunnels_opened.push((c, r));
+            }
+        }
         let mut out = events(&op, self.step, phi, |p| p / phi + center);
         let operated = op.mesh;
         self.mesh = operated.clone();

@@ -67,6 +67,20 @@ pub fn facing_pairs(
     q: &FacingQuery,
     probe: &dyn Fn(DVec3) -> f64,
 ) -> Vec<Option<u32>> {
+    facing_pairs_and_tunnels(mesh, normals, distances, q, probe).0
+}
+
+/// [`facing_pairs`], and the tunnels it paired across: each hole's middle and the farthest wall
+/// met from there (a ball in which no later look should pair again: a hole wider one way than
+/// the other keeps membrane around its tube that would open it a second time).
+pub fn facing_pairs_and_tunnels(
+    mesh: &HalfedgeMesh,
+    normals: &[DVec3],
+    distances: &[f64],
+    q: &FacingQuery,
+    probe: &dyn Fn(DVec3) -> f64,
+) -> (Vec<Option<u32>>, Vec<(DVec3, f64)>) {
+    let mut holes = Vec::new();
     let n = mesh.n_vertices();
     let mut partner = vec![None; n];
     if let Some(s) = Sheet::beyond(mesh, normals, distances, q, q.empty) {
@@ -114,9 +128,15 @@ pub fn facing_pairs(
             if partner[v as usize].is_some() {
                 continue;
             }
-            let Some((u, width)) = tunnel_partner(&s, i, q, probe) else {
+            let Some(Found {
+                partner: u,
+                width,
+                hole,
+            }) = tunnel_partner(&s, i, q, probe)
+            else {
                 continue;
             };
+            holes.push(hole);
             let reach = (PATCH_WIDTHS * width).max(PATCH_EDGES * s.edges[i]);
             let (a, b) = (
                 s.patch(mesh, &slot, v, reach),
@@ -129,7 +149,7 @@ pub fn facing_pairs(
             }
         }
     }
-    partner
+    (partner, holes)
 }
 
 /// A tunnel's membrane reaches this many times the tunnel's half-width (the distance to the
@@ -254,7 +274,7 @@ fn tunnel_partner(
     i: usize,
     q: &FacingQuery,
     probe: &dyn Fn(DVec3) -> f64,
-) -> Option<(u32, f64)> {
+) -> Option<Found> {
     let v = s.far[i];
     let (p, nv, dv) = (
         s.pts[i],
@@ -306,6 +326,8 @@ fn tunnel_partner(
     };
     let (a, b) = dir.any_orthonormal_pair();
     let at = |f: f64| path[((f * path.len() as f64) as usize).min(path.len() - 1)];
+    // The farthest wall met by the rings: the hole's extent about its middle.
+    let mut extent: f64 = 0.0;
     let ringed = RING_AT.iter().all(|&f| {
         let m = at(f);
         let dm = d(m);
@@ -313,30 +335,46 @@ fn tunnel_partner(
             && (0..RING_RAYS).all(|k| {
                 let angle = std::f64::consts::TAU * k as f64 / RING_RAYS as f64;
                 let ray = a * crate::fmath::cos(angle) + b * crate::fmath::sin(angle);
-                ray_meets_data(m, ray, RING_REACH * dm, RING_HIT * q.empty, probe)
+                let hit = ray_meets_data(m, ray, RING_REACH * dm, RING_HIT * q.empty, probe);
+                extent = extent.max(hit.unwrap_or(0.0) + m.distance(at(0.5)));
+                hit.is_some()
             })
     });
-    ringed.then_some((u, d(at(0.5))))
+    ringed.then_some(Found {
+        partner: u,
+        width: d(at(0.5)),
+        hole: (at(0.5), extent),
+    })
 }
 
-/// True when the ray from `o` along unit `dir` comes within `clear` of the data before `length`
-/// (sphere tracing: each step is the distance to the data less `clear`, at least a tenth of it).
+/// A tunnel found from one vertex.
+struct Found {
+    partner: u32,
+    /// The distance to the data half-way.
+    width: f64,
+    /// The hole: the path's middle and the farthest wall the rings met from it.
+    hole: (DVec3, f64),
+}
+
+/// How far the ray from `o` along unit `dir` goes before it comes within `clear` of the data,
+/// `None` when not before `length` (sphere tracing: each step is the distance to the data less
+/// `clear`, at least a tenth of it).
 fn ray_meets_data(
     o: DVec3,
     dir: DVec3,
     length: f64,
     clear: f64,
     probe: &dyn Fn(DVec3) -> f64,
-) -> bool {
+) -> Option<f64> {
     let mut t = 0.0;
     while t <= length {
         let d = probe(o + t * dir).abs();
         if d <= clear {
-            return true;
+            return Some(t);
         }
         t += (d - clear).max(0.1 * clear);
     }
-    false
+    None
 }
 
 /// The connected component of every vertex (deterministic numbering).
@@ -462,6 +500,26 @@ mod tests {
                 "pairs join top and bottom: {pv:?} {pu:?}"
             );
         }
+        // The hole found: its middle between the faces, its farthest wall across the hole.
+        let d: Vec<f64> = m.positions().iter().map(|&p| hole(p)).collect();
+        let mut q = FacingQuery {
+            empty: 0.5,
+            gap_ratio: 0.25,
+            opened: vec![],
+            tunnel_ratio: 4.0,
+            min_width: 0.0,
+        };
+        let (_, holes) = facing_pairs_and_tunnels(&m, &normals, &d, &q, &hole);
+        assert!(!holes.is_empty());
+        for (c, extent) in holes {
+            assert!(c.z.abs() < 0.3 && c.truncate().length() < 0.6, "{c:?}");
+            assert!(extent > 0.9 && extent < 2.4, "{extent}");
+        }
+        // Nothing pairs in a hole already opened.
+        q.opened.push((DVec3::ZERO, 2.0));
+        assert!(facing_pairs(&m, &normals, &d, &q, &hole)
+            .iter()
+            .all(Option::is_none));
         let none = |f: &[Option<u32>]| f.iter().all(Option::is_none);
         assert!(none(&pairs(0.0, &hole)), "off at 0");
         assert!(

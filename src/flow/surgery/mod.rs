@@ -13,7 +13,7 @@ use crate::geometry::operators::normals::angle_weighted_normals;
 use crate::mesh::HalfedgeMesh;
 use crate::metrics::intersections::self_intersecting_pairs;
 use bridge::{glue_facing_regions, Cut, Tube};
-use detect::{facing_pairs, FacingQuery};
+use detect::{facing_pairs_and_tunnels, FacingQuery};
 use glam::DVec3;
 use serde::Serialize;
 
@@ -61,6 +61,8 @@ pub struct Look {
     pub paired: usize,
     /// The operated surface, if surgery was done.
     pub operated: Option<Operated>,
+    /// The tunnels paired across (see [`detect::facing_pairs_and_tunnels`]).
+    pub tunnels: Vec<(DVec3, f64)>,
 }
 
 /// Looks for facing membranes in empty space: glues each facing pair of patches with a tube and
@@ -78,7 +80,7 @@ pub fn open_handles(
     previous: usize,
 ) -> Look {
     let normals = angle_weighted_normals(mesh);
-    let partner = facing_pairs(mesh, &normals, distances, query, probe);
+    let (partner, tunnels) = facing_pairs_and_tunnels(mesh, &normals, distances, query, probe);
     let paired = partner.iter().filter(|p| p.is_some()).count();
     let settled = paired as f64 <= SETTLED_GROWTH * previous as f64;
     let operated = if paired < 2 * min_vertices {
@@ -86,7 +88,11 @@ pub fn open_handles(
     } else {
         operate(mesh, &partner, distances, query, settled, min_vertices)
     };
-    Look { paired, operated }
+    Look {
+        paired,
+        operated,
+        tunnels,
+    }
 }
 
 /// Cuts and glues; `None` when nothing qualified or the result failed a check. When some of the
