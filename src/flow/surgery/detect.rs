@@ -8,9 +8,9 @@
 //! A membrane stuck in a *tunnel* is paired too: a through-hole at least as deep as it is wide
 //! has a distance field that is flat along its axis (every point of the axis is the hole's radius
 //! from the wall), so the membranes over its two ends feel no pull towards each other and never
-//! meet. Two facing far vertices are also paired when the straight path between them stays in
-//! empty space and data rings it all the way (see [`tunnel_partner`]); a slot or a notch open on
-//! one side is not ringed and stays closed, as do the two sides of a part (data between them).
+//! meet. Two facing far vertices are also paired when a path marched from one to the other stays
+//! in empty space and data rings it all the way (see [`tunnel_partner`]); a slot or a notch open
+//! on one side is not ringed and stays closed, as do the two sides of a part (data between them).
 //!
 //! Cost: one bucket grid over the far vertices and one k-nearest query per far vertex, O(V); the
 //! tunnel search marches the distance field inwards from each far vertex left unpaired and stops
