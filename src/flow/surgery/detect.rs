@@ -207,17 +207,7 @@ impl<'a> Sheet<'a> {
         // Vertices are spaced by their edges, which may be far longer than the gap between two
         // sheets: the gap is measured along the normal, and a partner may sit up to an edge
         // away sideways.
-        let edges: Vec<f64> = far
-            .iter()
-            .map(|&v| {
-                let (mut sum, mut k) = (0.0, 0);
-                for u in mesh.neighbors(v) {
-                    sum += mesh.position(u).distance(mesh.position(v));
-                    k += 1;
-                }
-                sum / k.max(1) as f64
-            })
-            .collect();
+        let edges: Vec<f64> = far.iter().map(|&v| mesh.mean_edge_length(v)).collect();
         let max_reach = far
             .iter()
             .zip(&edges)
@@ -241,20 +231,27 @@ impl<'a> Sheet<'a> {
     /// each vertex's index in `far`, `u32::MAX` when not far).
     fn patch(&self, mesh: &HalfedgeMesh, slot: &[u32], from: u32, radius: f64) -> Vec<u32> {
         let centre = mesh.position(from);
-        let mut seen = vec![from];
+        let mut seen = vec![false; self.far.len()];
+        let mut patch = vec![from];
+        if let Some(s) = seen.get_mut(slot[from as usize] as usize) {
+            *s = true;
+        }
         let mut k = 0;
-        while k < seen.len() {
-            let v = seen[k];
+        while k < patch.len() {
+            let v = patch[k];
             k += 1;
             for u in mesh.neighbors(v) {
-                let inside = slot[u as usize] != u32::MAX
-                    && mesh.position(u).distance_squared(centre) <= radius * radius;
-                if inside && !seen.contains(&u) {
-                    seen.push(u);
+                let i = slot[u as usize] as usize;
+                if i < seen.len()
+                    && !seen[i]
+                    && mesh.position(u).distance_squared(centre) <= radius * radius
+                {
+                    seen[i] = true;
+                    patch.push(u);
                 }
             }
         }
-        seen
+        patch
     }
 }
 
