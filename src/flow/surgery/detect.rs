@@ -168,6 +168,12 @@ const TUNNEL_FAR: f64 = 0.5;
 /// spacings) a path slipped through both faces of a 3 000-point plate, whose inside then looked
 /// like a tunnel, and the plate got a fourth handle.
 const PATH_CLEAR: f64 = 0.75;
+/// A tunnel's path runs level: farther from the data than this share of its vertex's distance
+/// all the way (along a hole's axis the distance hardly changes). In the clouds of the genus
+/// sweep, paths through holes kept 0.90 of it or more; paths from the lining of a sampled
+/// shell cut open (the wrap dents into it through the opening) towards the shell fell to
+/// 0.59–0.66 within a step, and their rings met the curved wall all round as a hole's would.
+const LEVEL: f64 = 0.8;
 /// A ring ray meets the data within this share of `empty` (1.5 spacings, one cell: it does not
 /// slip through the gaps of a sampled wall).
 const RING_HIT: f64 = 0.5;
@@ -260,7 +266,8 @@ impl<'a> Sheet<'a> {
 /// normal in steps of half an edge, drawn at each step towards the tunnel's axis (up the distance
 /// across the path: a membrane's normals tilt towards the wall, and a hole only a little wider
 /// than `empty` leaves no room for a straight path from off its axis). It must keep farther than
-/// [`PATH_CLEAR`] from the data until it comes within an edge of a far vertex whose normal
+/// [`PATH_CLEAR`] from the data, and than [`LEVEL`] times the vertex's distance, at its points
+/// and along its steps, until it comes within an edge of a far vertex whose normal
 /// faces back (a slab of the inside between them), within `tunnel_ratio` times the smaller
 /// distance. Then, at a quarter, half and three quarters of the way, the path must be farther
 /// than [`RING_HIT`] from the data and rays in every direction across it must meet the data
@@ -285,6 +292,14 @@ fn tunnel_partner(
     }
     let dir = -nv;
     let d = |x: DVec3| probe(x).abs();
+    // The path's steps (each up to half an edge) keep as clear as its points, the first one
+    // from the vertex as clear as the vertex: a step may span a wall (from the wrap outside a
+    // sampled shell cut open, over the shell, to the lining inside it).
+    let keeps_clear = |from: DVec3, to: DVec3, clear: f64| {
+        let gap = to - from;
+        let length = gap.length();
+        length <= 0.0 || ray_meets_data(from, gap / length, length, clear, probe).is_none()
+    };
     let mut near: Vec<Near> = Vec::with_capacity(4);
     let mut path = Vec::new();
     let mut x = p;
@@ -300,7 +315,11 @@ fn tunnel_partner(
             d(x + h * DVec3::Z) - d(x - h * DVec3::Z),
         ) / (2.0 * h);
         x += 0.5 * step * (g - g.dot(dir) * dir).clamp_length_max(1.0);
-        if d(x) <= clear {
+        let (from, keep) = match path.last() {
+            Some(&last) => (last, clear),
+            None => (p, TUNNEL_FAR * q.empty),
+        };
+        if d(x) <= clear.max(LEVEL * dv) || !keeps_clear(from, x, keep) {
             return None;
         }
         path.push(x);
@@ -527,6 +546,45 @@ mod tests {
         assert!(none(&pairs(4.0, &slot)), "a slot is open at its ends");
         let solid = |p: DVec3| (p.z.abs() - 0.05).max(0.0).min(hole(p));
         assert!(none(&pairs(4.0, &solid)), "a part lies between the faces");
+    }
+
+    /// The inside lining of a sampled shell (a sphere cut open, which the wrap dents into) and
+    /// the wrap outside it, each within an edge of the other across the shell, facing back; rings
+    /// between them meet the curved shell all round. Neither is a tunnel: a path from the lining
+    /// falls towards the shell ([`LEVEL`]), and the first step from the outside spans the shell.
+    /// A sphere-cut cloud got two handles this way once tube zips stopped failing.
+    #[test]
+    fn a_partner_across_a_wall_is_no_tunnel() {
+        let (level, shell, inner, outer) = (1, 2.4, 1.5, 2.8);
+        let lining = icosphere(level, inner, DVec3::ZERO).unwrap();
+        let wrap = icosphere(level, outer, DVec3::ZERO).unwrap();
+        let n = lining.n_vertices() as u32;
+        let positions: Vec<DVec3> = lining
+            .positions()
+            .iter()
+            .chain(wrap.positions())
+            .copied()
+            .collect();
+        let tris: Vec<[u32; 3]> = lining
+            .triangles()
+            .into_iter()
+            .map(|[a, b, c]| [a, c, b])
+            .chain(wrap.triangles().into_iter().map(|t| t.map(|v| v + n)))
+            .collect();
+        let m = HalfedgeMesh::from_triangles(positions, &tris).unwrap();
+        let normals = angle_weighted_normals(&m);
+        let probe = |p: DVec3| (p.length() - shell).abs();
+        let d: Vec<f64> = m.positions().iter().map(|&p| probe(p)).collect();
+        let q = FacingQuery {
+            empty: 0.5,
+            gap_ratio: 0.25,
+            opened: vec![],
+            tunnel_ratio: 4.0,
+            min_width: 0.0,
+        };
+        let (found, holes) = facing_pairs_and_tunnels(&m, &normals, &d, &q, &probe);
+        assert!(holes.is_empty(), "{holes:?}");
+        assert!(found.iter().all(Option::is_none));
     }
 
     #[test]
