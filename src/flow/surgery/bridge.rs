@@ -373,9 +373,9 @@ fn cap(positions: &mut Vec<DVec3>, lp: &[u32], away: DVec3) -> Vec<[u32; 3]> {
 
 /// The tube between loops `a` and `b` (each in its region's halfedge direction): `a` forwards,
 /// `b` backwards, with the shortest rungs. A zip is a staircase of rungs (a_i, b_k) from (0, 0)
-/// round to (n, m), each step a triangle; for each start of `b` (every one on loops of up to
-/// [`ZIP_WORK`] / (n·m) vertices, else that many nearest to `a[0]`) the staircase of least total
-/// rung length, within a band about the diagonal, is found by dynamic programming, and the least
+/// round to (n, m), each step a triangle; for each start of `b` (the [`ZIP_WORK`] / (n·m)
+/// nearest to `a[0]`, all of them on small loops) the staircase of least total rung length,
+/// within a band about the diagonal, is found by dynamic programming, and the least
 /// of those is kept (none past [`ZIP_CELLS`]). The greedy zip it replaces (the shorter diagonal
 /// from the vertex nearest `a[0]`) twisted the 6- and 9-vertex loops of a plate's narrow hole
 /// (one of them zigzag) into a tube that crossed itself 9 times; the least *area* twisted them
@@ -452,7 +452,7 @@ fn zip_loops(mesh: &HalfedgeMesh, a: &[u32], b: &[u32]) -> Option<Vec<[u32; 3]>>
     best.map(|(_, tris)| tris)
 }
 
-/// Zips of up to this many staircase cells (n·m per start of `b`) try every start.
+/// Staircase cells (n·m per start of `b`) a zip may fill across all the starts it tries.
 const ZIP_WORK: usize = 1 << 21;
 /// Loops with more staircase cells than this (128 MB of costs: loops of 4 000 vertices each, a
 /// tenth of a bunny-sized wrap round one hole) are not zipped.
