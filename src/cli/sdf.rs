@@ -11,7 +11,8 @@ pub struct SdfArgs {
     /// The target file: a point cloud, a mesh or a volume (any format of [`crate::io::FORMATS`]).
     #[arg(help = super::input_help("The target file (a point cloud or a mesh)"))]
     pub input: PathBuf,
-    /// Cells per minimum bounding-box dimension (cell size = smallest side / N).
+    /// Cells per minimum bounding-box dimension (cell size = smallest side / N; the principal
+    /// box's side where that is much tighter, for a target lying turned).
     #[arg(long, default_value_t = 40)]
     pub cells: u32,
     /// Expansion factor ζ: the box grows by ζ × the smallest side on every side.

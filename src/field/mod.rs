@@ -51,8 +51,9 @@ pub enum SignMode {
 #[serde(default)]
 pub struct FieldSettings {
     /// Cells per minimum bounding-box dimension N: the cell size is `c = β_min/N`, β_min the
-    /// smallest (non-flat) side of the target's bounding box. Range 2–4096; default 40 (the
-    /// paper's "40 voxels per minimum dimension").
+    /// smallest (non-flat) side of the target's bounding box, or of its principal box where
+    /// that is much tighter (a target lying turned: [`grid::reference_length_of`]). Range
+    /// 2–4096; default 40 (the paper's "40 voxels per minimum dimension").
     pub cells_per_min_dimension: u32,
     /// Volume expansion factor ζ: the box is grown by `ζ·β_min` on every side. Unit: β_min.
     /// Range 0–10; default 1.0.
@@ -224,18 +225,18 @@ impl DistanceField {
     fn grid_for(target: &Target, settings: &FieldSettings) -> Result<Grid, FieldError> {
         // Recomputed rather than trusted: `Target`'s fields are public.
         let bbox = Aabb::from_points(&target.points);
-        let mut grid = Grid::for_bbox(&bbox, settings)?;
+        let beta = grid::reference_length_of(&target.points);
+        let mut grid = Grid::for_box(&bbox, beta, settings)?;
         if target.triangles.is_empty() && settings.min_cell_spacings > 0.0 {
             let floor = settings.min_cell_spacings
                 * crate::geometry::spatial::spacing::median_spacing(&target.points);
             if grid.cell < floor {
-                let beta = grid::reference_length(&bbox);
                 let n = ((beta / floor).floor() as u32).clamp(2, settings.cells_per_min_dimension);
                 let coarse = FieldSettings {
                     cells_per_min_dimension: n,
                     ..settings.clone()
                 };
-                grid = Grid::for_bbox(&bbox, &coarse)?;
+                grid = Grid::for_box(&bbox, beta, &coarse)?;
             }
         }
         Ok(grid)
@@ -276,7 +277,7 @@ impl DistanceField {
             return Err(FieldError::BadTriangle { triangle });
         }
         let grid = Self::grid_for(target, settings)?;
-        let beta = grid::reference_length(&Aabb::from_points(&target.points));
+        let beta = grid::reference_length_of(&target.points);
         let init = settings.truncation.map_or(f64::INFINITY, |t| t * beta);
 
         let t1 = crate::clock::now_ms();

@@ -11,6 +11,7 @@ pub mod marching_cubes;
 pub mod operators;
 pub mod predicates;
 pub mod primitives;
+pub mod principal_box;
 pub mod spatial;
 pub mod specks;
 pub mod sphere;
