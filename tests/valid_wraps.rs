@@ -664,3 +664,28 @@ fn a_turned_noisy_plate_cloud_gets_the_grid_of_a_flat_one() {
     assert_valid("noisy turned plate-holes cloud", &c);
     assert_eq!(c.genus, Some(3), "{c:?}");
 }
+
+/// The demo creature turned (a closed mesh of genus 0): on the grid its principal box gives it,
+/// the offset of the fine isosurface start joins two of its parts lying close and starts with a
+/// handle (genus 1), and a Lagrangian surface keeps its start's genus. `auto` now refuses an
+/// isosurface start whose topology differs from a closed mesh's and takes the icosphere.
+#[test]
+fn a_closed_mesh_is_not_started_with_a_handle_it_lacks() {
+    let (p, t) = lsw::demo::sculpted::creature();
+    let turn = glam::DQuat::from_xyzw(0.675_56, -0.503_35, 0.536_32, 0.051_18).normalize();
+    let p: Vec<glam::DVec3> = p.into_iter().map(|q| turn * q).collect();
+    let target = Target::new(p, t).unwrap();
+    let mut explicit = WrapSettings::default();
+    explicit.start.surface = StartSurface::Isosurface;
+    explicit.remesh.min_edge_multiplier = lsw::flow::settings::AUTO_ISOSURFACE_MIN_EDGE;
+    let fine = Evolver::new(&target, explicit).unwrap();
+    let genus = fine.mesh().validate().unwrap().genus;
+    assert_eq!(
+        genus, 1,
+        "the fine start has no extra handle: the test shows nothing"
+    );
+    let (start, _, c) = wrap_target("turned creature", &target, WrapSettings::default());
+    assert_eq!(start, StartSurface::Icosphere);
+    assert_valid("turned creature", &c);
+    assert_eq!(c.genus, Some(0), "{c:?}");
+}

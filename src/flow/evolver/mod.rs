@@ -518,7 +518,8 @@ impl Evolver {
     /// start is tried again with the isosurface preset's coarser edges (a voxel plate with nine
     /// holes intersected after the finer remesh, not after this one: genus 9 with 20 K vertices
     /// in 13 s, against the icosphere's 95 K in 25 s); where the exterior leaked into gaps of the
-    /// target (noisy volumes, sparse clouds) the icosphere, which cannot leak, takes over.
+    /// target (noisy volumes, sparse clouds) the icosphere, which cannot leak, takes over; the
+    /// same when the start of a mesh of one closed part has another topology than the mesh.
     /// `settings` becomes those of the start built.
     fn build_start_with_fallback(
         target: &Target,
@@ -526,25 +527,51 @@ impl Evolver {
         requested: &WrapSettings,
         settings: &mut WrapSettings,
     ) -> Result<Start, EvolveError> {
-        match build_start(target, field, settings) {
-            Err(EvolveError::StartIntersects { .. })
-                if requested.start.surface == StartSurface::Auto =>
-            {
-                let coarser = coarser_isosurface_start(requested, settings);
-                match coarser.map(|s| (build_start(target, field, &s), s)) {
-                    // Only with the target's own topology: two linked voxel tori gave a clean
-                    // coarse start of 5 components (the offsets merge where they link).
-                    Some((Ok(start), s)) if same_topology(&start.mesh, target) => {
-                        *settings = s;
-                        Ok(start)
-                    }
-                    _ => {
-                        *settings = requested.clone().resolved_for(false);
-                        build_start(target, field, settings)
-                    }
-                }
+        let auto = requested.start.surface == StartSurface::Auto;
+        let built = build_start(target, field, settings);
+        // A mesh of one closed part has a genus the wrap must keep, and a Lagrangian surface
+        // keeps its start's: an offset that joins two parts lying close (a creature's leg and
+        // ear, turned so that the grid is coarser) starts with handles the target lacks. (Not
+        // a volume's iso-surface: its genus is the noise's, and the icosphere took 2–4× the
+        // time for no better genus on the noisy-volume sweep.)
+        let wrong_topology = |start: &Start| {
+            settings.start.surface == StartSurface::Isosurface
+                && !target.sampled
+                && crate::mesh::closed_topology(target.points.len(), &target.triangles)
+                    .is_some_and(|t| t.components == 1)
+                && !same_topology(&start.mesh, target)
+        };
+        match built {
+            Ok(start) if auto && wrong_topology(&start) => {
+                Self::fall_back(target, field, requested, settings)
+            }
+            Err(EvolveError::StartIntersects { .. }) if auto => {
+                Self::fall_back(target, field, requested, settings)
             }
             other => other,
+        }
+    }
+
+    /// `auto`'s way on from an isosurface start it cannot use: the coarser isosurface start, if
+    /// it has the target's topology, else the icosphere.
+    fn fall_back(
+        target: &Target,
+        field: &DistanceField,
+        requested: &WrapSettings,
+        settings: &mut WrapSettings,
+    ) -> Result<Start, EvolveError> {
+        let coarser = coarser_isosurface_start(requested, settings);
+        match coarser.map(|s| (build_start(target, field, &s), s)) {
+            // Only with the target's own topology: two linked voxel tori gave a clean coarse
+            // start of 5 components (the offsets merge where they link).
+            Some((Ok(start), s)) if same_topology(&start.mesh, target) => {
+                *settings = s;
+                Ok(start)
+            }
+            _ => {
+                *settings = requested.clone().resolved_for(false);
+                build_start(target, field, settings)
+            }
         }
     }
 
