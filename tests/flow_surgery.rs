@@ -164,11 +164,14 @@ fn scan_holes_thin_parts_and_necks_are_never_cut() {
     }
 }
 
+/// (One sphere around both, `start.part_gap` 0: the defaults start from a sphere per part.)
 #[test]
 fn a_neck_between_two_separate_spheres_pinches_into_two_components() {
     let (p, t) = generate("two-spheres-apart-cloud").unwrap();
     let target = Target::new(p, t).unwrap();
-    let mut ev = Evolver::new(&target, WrapSettings::default()).unwrap();
+    let mut settings = WrapSettings::default();
+    settings.start.part_gap = 0.0;
+    let mut ev = Evolver::new(&target, settings).unwrap();
     ev.run(|_| {}).unwrap();
     let c = certify(&ev.positions(), &ev.triangles(), Some(&target));
     assert!(c.valid && c.self_intersections == 0, "{c:?}");

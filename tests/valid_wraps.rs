@@ -689,3 +689,29 @@ fn a_closed_mesh_is_not_started_with_a_handle_it_lacks() {
     assert_valid("turned creature", &c);
     assert_eq!(c.genus, Some(0), "{c:?}");
 }
+
+/// Two spheres set apart, as a cloud, turned (two orientations that failed): one icosphere
+/// around both left a neck between them whose pinch never passed (its caps crossed the
+/// stumps), and the wrap stayed one part, 0.48 from the data, with under 700 vertices. Each
+/// part lying apart now gets its own sphere.
+#[test]
+fn two_spheres_apart_turned_wrap_as_two_parts() {
+    let (p, _) = generate("two-spheres-apart-cloud").unwrap();
+    // (w, x, y, z) of the turns.
+    for [w, x, y, z] in [
+        [-0.370_33, 0.740_18, -0.327_22, -0.455_99],
+        [0.124_5, 0.844_54, 0.365_19, 0.371_35],
+    ] {
+        let turn = glam::DQuat::from_xyzw(x, y, z, w).normalize();
+        let points: Vec<glam::DVec3> = p.iter().map(|&q| turn * q).collect();
+        let target = Target::new(points, vec![]).unwrap();
+        let (_, _, c) = wrap_target(
+            "two spheres apart, turned",
+            &target,
+            WrapSettings::default(),
+        );
+        assert_valid("two spheres apart, turned", &c);
+        assert_eq!((c.genus, c.components), (Some(0), Some(2)), "{c:?}");
+        assert!(c.distance_max.unwrap() < 0.05, "{c:?}");
+    }
+}

@@ -145,12 +145,16 @@ pub fn reference_length(bbox: &Aabb) -> f64 {
 
 /// The reference length of a target with these `points`: [`reference_length`] of their
 /// axis-aligned box as the method has it, unless the points are turned away from the axes: then
-/// [`TURNED_SLACK`] × that of their principal box (see [`principal_sides`]), so a plate or a
-/// flat chain of tori gets the same grid whichever way it lies.
-pub fn reference_length_of(points: &[DVec3]) -> f64 {
+/// `slack` (`field.principal_slack`, default [`TURNED_SLACK`]; 0: never) × that of their
+/// principal box (see [`principal_sides`]), so a plate or a flat chain of tori gets about the
+/// same grid whichever way it lies.
+pub fn reference_length_of(points: &[DVec3], slack: f64) -> f64 {
     let aligned = reference_length(&Aabb::from_points(points));
+    if slack <= 0.0 {
+        return aligned;
+    }
     principal_sides(points).map_or(aligned, |s| {
-        aligned.min(TURNED_SLACK * reference_length_of_sides(s))
+        aligned.min(slack * reference_length_of_sides(s))
     })
 }
 
@@ -214,12 +218,13 @@ mod tests {
             })
             .collect();
         let aligned = reference_length(&Aabb::from_points(&flat));
-        assert_eq!(reference_length_of(&flat), aligned);
+        assert_eq!(reference_length_of(&flat, TURNED_SLACK), aligned);
         let turn = glam::DQuat::from_euler(glam::EulerRot::XYZ, 0.9, -0.6, 0.3);
         let turned: Vec<DVec3> = flat.iter().map(|&p| turn * p).collect();
         let by_axes = reference_length(&Aabb::from_points(&turned));
         assert!(by_axes > 4.0 * aligned, "{by_axes} vs {aligned}");
-        let got = reference_length_of(&turned);
+        assert_eq!(reference_length_of(&turned, 0.0), by_axes);
+        let got = reference_length_of(&turned, TURNED_SLACK);
         assert!(
             got >= aligned * (1.0 - 1e-9) && got <= TURNED_SLACK * aligned * (1.0 + 1e-9),
             "{got} vs {aligned}"

@@ -89,6 +89,11 @@ pub struct FieldSettings {
     /// most a tenth of the cloud is left out (more is a sparse scan, not strays). 0 keeps every
     /// point. Range 0–100; default 6.
     pub outlier_spacings: f64,
+    /// A target lying turned away from the axes gets the grid of its principal box: β_min is the
+    /// smaller of the axis-aligned box's and this many times the principal box's (see
+    /// [`grid::reference_length_of`]). 0 keeps the method's axis-aligned box (share links made
+    /// before 2026-11-29 decode to 0). Range 0 or 1–100; default 1.25.
+    pub principal_slack: f64,
 }
 
 impl Default for FieldSettings {
@@ -104,6 +109,7 @@ impl Default for FieldSettings {
             memory_cap_bytes: 1 << 30,
             min_cell_spacings: 2.0,
             outlier_spacings: 6.0,
+            principal_slack: grid::TURNED_SLACK,
         }
     }
 }
@@ -143,6 +149,9 @@ impl FieldSettings {
         }
         if !(0.0..=100.0).contains(&self.outlier_spacings) {
             return bad("outlier_spacings", self.outlier_spacings, "0–100");
+        }
+        if !(self.principal_slack == 0.0 || (1.0..=100.0).contains(&self.principal_slack)) {
+            return bad("principal_slack", self.principal_slack, "0 or 1–100");
         }
         Ok(())
     }
@@ -225,7 +234,7 @@ impl DistanceField {
     fn grid_for(target: &Target, settings: &FieldSettings) -> Result<Grid, FieldError> {
         // Recomputed rather than trusted: `Target`'s fields are public.
         let bbox = Aabb::from_points(&target.points);
-        let beta = grid::reference_length_of(&target.points);
+        let beta = grid::reference_length_of(&target.points, settings.principal_slack);
         let mut grid = Grid::for_box(&bbox, beta, settings)?;
         if target.triangles.is_empty() && settings.min_cell_spacings > 0.0 {
             let floor = settings.min_cell_spacings
@@ -277,7 +286,7 @@ impl DistanceField {
             return Err(FieldError::BadTriangle { triangle });
         }
         let grid = Self::grid_for(target, settings)?;
-        let beta = grid::reference_length_of(&target.points);
+        let beta = grid::reference_length_of(&target.points, settings.principal_slack);
         let init = settings.truncation.map_or(f64::INFINITY, |t| t * beta);
 
         let t1 = crate::clock::now_ms();

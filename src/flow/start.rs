@@ -8,7 +8,9 @@ use super::evolver::EvolveError;
 use super::scaling;
 use super::settings::{StartSurface, WrapSettings};
 use crate::field::DistanceField;
+use crate::geometry::aabb::Aabb;
 use crate::geometry::icosphere::icosphere;
+use crate::geometry::spatial::parts::parts_apart;
 use crate::geometry::spatial::spacing::median_spacing;
 use crate::mesh::HalfedgeMesh;
 use crate::metrics::intersections::count_self_intersections;
@@ -38,6 +40,67 @@ fn icosphere_radius(target: &Target, settings: &WrapSettings) -> f64 {
     let (bmin, bmax) = (size.min_element(), size.max_element());
     settings.start.icosphere_radius_factor * 0.4 * (bmin + 1.5 * bmax)
 }
+
+/// One icosphere per part of a point cloud whose parts lie apart (centre and radius, target
+/// units: [`PART_ROOM`] times the farthest point of the part from its box's centre), or `None`
+/// for one
+/// around the whole target. A single sphere shrinking onto two objects set apart leaves a neck
+/// between them that must pinch in empty space; on clouds of two spheres turned at random its
+/// ragged neck could not be cut in 8 of 11 orientations and the wrap stayed one part. Parts are
+/// [`parts_apart`] at `start.part_gap` of the diagonal; each must hold [`PART_SHARE`] of the points
+/// and the spheres must not overlap, else one sphere as the method has it.
+fn spheres_apart(target: &Target, settings: &WrapSettings) -> Option<Vec<(DVec3, f64)>> {
+    let share = settings.start.part_gap;
+    if !target.triangles.is_empty() || share <= 0.0 {
+        return None;
+    }
+    let points = &target.points;
+    let gap = share * target.bbox.size().length();
+    let (labels, parts) = parts_apart(points, gap)?;
+    if !(2..=MOST_PARTS).contains(&parts) {
+        return None;
+    }
+    let mut boxes = vec![Aabb::EMPTY; parts];
+    let mut counts = vec![0usize; parts];
+    for (p, &l) in points.iter().zip(&labels) {
+        boxes[l as usize] = boxes[l as usize].grow(*p);
+        counts[l as usize] += 1;
+    }
+    if counts
+        .iter()
+        .any(|&c| (c as f64) < PART_SHARE * points.len() as f64)
+    {
+        return None;
+    }
+    let mut reach = vec![0.0f64; parts];
+    for (p, &l) in points.iter().zip(&labels) {
+        let l = l as usize;
+        reach[l] = reach[l].max(p.distance(boxes[l].center()));
+    }
+    let factor = settings.start.icosphere_radius_factor * PART_ROOM;
+    let spheres: Vec<(DVec3, f64)> = boxes
+        .iter()
+        .zip(&reach)
+        .map(|(b, &r)| (b.center(), factor * r))
+        .collect();
+    let apart = spheres.iter().enumerate().all(|(i, &(a, ra))| {
+        spheres[i + 1..]
+            .iter()
+            .all(|&(b, rb)| a.distance(b) > SPHERE_ROOM * (ra + rb))
+    });
+    (apart && spheres.iter().all(|&(_, r)| r > 0.0)).then_some(spheres)
+}
+
+/// Each part holds at least this share of the points (fewer: strays or a scan's debris, and the
+/// one sphere the method starts from).
+pub const PART_SHARE: f64 = 0.01;
+/// At most this many parts get a sphere each.
+pub const MOST_PARTS: usize = 16;
+/// A part's sphere reaches this many times its farthest point (a level-2 icosphere's faces dip
+/// 6 % inside its vertices' sphere).
+pub const PART_ROOM: f64 = 1.2;
+/// The spheres' centres are farther apart than this times the sum of their radii.
+const SPHERE_ROOM: f64 = 1.05;
 
 /// The stabilisation factor φ of the start [`build_start`] builds under `settings` on a field
 /// of cells of size `cell` (known before either is built, so that what the fit needs in the
@@ -71,7 +134,20 @@ pub fn build_start(
         StartSurface::Auto | StartSurface::Icosphere => {
             let r = icosphere_radius(target, settings);
             let phi = start_scale(target, field.cell_size(), settings);
-            let mesh = icosphere(settings.start.icosphere_level, phi * r, DVec3::ZERO)?;
+            let level = settings.start.icosphere_level;
+            let mesh = match spheres_apart(target, settings) {
+                Some(spheres) => {
+                    let (mut p, mut t) = (Vec::new(), Vec::new());
+                    for (c, rk) in spheres {
+                        let m = icosphere(level, phi * rk, phi * (c - center))?;
+                        let o = p.len() as u32;
+                        t.extend(m.triangles().into_iter().map(|f| f.map(|v| v + o)));
+                        p.extend_from_slice(m.positions());
+                    }
+                    HalfedgeMesh::from_triangles(p, &t)?
+                }
+                None => icosphere(level, phi * r, DVec3::ZERO)?,
+            };
             let sizes = icosphere_sizes(
                 settings.remesh.min_edge_multiplier,
                 phi * r,

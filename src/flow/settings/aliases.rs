@@ -7,8 +7,14 @@ use serde_json::{Map, Value};
 /// Settings added since share links carry every setting (version 3), with the value that
 /// computes what a link made before them computed: a link without the key decodes to it, so
 /// the link keeps its result (`flow.regrow_depth` 0 is the flow before `flow::regrow`,
-/// `surgery.tunnel_ratio` 0 the surgery before tunnels).
-pub const ADDED: &[(&str, f64)] = &[("flow.regrow_depth", 0.0), ("surgery.tunnel_ratio", 0.0)];
+/// `surgery.tunnel_ratio` 0 the surgery before tunnels, `field.principal_slack` 0 the grid of
+/// the axis-aligned box, `start.part_gap` 0 one icosphere around all).
+pub const ADDED: &[(&str, f64)] = &[
+    ("flow.regrow_depth", 0.0),
+    ("surgery.tunnel_ratio", 0.0),
+    ("field.principal_slack", 0.0),
+    ("start.part_gap", 0.0),
+];
 
 /// `(old flat key, key in the nested settings)`. An old key that was an object (`features`)
 /// also maps its sub-keys (`features.enabled` → `remesh.features.enabled`).

@@ -202,6 +202,7 @@ pub const RANGES: &[SettingRange] = &[
     SettingRange::new("remesh.every", 1.0, 1000.0, false, "1–1000"),
     SettingRange::new("stop.fraction", 0.0, 1.0, true, "(0, 1]"),
     SettingRange::new("start.isosurface_resampling", 0.5, 8.0, false, "0.5–8"),
+    SettingRange::new("start.part_gap", 0.0, 1.0, false, "0–1"),
     SettingRange::new("flow.c1", 0.0, f64::INFINITY, false, "≥ 0"),
     SettingRange::new("flow.d1", 0.0, f64::INFINITY, false, "≥ 0"),
     SettingRange::new("flow.d2", 0.0, f64::INFINITY, false, "≥ 0"),
@@ -493,6 +494,7 @@ mod tests {
                 icosphere_radius_factor: 1.2,
                 isosurface_level_cells: 2.5,
                 isosurface_resampling: 2.0,
+                ..Default::default()
             },
             flow: FlowSettings {
                 use_target: true,

@@ -55,6 +55,11 @@ pub struct StartSettings {
     /// Isosurface start: marching-cubes cell size as a multiple of the field's. Range 0.5–8;
     /// default 1.5.
     pub isosurface_resampling: f64,
+    /// Icosphere start on a point cloud: parts lying apart (no cell of this share of the
+    /// target's diagonal links them) start from a sphere each (see `flow::start`). 0: one
+    /// sphere around all, as the method has it (share links made before 2026-11-29 decode to
+    /// 0). Range 0–1; default 0.05.
+    pub part_gap: f64,
 }
 
 impl Default for StartSettings {
@@ -65,6 +70,7 @@ impl Default for StartSettings {
             icosphere_radius_factor: 1.0,
             isosurface_level_cells: 1.5,
             isosurface_resampling: 1.5,
+            part_gap: 0.05,
         }
     }
 }
