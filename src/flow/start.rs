@@ -43,12 +43,11 @@ fn icosphere_radius(target: &Target, settings: &WrapSettings) -> f64 {
 
 /// One icosphere per part of a point cloud whose parts lie apart (centre and radius, target
 /// units: [`PART_ROOM`] times the farthest point of the part from its box's centre), or `None`
-/// for one
-/// around the whole target. A single sphere shrinking onto two objects set apart leaves a neck
-/// between them that must pinch in empty space; on clouds of two spheres turned at random its
-/// ragged neck could not be cut in 8 of 11 orientations and the wrap stayed one part. Parts are
-/// [`parts_apart`] at `start.part_gap` of the diagonal; each must hold [`PART_SHARE`] of the points
-/// and the spheres must not overlap, else one sphere as the method has it.
+/// for one around the whole target. A single sphere shrinking onto two objects set apart leaves
+/// a neck between them that must pinch in empty space; on clouds of two spheres turned at random
+/// its ragged neck could not be cut in 8 of 11 orientations and the wrap stayed one part. Parts
+/// are [`parts_apart`] at `start.part_gap` of the diagonal; each must hold [`PART_SHARE`] of the
+/// points and the spheres must not overlap, else one sphere as the method has it.
 fn spheres_apart(target: &Target, settings: &WrapSettings) -> Option<Vec<(DVec3, f64)>> {
     let share = settings.start.part_gap;
     if !target.triangles.is_empty() || share <= 0.0 {
@@ -96,8 +95,8 @@ fn spheres_apart(target: &Target, settings: &WrapSettings) -> Option<Vec<(DVec3,
 pub const PART_SHARE: f64 = 0.01;
 /// At most this many parts get a sphere each.
 pub const MOST_PARTS: usize = 16;
-/// A part's sphere reaches this many times its farthest point (a level-2 icosphere's faces dip
-/// 6 % inside its vertices' sphere).
+/// A part's sphere reaches this many times its farthest point (an icosphere's faces dip inside
+/// its vertices' sphere, and a start with room costs a few steps at most).
 pub const PART_ROOM: f64 = 1.2;
 /// The spheres' centres are farther apart than this times the sum of their radii.
 const SPHERE_ROOM: f64 = 1.05;
