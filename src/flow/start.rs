@@ -46,7 +46,7 @@ fn icosphere_radius(target: &Target, settings: &WrapSettings) -> f64 {
 /// for one around the whole target. A single sphere shrinking onto two objects set apart leaves
 /// a neck between them that must pinch in empty space; on clouds of two spheres turned at random
 /// its ragged neck could not be cut in 8 of 11 orientations and the wrap stayed one part. Parts
-/// are [`parts_apart`] at `start.part_gap` of the diagonal; each must hold [`PART_SHARE`] of the
+/// are [`parts_apart`] at `start.part_gap` of the diagonal; each must hold [`PART_POINTS`]
 /// points and the spheres must not overlap, else one sphere as the method has it.
 fn spheres_apart(target: &Target, settings: &WrapSettings) -> Option<Vec<(DVec3, f64)>> {
     let share = settings.start.part_gap;
@@ -65,10 +65,7 @@ fn spheres_apart(target: &Target, settings: &WrapSettings) -> Option<Vec<(DVec3,
         boxes[l as usize] = boxes[l as usize].grow(*p);
         counts[l as usize] += 1;
     }
-    if counts
-        .iter()
-        .any(|&c| (c as f64) < PART_SHARE * points.len() as f64)
-    {
+    if counts.iter().any(|&c| c < PART_POINTS) {
         return None;
     }
     let mut reach = vec![0.0f64; parts];
@@ -90,9 +87,9 @@ fn spheres_apart(target: &Target, settings: &WrapSettings) -> Option<Vec<(DVec3,
     (apart && spheres.iter().all(|&(_, r)| r > 0.0)).then_some(spheres)
 }
 
-/// Each part holds at least this share of the points (fewer: strays or a scan's debris, and the
-/// one sphere the method starts from).
-pub const PART_SHARE: f64 = 0.01;
+/// Each part holds at least this many points (as many as the smallest cloud a wrap takes, see
+/// `target::MIN_CLOUD_POINTS`; fewer: one sphere as the method has it).
+pub const PART_POINTS: usize = crate::target::MIN_CLOUD_POINTS;
 /// At most this many parts get a sphere each.
 pub const MOST_PARTS: usize = 16;
 /// A part's sphere reaches this many times its farthest point (an icosphere's faces dip inside
