@@ -230,8 +230,8 @@ impl DistanceField {
     }
 
     /// The grid the field of `target` is built on (a cloud's cells no finer than
-    /// `min_cell_spacings` of its point spacings).
-    fn grid_for(target: &Target, settings: &FieldSettings) -> Result<Grid, FieldError> {
+    /// `min_cell_spacings` of its point spacings), and its reference length β_min.
+    fn grid_for(target: &Target, settings: &FieldSettings) -> Result<(Grid, f64), FieldError> {
         // Recomputed rather than trusted: `Target`'s fields are public.
         let bbox = Aabb::from_points(&target.points);
         let beta = grid::reference_length_of(&target.points, settings.principal_slack);
@@ -248,7 +248,7 @@ impl DistanceField {
                 grid = Grid::for_box(&bbox, beta, &coarse)?;
             }
         }
-        Ok(grid)
+        Ok((grid, beta))
     }
 
     /// The cell size the field of `target` will have, known before it is built (None where the
@@ -259,7 +259,7 @@ impl DistanceField {
             return None;
         }
         settings.check().ok()?;
-        Self::grid_for(target, settings).ok().map(|g| g.cell)
+        Self::grid_for(target, settings).ok().map(|(g, _)| g.cell)
     }
 
     /// [`DistanceField::new`], reporting the near band (the long part on big inputs) per item and
@@ -285,8 +285,7 @@ impl DistanceField {
         {
             return Err(FieldError::BadTriangle { triangle });
         }
-        let grid = Self::grid_for(target, settings)?;
-        let beta = grid::reference_length_of(&target.points, settings.principal_slack);
+        let (grid, beta) = Self::grid_for(target, settings)?;
         let init = settings.truncation.map_or(f64::INFINITY, |t| t * beta);
 
         let t1 = crate::clock::now_ms();
