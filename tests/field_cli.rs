@@ -19,6 +19,7 @@ fn sdf_prints_json_and_writes_vtk() {
         band: 2.0,
         truncate: None,
         unsigned: false,
+        enclosed: 2.0,
         out: Some(out.clone()),
         volume: Default::default(),
     };
@@ -67,6 +68,7 @@ fn sdf_prints_json_and_writes_vtk() {
         band: 3.0,
         truncate: None,
         unsigned: false,
+        enclosed: 2.0,
         out: None,
         volume: Default::default(),
     })

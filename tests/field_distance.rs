@@ -43,9 +43,15 @@ fn sphere_errors(f: &DistanceField, c: DVec3, r: f64, signed: bool) -> (f64, usi
 fn sphere_point_cloud_matches_analytic_distance() {
     let c = DVec3::new(0.3, -0.2, 0.1);
     let t = Target::new(fibonacci_sphere(20_000, 1.0, c), vec![]).unwrap();
-    let f = field(&t);
+    let unsigned = FieldSettings {
+        enclosed_cells: 0.0,
+        ..Default::default()
+    };
+    let f = DistanceField::new(&t, &unsigned).unwrap();
     assert_eq!(f.signedness(), Signedness::Unsigned);
     assert!(!f.is_signed());
+    assert_eq!(f.enclosed_nodes(), 0);
+    assert!(f.values().iter().all(|&d| d >= 0.0));
     let (worst, _) = sphere_errors(&f, c, 1.0, false);
     println!(
         "sphere cloud: dims {:?}, c = {:.4}, max |d − ||x|−R|| / bound = {worst:.3}, {:?}, {:?}",
@@ -56,6 +62,29 @@ fn sphere_point_cloud_matches_analytic_distance() {
     );
     assert!(f.sweep_report().converged);
     assert!(worst < 1.0, "error {worst} × the bound");
+
+    // At the defaults the ball's inside deeper than 2 cells, which the cloud encloses, is
+    // negative (`field.enclosed_cells`); every other node keeps its value.
+    let g = field(&t);
+    assert_eq!(g.signedness(), Signedness::Unsigned);
+    assert!(g.enclosed_nodes() > 0);
+    let level = 2.0 * g.cell_size();
+    let mut negative = 0;
+    for (i, (&a, &b)) in f.values().iter().zip(g.values()).enumerate() {
+        let s = (g.grid().position_of(i) - c).length() - 1.0;
+        if b < 0.0 {
+            negative += 1;
+            assert_eq!(b, -a);
+            assert!(a >= level && s < 0.0, "node {i}: {a} at {s}");
+        } else {
+            assert_eq!(b, a);
+            assert!(
+                s > -level - sweep_bound(s, g.cell_size()),
+                "node {i}: {a} at {s}"
+            );
+        }
+    }
+    assert_eq!(negative, g.enclosed_nodes());
 }
 
 #[wasm_bindgen_test(unsupported = test)]

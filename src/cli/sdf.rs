@@ -24,9 +24,13 @@ pub struct SdfArgs {
     /// Optional truncation distance, as a fraction of the smallest side.
     #[arg(long)]
     pub truncate: Option<f64>,
-    /// Produce an unsigned field even for a closed mesh.
+    /// Produce an unsigned field even for a closed mesh (and a cloud's enclosed solids).
     #[arg(long)]
     pub unsigned: bool,
+    /// Point clouds: nodes deeper than this many cells inside a solid the cloud samples all
+    /// round are negative (0: unsigned everywhere).
+    #[arg(long, default_value_t = 2.0)]
+    pub enclosed: f64,
     /// Write the field (distance, band flag, gradient) as a legacy VTK structured-points file.
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -36,7 +40,8 @@ pub struct SdfArgs {
 }
 
 /// Runs `lsw sdf`. JSON keys: input, kind, points, triangles, dims, nodes, cell_size, origin,
-/// bbox {min, max}, signedness, signed, min, max, band_nodes, sweep {passes, converged},
+/// bbox {min, max}, signedness, signed, enclosed_nodes (a cloud's nodes negative deep inside
+/// the solids it encloses), min, max, band_nodes, sweep {passes, converged},
 /// memory_bytes, times_ms {read, band, sweep, sign, gradient, field, write}, out.
 pub fn run(a: &SdfArgs) -> Result<String, String> {
     let t0 = crate::clock::now_ms();
@@ -56,6 +61,7 @@ pub fn run(a: &SdfArgs) -> Result<String, String> {
         } else {
             SignMode::Auto
         },
+        enclosed_cells: if a.unsigned { 0.0 } else { a.enclosed },
         ..Default::default()
     };
     let f = DistanceField::new(&target, &settings).map_err(super::explained)?;
@@ -81,6 +87,7 @@ pub fn run(a: &SdfArgs) -> Result<String, String> {
         "bbox": { "min": bb.min.to_array(), "max": bb.max.to_array() },
         "signedness": f.signedness(),
         "signed": f.is_signed(),
+        "enclosed_nodes": f.enclosed_nodes(),
         "min": lo,
         "max": hi,
         "band_nodes": f.band_mask().iter().filter(|&&b| b).count(),

@@ -94,6 +94,15 @@ pub struct FieldSettings {
     /// [`grid::reference_length_of`]). 0 keeps the method's axis-aligned box (share links made
     /// before 2026-11-29 decode to 0). Range 0 or 1–100; default 1.25.
     pub principal_slack: f64,
+    /// Point clouds only: nodes deeper than this many cells inside a region the cloud encloses
+    /// (not linked to the grid's border by nodes at least that far from every point: the inside
+    /// of a solid sampled all round) get a negative distance. A wrap vertex that slipped past a
+    /// sharp rim into such a part is then held and regrown instead of driven on through it by
+    /// the full-wrap term (a 0.1-thick square frame had its corners cut and gained two handles).
+    /// Parts thinner than twice this, and clouds with wide gaps, stay unsigned. 0 keeps the
+    /// field unsigned (share links made before 2026-11-29's twenty-seventh session decode to 0).
+    /// Range 0 or 1–16; default 2.
+    pub enclosed_cells: f64,
 }
 
 impl Default for FieldSettings {
@@ -110,6 +119,7 @@ impl Default for FieldSettings {
             min_cell_spacings: 2.0,
             outlier_spacings: 6.0,
             principal_slack: grid::TURNED_SLACK,
+            enclosed_cells: 2.0,
         }
     }
 }
@@ -152,6 +162,9 @@ impl FieldSettings {
         }
         if !(self.principal_slack == 0.0 || (1.0..=100.0).contains(&self.principal_slack)) {
             return bad("principal_slack", self.principal_slack, "0 or 1–100");
+        }
+        if !(self.enclosed_cells == 0.0 || (1.0..=16.0).contains(&self.enclosed_cells)) {
+            return bad("enclosed_cells", self.enclosed_cells, "0 or 1–16");
         }
         Ok(())
     }
@@ -219,6 +232,8 @@ pub struct DistanceField {
     gradient: Vec<[f32; 3]>,
     band: Vec<bool>,
     signedness: Signedness,
+    /// Nodes made negative inside a cloud's enclosed solids ([`FieldSettings::enclosed_cells`]).
+    enclosed: usize,
     sweep: fast_sweep::SweepReport,
     timings: FieldTimings,
 }
@@ -350,6 +365,11 @@ impl DistanceField {
         );
         let t3 = crate::clock::now_ms();
         sign::negate_inside(&mut values, inside.as_deref());
+        let enclosed = if mesh || settings.enclosed_cells == 0.0 {
+            0
+        } else {
+            sign::negate_enclosed(&grid, &mut values, settings.enclosed_cells * grid.cell)
+        };
         drop(nearest_triangle);
         let t4 = crate::clock::now_ms();
         progress.report("distance field: sweeps", 1.0);
@@ -361,6 +381,7 @@ impl DistanceField {
             gradient,
             band: frozen,
             signedness,
+            enclosed,
             sweep,
             timings: FieldTimings {
                 band_ms: t2 - t1,
@@ -430,6 +451,11 @@ impl DistanceField {
     /// True when the field is signed (negative inside).
     pub fn is_signed(&self) -> bool {
         self.signedness != Signedness::Unsigned
+    }
+
+    /// How many nodes deep inside a cloud's enclosed solids are negative (0 for meshes).
+    pub fn enclosed_nodes(&self) -> usize {
+        self.enclosed
     }
 
     /// Which kind of field this is.

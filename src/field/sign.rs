@@ -103,60 +103,54 @@ fn signed_volume(points: &[DVec3], triangles: &[[u32; 3]]) -> f64 {
 }
 
 /// Marks the exterior: nodes reachable from the grid border through non-frozen nodes
-/// (6-connected, explicit stack).
-fn flood_exterior(grid: &Grid, frozen: &[bool]) -> Vec<bool> {
+/// (6-connected). A scanline fill: each seed grows into its whole run along x, and the rows
+/// beside the run (y ± 1, z ± 1) get one seed per stretch of open nodes. The stack then holds
+/// runs rather than nodes, and rows are read in order (bunny cloud, 2.1 M nodes: ≈ 10 ms where a
+/// node-by-node fill took ≈ 50). The exterior is a set, so the order of the fill cannot change it.
+fn flood_exterior(grid: &Grid, frozen: impl Fn(usize) -> bool) -> Vec<bool> {
     let [nx, ny, nz] = grid.dims;
-    let n = grid.node_count();
-    let sxy = nx * ny;
-    let mut outside = vec![false; n];
-    // Every non-frozen border node is a seed, marked up front; hence every node pushed later is
-    // interior and all six of its neighbours exist. Seeds carry a tag bit and get bounds checks.
-    const BORDER: usize = 1 << (usize::BITS - 1);
-    let mut stack: Vec<usize> = Vec::new();
-    for iz in 0..nz {
-        for iy in 0..ny {
-            let whole_row = iz == 0 || iz == nz - 1 || iy == 0 || iy == ny - 1;
-            let row = nx * (iy + ny * iz);
-            let mut seed = |i: usize| {
-                if !frozen[i] && !outside[i] {
-                    outside[i] = true;
-                    stack.push(i | BORDER);
-                }
-            };
-            if whole_row {
-                (row..row + nx).for_each(&mut seed);
+    let mut outside = vec![false; grid.node_count()];
+    let open = |outside: &[bool], i: usize| !outside[i] && !frozen(i);
+    // Seeds: every border node (closed ones are skipped when popped).
+    let mut stack: Vec<(usize, usize, usize)> = Vec::new();
+    for z in 0..nz {
+        for y in 0..ny {
+            if z == 0 || z == nz - 1 || y == 0 || y == ny - 1 {
+                stack.extend((0..nx).map(|x| (x, y, z)));
             } else {
-                seed(row);
-                seed(row + nx - 1);
+                stack.push((0, y, z));
+                stack.push((nx - 1, y, z));
             }
         }
     }
-    while let Some(e) = stack.pop() {
-        let i = e & !BORDER;
-        let nb: [Option<usize>; 6] = if e & BORDER != 0 {
-            let [x, y, z] = grid.coords(i);
-            [
-                (x > 0).then(|| i - 1),
-                (x + 1 < nx).then(|| i + 1),
-                (y > 0).then(|| i - nx),
-                (y + 1 < ny).then(|| i + nx),
-                (z > 0).then(|| i - sxy),
-                (z + 1 < nz).then(|| i + sxy),
-            ]
-        } else {
-            [
-                Some(i - 1),
-                Some(i + 1),
-                Some(i - nx),
-                Some(i + nx),
-                Some(i - sxy),
-                Some(i + sxy),
-            ]
-        };
-        for j in nb.into_iter().flatten() {
-            if !frozen[j] && !outside[j] {
-                outside[j] = true;
-                stack.push(j);
+    while let Some((x, y, z)) = stack.pop() {
+        let row = nx * (y + ny * z);
+        if !open(&outside, row + x) {
+            continue;
+        }
+        let (mut lo, mut hi) = (x, x);
+        while lo > 0 && open(&outside, row + lo - 1) {
+            lo -= 1;
+        }
+        while hi + 1 < nx && open(&outside, row + hi + 1) {
+            hi += 1;
+        }
+        outside[row + lo..=row + hi].fill(true);
+        let beside = [
+            (y > 0).then(|| (y - 1, z)),
+            (y + 1 < ny).then_some((y + 1, z)),
+            (z > 0).then(|| (y, z - 1)),
+            (z + 1 < nz).then_some((y, z + 1)),
+        ];
+        for (by, bz) in beside.into_iter().flatten() {
+            let brow = nx * (by + ny * bz);
+            let mut in_stretch = false;
+            for bx in lo..=hi {
+                let o = open(&outside, brow + bx);
+                if o && !in_stretch {
+                    stack.push((bx, by, bz));
+                }
+                in_stretch = o;
             }
         }
     }
@@ -172,6 +166,26 @@ pub fn negate_inside(values: &mut [f64], inside: Option<&[bool]>) {
     {
         *v = -*v;
     }
+}
+
+/// Negates the nodes of a cloud's unsigned field that lie deeper than `level` inside a solid the
+/// cloud samples all round — those of `{v ≥ level}` that the exterior flood ([`flood_exterior`],
+/// 6-connected over the nodes at least `level` from every point) does not reach — and returns
+/// how many there were. The near band of the points, `level` thick on each side, seals the
+/// inside where the sampling has no gap wider than about `level`; where it has, the flood gets
+/// in and nothing changes.
+pub fn negate_enclosed(grid: &Grid, values: &mut [f64], level: f64) -> usize {
+    // (A NaN counts as near, like a band node.)
+    let near = |v: f64| v < level || v.is_nan();
+    let outside = flood_exterior(grid, |i| near(values[i]));
+    let mut count = 0;
+    for (v, &o) in values.iter_mut().zip(&outside) {
+        if !o && !near(*v) && v.is_finite() {
+            *v = -*v;
+            count += 1;
+        }
+    }
+    count
 }
 
 /// Which nodes of an unsigned mesh field lie inside (see the module docs), and which kind of
@@ -196,7 +210,7 @@ pub fn mesh_inside(
     } else {
         return (Signedness::Unsigned, None);
     };
-    let outside = flood_exterior(grid, frozen);
+    let outside = flood_exterior(grid, |i| frozen[i]);
     let interior = outside
         .iter()
         .zip(frozen)
@@ -232,6 +246,65 @@ pub fn mesh_inside(
 mod tests {
     use super::*;
     use std::collections::HashMap;
+
+    /// |distance to a spherical shell of radius 1| on a grid over [-2, 2]³: an unsigned field whose
+    /// inside (d up to 1) the shell encloses.
+    fn shell(n: usize) -> (Vec<f64>, Grid) {
+        let grid = Grid {
+            origin: DVec3::splat(-2.0),
+            cell: 4.0 / (n - 1) as f64,
+            dims: [n; 3],
+        };
+        let mut v = Vec::new();
+        for z in 0..n {
+            for y in 0..n {
+                for x in 0..n {
+                    let p = DVec3::new(x as f64, y as f64, z as f64) * grid.cell + grid.origin;
+                    v.push((p.length() - 1.0).abs());
+                }
+            }
+        }
+        (v, grid)
+    }
+
+    #[test]
+    fn only_the_deep_inside_of_a_shell_is_negated() {
+        let (mut values, grid) = shell(41);
+        let before = values.clone();
+        let level = 0.3;
+        let count = negate_enclosed(&grid, &mut values, level);
+        assert!(count > 0);
+        let mut negated = 0;
+        for (i, (&v, &b)) in values.iter().zip(&before).enumerate() {
+            let z = i / (41 * 41);
+            let y = (i / 41) % 41;
+            let x = i % 41;
+            let r =
+                (DVec3::new(x as f64, y as f64, z as f64) * grid.cell - DVec3::splat(2.0)).length();
+            if r < 1.0 - level - 1e-9 {
+                assert_eq!(v, -b, "r {r}");
+            } else if r > 1.0 - level + 1e-9 {
+                assert_eq!(v, b, "r {r}");
+            }
+            if v != b {
+                negated += 1;
+            }
+        }
+        assert_eq!(negated, count);
+        // A gap wider than the barrier: the inside is linked to the outside and nothing changes.
+        let (mut open, grid) = shell(41);
+        for (i, v) in open.iter_mut().enumerate() {
+            let p = DVec3::new((i % 41) as f64, ((i / 41) % 41) as f64, (i / 1681) as f64)
+                * grid.cell
+                - DVec3::splat(2.0);
+            if p.z > 0.5 && p.x * p.x + p.y * p.y < 0.36 {
+                *v = v.max(0.4);
+            }
+        }
+        let kept = open.clone();
+        assert_eq!(negate_enclosed(&grid, &mut open, level), 0);
+        assert_eq!(open, kept);
+    }
 
     /// The edge counts by hashing every directed edge (the definition).
     fn closure_by_hashing(triangles: &[[u32; 3]]) -> Closure {

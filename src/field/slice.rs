@@ -198,18 +198,26 @@ mod tests {
         let span = p.corners[2] - p.corners[0];
         assert!((span.x - (g.dims[0] - 1) as f64 * g.cell).abs() < 1e-9);
         assert!((span.y - (g.dims[1] - 1) as f64 * g.cell).abs() < 1e-9);
-        // Values are the sphere's unsigned distance at the node positions (bilinear in corners).
+        // Values are the sphere's distance at the node positions (bilinear in corners), negative
+        // deep inside: the cloud encloses the ball (`field.enclosed_cells`).
         let mut worst = 0.0f64;
+        let mut negative = 0;
         for iv in 0..p.height {
             for iu in 0..p.width {
                 let x = p.corners[0]
                     + (p.corners[1] - p.corners[0]) * (iu as f64 / (p.width - 1) as f64)
                     + (p.corners[3] - p.corners[0]) * (iv as f64 / (p.height - 1) as f64);
                 let exact = (x.length() - 1.0).abs();
-                worst = worst.max((p.values[iu + p.width * iv] - exact).abs());
+                let v = p.values[iu + p.width * iv];
+                worst = worst.max((v.abs() - exact).abs());
+                if v < 0.0 {
+                    negative += 1;
+                    assert!(x.length() < 1.0 - g.cell, "{x}");
+                }
             }
         }
         assert!(worst < 2.0 * g.cell, "worst error {worst}, cell {}", g.cell);
+        assert!(negative > 0);
     }
 
     #[test]

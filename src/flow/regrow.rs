@@ -50,12 +50,21 @@ pub fn outward_to_offset(
         return None;
     }
     let steps = (r.reach / r.spacing).ceil() as usize;
+    // Deep inside a solid that a cloud encloses the field is negative, and it rises to +2 cells
+    // at the near band's inner edge (`field.enclosed_cells`): that rise is no crossing of d₀.
+    // From there the way out goes down through the band to the surface and up past d₀ beyond.
+    let mut through_band = at_p < 0.0;
+    let mut below = !through_band;
     for k in 1..=steps {
         let d = distance(p + (k as f64 * r.spacing) * n);
-        if d >= r.d0 {
+        if through_band {
+            through_band = d < r.d0;
+        } else if below && d >= r.d0 {
             let t = (r.d0 - prev) / (d - prev);
             let along = (k as f64 - 1.0 + t) * r.spacing;
             return (along > r.min_depth && along <= r.reach).then_some(along);
+        } else {
+            below = d < r.d0;
         }
         prev = d;
     }
@@ -107,6 +116,26 @@ mod tests {
         // Outside the level, nothing to do either.
         let p = DVec3::new(0.1, 0.1, 0.005 + 1.5 * r.d0);
         assert_eq!(outward_to_offset(plate, p, plate(p), DVec3::Z, &r), None);
+    }
+
+    #[test]
+    fn a_vertex_deep_inside_an_enclosed_solid_goes_out_past_its_surface() {
+        // A slab |z| ≤ 0.05 sampled as a cloud: unsigned, but negative deeper than 0.02 inside.
+        let slab = |p: DVec3| {
+            let d = (p.z.abs() - 0.05).abs();
+            if p.z.abs() < 0.03 {
+                -d
+            } else {
+                d
+            }
+        };
+        let r = Regrow {
+            reach: 0.2,
+            ..settings()
+        };
+        let p = DVec3::new(0.0, 0.0, 0.0);
+        let along = outward_to_offset(slab, p, slab(p), DVec3::Z, &r).unwrap();
+        assert!((along - (0.05 + r.d0)).abs() < r.spacing, "{along}");
     }
 
     #[test]

@@ -8,12 +8,14 @@ use serde_json::{Map, Value};
 /// computes what a link made before them computed: a link without the key decodes to it, so
 /// the link keeps its result (`flow.regrow_depth` 0 is the flow before `flow::regrow`,
 /// `surgery.tunnel_ratio` 0 the surgery before tunnels, `field.principal_slack` 0 the grid of
-/// the axis-aligned box, `start.part_gap` 0 one icosphere around all).
+/// the axis-aligned box, `start.part_gap` 0 one icosphere around all, `field.enclosed_cells`
+/// 0 a cloud's field unsigned everywhere).
 pub const ADDED: &[(&str, f64)] = &[
     ("flow.regrow_depth", 0.0),
     ("surgery.tunnel_ratio", 0.0),
     ("field.principal_slack", 0.0),
     ("start.part_gap", 0.0),
+    ("field.enclosed_cells", 0.0),
 ];
 
 /// `(old flat key, key in the nested settings)`. An old key that was an object (`features`)

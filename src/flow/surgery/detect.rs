@@ -48,6 +48,33 @@ pub struct FacingQuery {
     pub min_width: f64,
 }
 
+/// A hole's membrane may reach farther from its tube than the ball in [`FacingQuery::opened`]:
+/// up to this many times the ball's radius, a vertex joined to the tube's centre by a straight
+/// path through empty space is still in the same hole.
+const SAME_HOLE_REACH: f64 = 3.0;
+
+/// Whether `p` lies in a hole already opened: within its ball, or within [`SAME_HOLE_REACH`]
+/// balls with nothing but empty space (`probe` > `empty`, signed: the inside of a solid is not
+/// empty) on the straight way to its centre. A square frame's hole kept membrane in its corners
+/// beyond the ball round its first tube, and a second tube there gave the frame genus 2; a
+/// neighbouring hole has data on the way (the bar between them).
+fn in_opened_hole(p: DVec3, q: &FacingQuery, probe: &dyn Fn(DVec3) -> f64) -> bool {
+    q.opened.iter().any(|&(c, r)| {
+        let d2 = p.distance_squared(c);
+        if d2 <= r * r {
+            return true;
+        }
+        let reach = SAME_HOLE_REACH * r;
+        if d2 > reach * reach || q.empty <= 0.0 {
+            return false;
+        }
+        // Samples at most half of `empty` apart: the distance is 1-Lipschitz, so a path that
+        // crosses the data has a sample nearer than `empty` to it.
+        let samples = (d2.sqrt() / (0.5 * q.empty)).ceil().max(1.0) as usize;
+        (1..=samples).all(|k| probe(p.lerp(c, k as f64 / samples as f64)) > q.empty)
+    })
+}
+
 /// Directions of the ring of rays cast around a tunnel's axis.
 const RING_RAYS: usize = 8;
 /// A ring ray looks for data this many times its start's distance to the target: a round hole's
@@ -83,7 +110,7 @@ pub fn facing_pairs_and_tunnels(
     let mut holes = Vec::new();
     let n = mesh.n_vertices();
     let mut partner = vec![None; n];
-    if let Some(s) = Sheet::beyond(mesh, normals, distances, q, q.empty) {
+    if let Some(s) = Sheet::beyond(mesh, normals, distances, q, q.empty, probe) {
         let part = components(mesh);
         let mut near: Vec<Near> = Vec::with_capacity(NEIGHBOURS);
         for (i, &v) in s.far.iter().enumerate() {
@@ -113,7 +140,7 @@ pub fn facing_pairs_and_tunnels(
     // Tunnels: the membranes over a narrow hole may rest nearer the data than `empty` (a hole
     // of 3 `empty` across has its axis 1.5 away); the clear path and the ring tell it from a part.
     let tunnels = (q.tunnel_ratio > 0.0)
-        .then(|| Sheet::beyond(mesh, normals, distances, q, TUNNEL_FAR * q.empty))
+        .then(|| Sheet::beyond(mesh, normals, distances, q, TUNNEL_FAR * q.empty, probe))
         .flatten();
     if let Some(s) = tunnels {
         // Only the vertices near a membrane's centre look straight down the tunnel (the others'
@@ -190,21 +217,20 @@ struct Sheet<'a> {
 }
 
 impl<'a> Sheet<'a> {
-    /// The vertices farther than `beyond` from the data and outside the opened holes, bucketed
-    /// for queries up to the largest reach of `q`; `None` when fewer than two.
+    /// The vertices farther than `beyond` from the data and outside the opened holes (see
+    /// [`in_opened_hole`]), bucketed for queries up to the largest reach of `q`; `None` when
+    /// fewer than two.
     fn beyond(
         mesh: &HalfedgeMesh,
         normals: &'a [DVec3],
         distances: &'a [f64],
         q: &FacingQuery,
         beyond: f64,
+        probe: &dyn Fn(DVec3) -> f64,
     ) -> Option<Self> {
         let far: Vec<u32> = (0..mesh.n_vertices() as u32)
             .filter(|&v| !mesh.is_deleted_vertex(v) && distances[v as usize].abs() > beyond)
-            .filter(|&v| {
-                let p = mesh.position(v);
-                q.opened.iter().all(|&(c, r)| p.distance_squared(c) > r * r)
-            })
+            .filter(|&v| !in_opened_hole(mesh.position(v), q, probe))
             .collect();
         if far.len() < 2 {
             return None;
@@ -465,6 +491,40 @@ mod tests {
         assert!(facing_pairs(&m, &normals, &far, &q, &|_| 1.0)
             .iter()
             .all(Option::is_none));
+    }
+
+    /// A hole opened by a small tube at x = −1.5: the pancake (|x|, |y| ≤ 1) lies beyond the
+    /// tube's ball but within reach of it. Through empty space it is the same hole and nothing
+    /// pairs; with data on the way (a bar at x = −1.1) it is another hole and its faces pair.
+    #[test]
+    fn membrane_joined_to_an_opened_hole_through_empty_space_is_that_hole() {
+        let m = pancake(0.02);
+        let normals = angle_weighted_normals(&m);
+        let far = vec![1.0; m.n_vertices()];
+        let q = FacingQuery {
+            empty: 0.5,
+            gap_ratio: 0.25,
+            opened: vec![(DVec3::new(-1.5, 0.0, 0.0), 1.0)],
+            tunnel_ratio: 0.0,
+            min_width: 0.0,
+        };
+        let count = |probe: &dyn Fn(DVec3) -> f64| {
+            facing_pairs(&m, &normals, &far, &q, probe)
+                .iter()
+                .filter(|p| p.is_some())
+                .count()
+        };
+        let empty = |_: DVec3| 1.0;
+        assert_eq!(count(&empty), 0);
+        let bar = |p: DVec3| DVec2::new(p.x + 1.1, p.z).length();
+        assert!(count(&bar) > m.n_vertices() / 2);
+        // Beyond reach (3 balls), a vertex is never taken for the opened hole.
+        let far_hole = FacingQuery {
+            opened: vec![(DVec3::new(-4.5, 0.0, 0.0), 1.0)],
+            ..q.clone()
+        };
+        let pairs = facing_pairs(&m, &normals, &far, &far_hole, &empty);
+        assert!(pairs.iter().filter(|p| p.is_some()).count() > m.n_vertices() / 2);
     }
 
     /// Distance to a plate `|z| ≤ h` with a round hole of radius `r` about the z axis, or (slot)
