@@ -95,8 +95,9 @@ pub struct FieldSettings {
     /// before 2026-11-29 decode to 0). Range 0 or 1–100; default 1.25.
     pub principal_slack: f64,
     /// Point clouds only: nodes deeper than this many cells inside a region the cloud encloses
-    /// (not linked to the grid's border by nodes at least that far from every point: the inside
-    /// of a solid sampled all round) get a negative distance. A wrap vertex that slipped past a
+    /// (the inside of a solid sampled all round: not linked to the grid's border by nodes one
+    /// cell farther still from every point, see [`sign::negate_enclosed`]) get a negative
+    /// distance. A wrap vertex that slipped past a
     /// sharp rim into such a part is then held and regrown instead of driven on through it by
     /// the full-wrap term (a 0.1-thick square frame had its corners cut and gained two handles).
     /// Parts thinner than twice this, and clouds with wide gaps, stay unsigned. 0 keeps the

@@ -5,7 +5,9 @@
 use super::{Evolver, PhaseTimes};
 use crate::clock::now_ms;
 use crate::flow::surgery::detect::FacingQuery;
-use crate::flow::surgery::{drop_empty_components, events, open_handles, SurgeryEvent};
+use crate::flow::surgery::{
+    drop_empty_components, events, open_handles, SurgeryEvent, OPENED_MARGIN,
+};
 use crate::metrics::intersections::count_self_intersections;
 use glam::DVec3;
 
@@ -58,12 +60,12 @@ impl Evolver {
             .iter()
             .map(|e| {
                 let c = phi * (DVec3::from_array(e.position) - center);
-                (c, phi * e.radius + 1.5 * self.empty_distance)
+                (c, phi * e.radius + OPENED_MARGIN * self.empty_distance)
             })
             .chain(
                 self.tunnels_opened
                     .iter()
-                    .map(|&(c, r)| (c, r + 1.5 * self.empty_distance)),
+                    .map(|&(c, r)| (c, r + OPENED_MARGIN * self.empty_distance)),
             )
             .collect();
         let query = FacingQuery {

@@ -52,26 +52,39 @@ pub struct FacingQuery {
 /// up to this many times the ball's radius, a vertex joined to the tube's centre by a straight
 /// path through empty space is still in the same hole.
 const SAME_HOLE_REACH: f64 = 3.0;
+/// Data lies on such a path where the distance drops below this share of `empty`, or of the
+/// distance at its nearer end where that is larger (its samples are a quarter of `empty` apart:
+/// the distance is 1-Lipschitz, so a path crossing the data has a sample within an eighth of
+/// `empty` of it; a membrane's own vertices are farther than half).
+const DATA_ON_THE_WAY: f64 = 0.5;
 
-/// Whether `p` lies in a hole already opened: within its ball, or within [`SAME_HOLE_REACH`]
-/// balls with nothing but empty space (`probe` > `empty`, signed: the inside of a solid is not
-/// empty) on the straight way to its centre. A square frame's hole kept membrane in its corners
-/// beyond the ball round its first tube, and a second tube there gave the frame genus 2; a
-/// neighbouring hole has data on the way (the bar between them).
-fn in_opened_hole(p: DVec3, q: &FacingQuery, probe: &dyn Fn(DVec3) -> f64) -> bool {
-    q.opened.iter().any(|&(c, r)| {
+/// Whether `p` lies in a hole already opened (`opened`: balls round the tubes, see
+/// [`FacingQuery::opened`]): within [`SAME_HOLE_REACH`] times its ball, with
+/// no data on the straight way to its centre (`probe` signed: the inside of a solid is data).
+/// A square frame's hole kept membrane in its corners beyond the ball round its first tube, and
+/// a second tube there gave the frame genus 2; the ball round a tube across a wide, low hole
+/// (a ladder-back chair's, between two rails) reaches the holes above and below it, which have
+/// a rail on the way.
+pub fn in_opened_hole(
+    p: DVec3,
+    opened: &[(DVec3, f64)],
+    empty: f64,
+    probe: &dyn Fn(DVec3) -> f64,
+) -> bool {
+    opened.iter().any(|&(c, r)| {
         let d2 = p.distance_squared(c);
-        if d2 <= r * r {
-            return true;
-        }
         let reach = SAME_HOLE_REACH * r;
-        if d2 > reach * reach || q.empty <= 0.0 {
+        if d2 > reach * reach {
             return false;
         }
-        // Samples at most half of `empty` apart: the distance is 1-Lipschitz, so a path that
-        // crosses the data has a sample nearer than `empty` to it.
-        let samples = (d2.sqrt() / (0.5 * q.empty)).ceil().max(1.0) as usize;
-        (1..=samples).all(|k| probe(p.lerp(c, k as f64 / samples as f64)) > q.empty)
+        if empty <= 0.0 {
+            return d2 <= r * r;
+        }
+        // (Half the nearer end's distance, not only half of `empty`: between two holes of a plate
+        // thicker than `empty`, a path through its unsigned inside keeps half its thickness.)
+        let floor = DATA_ON_THE_WAY * empty.max(probe(p).min(probe(c)));
+        let samples = (d2.sqrt() / (0.25 * empty)).ceil().max(1.0) as usize;
+        (1..=samples).all(|k| probe(p.lerp(c, k as f64 / samples as f64)) > floor)
     })
 }
 
@@ -230,7 +243,7 @@ impl<'a> Sheet<'a> {
     ) -> Option<Self> {
         let far: Vec<u32> = (0..mesh.n_vertices() as u32)
             .filter(|&v| !mesh.is_deleted_vertex(v) && distances[v as usize].abs() > beyond)
-            .filter(|&v| !in_opened_hole(mesh.position(v), q, probe))
+            .filter(|&v| !in_opened_hole(mesh.position(v), &q.opened, q.empty, probe))
             .collect();
         if far.len() < 2 {
             return None;

@@ -13,12 +13,16 @@ use crate::geometry::operators::normals::angle_weighted_normals;
 use crate::mesh::HalfedgeMesh;
 use crate::metrics::intersections::self_intersecting_pairs;
 use bridge::{glue_facing_regions, Cut, Tube};
-use detect::{facing_pairs_and_tunnels, FacingQuery};
+use detect::{facing_pairs_and_tunnels, in_opened_hole, FacingQuery};
 use glam::DVec3;
 use serde::Serialize;
 
 /// A patch is cut once most of its rim lies within this many `empty` distances of the target.
 const RIM: f64 = 2.0;
+
+/// An opened hole's ball reaches this many `empty` distances beyond its tube's rim: the
+/// membrane left around the tube is at most `empty` from the data, with a margin.
+pub const OPENED_MARGIN: f64 = 1.5;
 
 /// One topology change, for the statistics and the app's timeline.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -86,7 +90,15 @@ pub fn open_handles(
     let operated = if paired < 2 * min_vertices {
         None
     } else {
-        operate(mesh, &partner, distances, query, settled, min_vertices)
+        operate(
+            mesh,
+            &partner,
+            distances,
+            query,
+            probe,
+            settled,
+            min_vertices,
+        )
     };
     Look {
         paired,
@@ -95,23 +107,38 @@ pub fn open_handles(
     }
 }
 
-/// Cuts and glues; `None` when nothing qualified or the result failed a check. When some of the
-/// new faces cross others, the operations they belong to are left out and the rest tried once
-/// more (one bad tube must not hold back the other holes).
+/// Cuts and glues; `None` when nothing qualified or the result failed a check. A tube in the
+/// same hole as an earlier tube of this look ([`detect::in_opened_hole`]: a membrane that met in
+/// two spots) is left out; so are the operations whose new faces cross others, and the rest is
+/// tried again (one bad tube must not hold back the other holes).
 fn operate(
     mesh: &HalfedgeMesh,
     partner: &[Option<u32>],
     distances: &[f64],
     query: &FacingQuery,
+    probe: &dyn Fn(DVec3) -> f64,
     settled: bool,
     min_vertices: usize,
 ) -> Option<Operated> {
     let before = mesh.validate().ok()?;
     let rim = RIM * query.empty;
     let mut skip = Vec::new();
-    for _attempt in 0..2 {
+    for _attempt in 0..3 {
         let glued =
             glue_facing_regions(mesh, partner, distances, rim, settled, min_vertices, &skip)?;
+        let mut balls = Vec::new();
+        let mut twins = Vec::new();
+        for t in glued.tubes.iter().filter(|t| t.cut == Cut::Tube) {
+            if in_opened_hole(t.position, &balls, query.empty, probe) {
+                twins.push(t.region);
+            } else {
+                balls.push((t.position, t.radius + OPENED_MARGIN * query.empty));
+            }
+        }
+        if !twins.is_empty() {
+            skip.extend(twins);
+            continue;
+        }
         let out = HalfedgeMesh::from_triangles(glued.positions, &glued.triangles).ok()?;
         let after = out.validate().ok()?;
         let change: i64 = glued
