@@ -34,9 +34,9 @@ pub struct FacingQuery {
     /// Two facing vertices pair when their gap along the normals is below this fraction of the
     /// smaller of their distances to the target (and they are at most an edge apart sideways).
     pub gap_ratio: f64,
-    /// Balls (centre, radius) where nothing pairs: the holes already opened. The membrane left
-    /// around a fresh tube still faces its other half across the tube; cutting it again would
-    /// open a second handle in the same hole.
+    /// Balls (centre, radius) round the holes already opened: nothing in such a hole pairs (see
+    /// [`in_opened_hole`]). The membrane left around a fresh tube still faces its other half
+    /// across the tube; cutting it again would open a second handle in the same hole.
     pub opened: Vec<(DVec3, f64)>,
     /// Tunnels: two facing sheets also pair when their gap is below this multiple of the smaller
     /// of their distances to the target and the path between them is a tunnel through the data
@@ -506,9 +506,10 @@ mod tests {
             .all(Option::is_none));
     }
 
-    /// A hole opened by a small tube at x = −1.5: the pancake (|x|, |y| ≤ 1) lies beyond the
-    /// tube's ball but within reach of it. Through empty space it is the same hole and nothing
-    /// pairs; with data on the way (a bar at x = −1.1) it is another hole and its faces pair.
+    /// A hole opened by a small tube at x = −1.5: the pancake (|x|, |y| ≤ 1) lies partly in the
+    /// tube's ball and the rest within reach of it. Through empty space it is the same hole and
+    /// nothing pairs; with data on the way (a bar at x = −1.1) it is another hole and its faces
+    /// pair.
     #[test]
     fn membrane_joined_to_an_opened_hole_through_empty_space_is_that_hole() {
         let m = pancake(0.02);
