@@ -108,6 +108,21 @@ impl Grid {
         [i % nx, (i / nx) % ny, i / (nx * ny)]
     }
 
+    /// Storage indices of the (up to six) axis neighbours of node `i`: −x, +x, −y, +y, −z, +z.
+    #[inline]
+    pub fn axis_neighbours(&self, i: usize) -> [Option<usize>; 6] {
+        let [nx, ny, nz] = self.dims;
+        let [x, y, z] = self.coords(i);
+        [
+            (x > 0).then(|| i - 1),
+            (x + 1 < nx).then_some(i + 1),
+            (y > 0).then(|| i - nx),
+            (y + 1 < ny).then_some(i + nx),
+            (z > 0).then(|| i - nx * ny),
+            (z + 1 < nz).then_some(i + nx * ny),
+        ]
+    }
+
     /// World position of node (ix, iy, iz).
     #[inline]
     pub fn node_position(&self, ix: usize, iy: usize, iz: usize) -> DVec3 {

@@ -190,7 +190,6 @@ pub fn negate_enclosed(grid: &Grid, values: &mut [f64], level: f64) -> usize {
     let near = |v: f64, l: f64| v < l || v.is_nan();
     let seal = level + SEAL_CELLS * grid.cell;
     let mut outside = flood_exterior(grid, |i| near(values[i], seal));
-    let [nx, ny, _] = grid.dims;
     let mut candidates: Vec<usize> = (0..values.len())
         .filter(|&i| !outside[i] && !near(values[i], level))
         .collect();
@@ -199,14 +198,10 @@ pub fn negate_enclosed(grid: &Grid, values: &mut [f64], level: f64) -> usize {
             .iter()
             .copied()
             .filter(|&i| {
-                let [x, y, z] = grid.coords(i);
-                let [mx, my, mz] = grid.dims.map(|n| n - 1);
-                (x > 0 && outside[i - 1])
-                    || (x < mx && outside[i + 1])
-                    || (y > 0 && outside[i - nx])
-                    || (y < my && outside[i + nx])
-                    || (z > 0 && outside[i - nx * ny])
-                    || (z < mz && outside[i + nx * ny])
+                grid.axis_neighbours(i)
+                    .into_iter()
+                    .flatten()
+                    .any(|j| outside[j])
             })
             .collect();
         if grown.is_empty() {
@@ -231,17 +226,7 @@ pub fn negate_enclosed(grid: &Grid, values: &mut [f64], level: f64) -> usize {
     }
     let candidate = |i: usize, outside: &[bool]| !outside[i] && !near(values[i], level);
     while let Some(i) = stack.pop() {
-        let [x, y, z] = grid.coords(i);
-        let [mx, my, mz] = grid.dims.map(|n| n - 1);
-        let nbs = [
-            (x > 0).then(|| i - 1),
-            (x < mx).then(|| i + 1),
-            (y > 0).then(|| i - nx),
-            (y < my).then(|| i + nx),
-            (z > 0).then(|| i - nx * ny),
-            (z < mz).then(|| i + nx * ny),
-        ];
-        for j in nbs.into_iter().flatten() {
+        for j in grid.axis_neighbours(i).into_iter().flatten() {
             if !enclosed[j] && candidate(j, &outside) {
                 enclosed[j] = true;
                 stack.push(j);
