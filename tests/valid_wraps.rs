@@ -323,6 +323,30 @@ fn a_ladder_back_chair_cloud_gets_a_handle_per_hole() {
     assert!(worst < 0.06, "a vertex {worst} from the data: {c:?}");
 }
 
+/// A cube drilled through along all three axes (square tunnels 0.44 wide in a unit cube: the
+/// union of its twelve edge bars), genus 5. The six membranes over the tunnels meet in the
+/// middle, each beside four others: after the first tube the others lay in its hole's ball and
+/// were taken for the same hole, and the membranes that met several others paired along rings,
+/// where no tube fits (genus 1).
+#[test]
+fn a_cube_drilled_along_three_axes_gets_five_handles() {
+    let (c, h) = (0.36, 0.14);
+    let mut bars = Vec::new();
+    for axis in 0..3 {
+        for (s, t) in [(-1.0, -1.0), (-1.0, 1.0), (1.0, -1.0), (1.0, 1.0)] {
+            let (mut centre, mut half) = (DVec3::ZERO, DVec3::splat(h));
+            centre[(axis + 1) % 3] = s * c;
+            centre[(axis + 2) % 3] = t * c;
+            half[axis] = 0.5;
+            bars.push((centre, half));
+        }
+    }
+    let target = Target::new(boxes_cloud(&bars, 30_000), Vec::new()).unwrap();
+    let (_, _, c) = wrap_target("drilled cube", &target, WrapSettings::default());
+    assert_valid("drilled cube", &c);
+    assert_eq!((c.genus, c.components), (Some(5), Some(1)), "{c:?}");
+}
+
 /// Two spheres' cloud at the defaults: the wrap pinches into two parts. Around the pinch a vertex
 /// whose faces collapse gets negative cotangent weights, and the solve once converged to a
 /// near-singular solution that threw it five box sizes away (the run diverged with no mesh); such a

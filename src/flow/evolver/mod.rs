@@ -255,6 +255,8 @@ pub struct Evolver {
     tunnels_opened: Vec<(DVec3, f64)>,
     /// Vertices paired with a facing sheet at surgery's last look.
     surgery_paired: usize,
+    /// The last look found the surface intersecting itself: look again at the next step.
+    surgery_pending: bool,
 }
 
 /// What the evolution needs to resume from a certified state.
@@ -507,6 +509,7 @@ impl Evolver {
             surgery_events: Vec::new(),
             tunnels_opened: Vec::new(),
             surgery_paired: 0,
+            surgery_pending: false,
         };
         ev.save_checkpoint();
         ev.refresh_distances();

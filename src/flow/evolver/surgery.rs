@@ -20,7 +20,7 @@ impl Evolver {
     /// Operates when due and needed; the events of this step (empty when nothing happened).
     pub(super) fn surgery_if_due(&mut self, times: &mut PhaseTimes) -> Vec<SurgeryEvent> {
         let s = &self.settings.surgery;
-        if self.step % s.check_every.max(1) != 0 || self.done {
+        if (self.step % s.check_every.max(1) != 0 && !self.surgery_pending) || self.done {
             return Vec::new();
         }
         self.surgery_now(times, false)
@@ -94,7 +94,12 @@ impl Evolver {
             s.min_vertices,
             previous,
         );
-        self.surgery_paired = look.paired;
+        // A look on a surface that intersects itself (it moved since the contact guard's last
+        // check) can certify nothing: the next step looks again.
+        self.surgery_pending = look.intersecting;
+        if !look.intersecting {
+            self.surgery_paired = look.paired;
+        }
         let Some(op) = look.operated else {
             times.surgery += now_ms() - t0;
             return Vec::new();

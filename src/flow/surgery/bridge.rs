@@ -34,6 +34,8 @@ pub struct Tube {
     pub loop_vertices: [usize; 2],
     /// The region it was made for (pass it to `skip` to leave that operation out).
     pub region: u32,
+    /// A vertex of each side's region (of a pinch: twice the neck's), in the surface operated on.
+    pub sides: [u32; 2],
     /// Its new faces: indices into [`Glued::triangles`].
     pub faces: std::ops::Range<usize>,
 }
@@ -50,7 +52,8 @@ pub struct Glued {
 const RIM_DEPTH: f64 = 0.5;
 
 /// Regions of at least `min_vertices` paired vertices, matched into (A, B) pairs of distinct,
-/// mutually facing regions; each pair is replaced by a tube. `None` when no pair qualifies.
+/// mutually facing regions; each pair is replaced by a tube, and each region facing itself
+/// across a neck by two caps. `None` when nothing qualifies.
 ///
 /// A patch is cut only once it spans its hole: the median distance of its rim to the target
 /// (`distances` per vertex) below `rim` or below half its deepest vertex's, or once the membranes
@@ -58,92 +61,80 @@ const RIM_DEPTH: f64 = 0.5;
 /// tube cut there would leave
 /// the rest of them facing each other around it, and cutting that later would open a second
 /// handle through the same hole.
-pub fn glue_facing_regions(
-    mesh: &HalfedgeMesh,
-    partner: &[Option<u32>],
-    distances: &[f64],
-    rim: f64,
-    settled: bool,
-    min_vertices: usize,
-    skip: &[u32],
-) -> Option<Glued> {
-    let (region, sizes) = regions(mesh, partner);
-    let d = |v: &u32| distances[*v as usize].abs();
-    let spans = |lp: &[u32], r: u32| {
-        let mut rim_d: Vec<f64> = lp.iter().map(d).collect();
-        let mid = rim_d.len() / 2;
-        let median = *rim_d.select_nth_unstable_by(mid, f64::total_cmp).1;
-        let deepest = (0..partner.len() as u32)
-            .filter(|&v| region[v as usize] == Some(r))
-            .map(|v| d(&v))
-            .fold(0.0, f64::max);
-        settled || median < rim.max(RIM_DEPTH * deepest)
-    };
+pub fn glue_facing_regions(pass: &Pass) -> Option<Glued> {
+    let Pass {
+        mesh,
+        partner,
+        min_vertices,
+        skip,
+        far,
+        ..
+    } = *pass;
+    let level = regions(mesh, partner);
+    let (region, sizes, seeds) = (&level.of, &level.sizes, &level.seeds);
     let n_regions = sizes.len();
-    // The region each region mostly faces.
-    let mut votes: Vec<Vec<(u32, usize)>> = vec![Vec::new(); n_regions];
-    for (v, p) in partner.iter().enumerate() {
-        if let (Some(u), Some(a)) = (p, region[v]) {
-            if let Some(b) = region[*u as usize] {
-                let list = &mut votes[a as usize];
-                match list.iter_mut().find(|(r, _)| *r == b) {
-                    Some(e) => e.1 += 1,
-                    None => list.push((b, 1)),
-                }
-            }
-        }
-    }
-    let faces_of = |a: u32| -> Option<u32> {
-        votes[a as usize]
-            .iter()
-            .max_by_key(|&&(r, c)| (c, std::cmp::Reverse(r)))
-            .map(|&(r, _)| r)
-    };
+    let faces_of = level.facing(partner);
     let mut removed = vec![false; mesh.n_faces()];
     let mut tubes_tris = Vec::new();
     let mut tubes = Vec::new();
-    for a in 0..n_regions as u32 {
-        let Some(b) = faces_of(a) else { continue };
-        if skip.contains(&a) {
-            continue;
+    pass.tubes(&level, &faces_of, &mut removed, &mut tubes_tris, &mut tubes);
+    // Tangled regions: a membrane that meets several others (the arms of one cavity: a cube
+    // drilled along three axes) pairs along a ring, not a disk, and no tube fits it. Each such
+    // region is split by the region its vertices face, and the pieces are paired.
+    let mut used = vec![false; n_regions];
+    for f in (0..mesh.n_faces() as u32).filter(|&f| removed[f as usize]) {
+        let [a, b, c] = mesh.face_vertices(f).map(|v| region[v as usize]);
+        if let (Some(r), true) = (a, a == b && b == c) {
+            used[r as usize] = true;
         }
-        if b <= a || faces_of(b) != Some(a) {
-            continue;
-        }
-        if sizes[a as usize] < min_vertices || sizes[b as usize] < min_vertices {
-            continue;
-        }
-        let (Some(la), Some(lb)) = (
-            disk_loop(mesh, &region, a, &removed),
-            disk_loop(mesh, &region, b, &removed),
-        ) else {
-            continue;
+    }
+    let votes = level.votes(partner);
+    let tangled: Vec<bool> = (0..n_regions as u32)
+        .map(|r| {
+            let mut sheets: Vec<u32> = votes[r as usize]
+                .iter()
+                .filter(|&&(s, n)| s != r && n >= min_vertices)
+                .map(|&(s, _)| far[seeds[s as usize] as usize])
+                .collect();
+            sheets.sort_unstable();
+            sheets.dedup();
+            sheets.len() >= 2 && !used[r as usize] && disk_loop(mesh, region, r, &removed).is_none()
+        })
+        .collect();
+    if tangled.iter().any(|&t| t) {
+        let key = |v: usize| -> Option<(u32, u32)> {
+            let r = region[v]?;
+            let s = region[partner[v]? as usize]?;
+            match tangled[r as usize] {
+                true => Some((r, s)),
+                false if !used[r as usize] => Some((r, u32::MAX)),
+                false => None,
+            }
         };
-        let (la, lb) = (&la[0], &lb[0]);
-        if !(spans(la, a) && spans(lb, b)) {
-            continue;
-        }
-        let Some(tube) = zip_loops(mesh, la, lb) else {
-            continue;
-        };
-        remove_region(mesh, &region, &[a, b], &mut removed);
-        let start = tubes_tris.len();
-        tubes_tris.extend(tube);
-        tubes.push(record(mesh, Cut::Tube, la, lb, a, start..tubes_tris.len()));
+        let pieces = split(mesh, key, n_regions as u32);
+        let faces_of = pieces.facing(partner);
+        pass.tubes(
+            &pieces,
+            &faces_of,
+            &mut removed,
+            &mut tubes_tris,
+            &mut tubes,
+        );
     }
     // Necks: a ring facing itself across its axis.
     let mut positions = mesh.positions().to_vec();
     for a in 0..n_regions as u32 {
-        if faces_of(a) != Some(a) || sizes[a as usize] < min_vertices || skip.contains(&a) {
+        if faces_of[a as usize] != Some(a) || sizes[a as usize] < min_vertices || skip.contains(&a)
+        {
             continue;
         }
-        let Some(loops) = region_loops(mesh, &region, a, &removed, 0) else {
+        let Some(loops) = region_loops(mesh, region, a, &removed, 0) else {
             continue;
         };
         // No waiting here: the stumps of a neck cut at its thinnest part retract onto the data
         // (or, around nothing, are dropped).
         let [la, lb] = [&loops[0], &loops[1]];
-        remove_region(mesh, &region, &[a], &mut removed);
+        remove_region(mesh, region, &[a], &mut removed);
         let centroid =
             |lp: &[u32]| lp.iter().map(|&v| mesh.position(v)).sum::<DVec3>() / lp.len() as f64;
         let (ca, cb) = (centroid(la), centroid(lb));
@@ -151,7 +142,16 @@ pub fn glue_facing_regions(
         for (lp, away) in [(la, cb - ca), (lb, ca - cb)] {
             tubes_tris.extend(cap(&mut positions, lp, away.normalize_or_zero()));
         }
-        tubes.push(record(mesh, Cut::Pinch, la, lb, a, start..tubes_tris.len()));
+        let sides = [seeds[a as usize]; 2];
+        tubes.push(record(
+            mesh,
+            Cut::Pinch,
+            la,
+            lb,
+            a,
+            sides,
+            start..tubes_tris.len(),
+        ));
     }
     if tubes.is_empty() {
         return None;
@@ -173,32 +173,177 @@ pub fn glue_facing_regions(
     })
 }
 
-/// Connected regions of paired vertices (edges between paired vertices): each vertex's region
-/// and each region's size, numbered in vertex order (deterministic).
-fn regions(mesh: &HalfedgeMesh, partner: &[Option<u32>]) -> (Vec<Option<u32>>, Vec<usize>) {
-    let mut region = vec![None; partner.len()];
-    let mut sizes = Vec::new();
+/// Vertex labels of facing regions, numbered from `first_id` (distinct between the regions and
+/// the pieces of tangled ones, so that `skip` names either).
+struct Labels {
+    of: Vec<Option<u32>>,
+    sizes: Vec<usize>,
+    /// Each label's first vertex.
+    seeds: Vec<u32>,
+    first_id: u32,
+}
+
+impl Labels {
+    /// The label of vertex `v`, counted from 0.
+    fn local(&self, v: usize) -> Option<u32> {
+        self.of[v].map(|l| l - self.first_id)
+    }
+
+    /// The region each region mostly faces (ties to the smaller label), counted from 0.
+    fn facing(&self, partner: &[Option<u32>]) -> Vec<Option<u32>> {
+        self.votes(partner)
+            .iter()
+            .map(|list| {
+                list.iter()
+                    .max_by_key(|&&(r, c)| (c, std::cmp::Reverse(r)))
+                    .map(|&(r, _)| r)
+            })
+            .collect()
+    }
+
+    /// For each region, the regions its vertices' partners lie in and how many lie in each.
+    fn votes(&self, partner: &[Option<u32>]) -> Vec<Vec<(u32, usize)>> {
+        let mut votes: Vec<Vec<(u32, usize)>> = vec![Vec::new(); self.sizes.len()];
+        for (v, p) in partner.iter().enumerate() {
+            if let (Some(u), Some(a)) = (p, self.local(v)) {
+                if let Some(b) = self.local(*u as usize) {
+                    let list = &mut votes[a as usize];
+                    match list.iter_mut().find(|(r, _)| *r == b) {
+                        Some(e) => e.1 += 1,
+                        None => list.push((b, 1)),
+                    }
+                }
+            }
+        }
+        votes
+    }
+}
+
+/// What to glue (see [`glue_facing_regions`]).
+pub struct Pass<'a> {
+    pub mesh: &'a HalfedgeMesh,
+    /// Each vertex's facing vertex, if any.
+    pub partner: &'a [Option<u32>],
+    /// Each vertex's distance to the target.
+    pub distances: &'a [f64],
+    /// A patch spans its hole once its rim's median distance is below this.
+    pub rim: f64,
+    /// The membranes stopped closing in on each other: cut them as they are.
+    pub settled: bool,
+    /// Smallest region cut (vertices).
+    pub min_vertices: usize,
+    /// Regions left out (see [`Tube::region`]).
+    pub skip: &'a [u32],
+    /// Each vertex's part in empty space ([`super::detect::far_parts`]).
+    pub far: &'a [u32],
+}
+
+impl Pass<'_> {
+    /// Glues each mutually facing pair of `labels` (`faces_of`: the label each mostly faces)
+    /// with a tube, adding the tube's faces and record and marking the regions' faces removed.
+    fn tubes(
+        &self,
+        labels: &Labels,
+        faces_of: &[Option<u32>],
+        removed: &mut [bool],
+        tubes_tris: &mut Vec<[u32; 3]>,
+        tubes: &mut Vec<Tube>,
+    ) {
+        let mesh = self.mesh;
+        let d = |v: &u32| self.distances[*v as usize].abs();
+        let id = |r: u32| r + labels.first_id;
+        let spans = |lp: &[u32], r: u32| {
+            let mut rim_d: Vec<f64> = lp.iter().map(d).collect();
+            let mid = rim_d.len() / 2;
+            let median = *rim_d.select_nth_unstable_by(mid, f64::total_cmp).1;
+            let deepest = (0..self.partner.len() as u32)
+                .filter(|&v| labels.of[v as usize] == Some(id(r)))
+                .map(|v| d(&v))
+                .fold(0.0, f64::max);
+            self.settled || median < self.rim.max(RIM_DEPTH * deepest)
+        };
+        for a in 0..labels.sizes.len() as u32 {
+            let Some(b) = faces_of[a as usize] else {
+                continue;
+            };
+            if self.skip.contains(&id(a)) || b <= a || faces_of[b as usize] != Some(a) {
+                continue;
+            }
+            if labels.sizes[a as usize] < self.min_vertices
+                || labels.sizes[b as usize] < self.min_vertices
+            {
+                continue;
+            }
+            let (Some(la), Some(lb)) = (
+                disk_loop(mesh, &labels.of, id(a), removed),
+                disk_loop(mesh, &labels.of, id(b), removed),
+            ) else {
+                continue;
+            };
+            let (la, lb) = (&la[0], &lb[0]);
+            if !(spans(la, a) && spans(lb, b)) {
+                continue;
+            }
+            let Some(tube) = zip_loops(mesh, la, lb) else {
+                continue;
+            };
+            remove_region(mesh, &labels.of, &[id(a), id(b)], removed);
+            let start = tubes_tris.len();
+            tubes_tris.extend(tube);
+            let sides = [labels.seeds[a as usize], labels.seeds[b as usize]];
+            tubes.push(record(
+                mesh,
+                Cut::Tube,
+                la,
+                lb,
+                id(a),
+                sides,
+                start..tubes_tris.len(),
+            ));
+        }
+    }
+}
+
+/// The pieces of the paired vertices with equal `key`, connected through edges, labelled from
+/// `first_id` in vertex order (deterministic).
+fn split(mesh: &HalfedgeMesh, key: impl Fn(usize) -> Option<(u32, u32)>, first_id: u32) -> Labels {
+    let n = mesh.n_vertices();
+    let mut of = vec![None; n];
+    let (mut sizes, mut seeds) = (Vec::new(), Vec::new());
     let mut stack = Vec::new();
-    for s in 0..partner.len() as u32 {
-        if partner[s as usize].is_none() || region[s as usize].is_some() {
+    for s in 0..n as u32 {
+        let Some(k) = key(s as usize) else { continue };
+        if of[s as usize].is_some() {
             continue;
         }
-        let id = sizes.len() as u32;
-        let mut size = 0;
-        region[s as usize] = Some(id);
+        let id = first_id + sizes.len() as u32;
+        seeds.push(s);
+        of[s as usize] = Some(id);
         stack.push(s);
+        let mut size = 0;
         while let Some(v) = stack.pop() {
             size += 1;
             for u in mesh.neighbors(v) {
-                if partner[u as usize].is_some() && region[u as usize].is_none() {
-                    region[u as usize] = Some(id);
+                if of[u as usize].is_none() && key(u as usize) == Some(k) {
+                    of[u as usize] = Some(id);
                     stack.push(u);
                 }
             }
         }
         sizes.push(size);
     }
-    (region, sizes)
+    Labels {
+        of,
+        sizes,
+        seeds,
+        first_id,
+    }
+}
+
+/// Connected regions of paired vertices (edges between paired vertices), numbered in vertex
+/// order (deterministic).
+fn regions(mesh: &HalfedgeMesh, partner: &[Option<u32>]) -> Labels {
+    split(mesh, |v| partner[v].map(|_| (0, 0)), 0)
 }
 
 /// The boundary loop of region `r`'s faces (those with all three vertices in `r`) when they
@@ -327,13 +472,15 @@ fn remove_region(
 }
 
 /// The record of an operation on loops `a` and `b` (their centroid and the farthest loop vertex)
-/// made for region `region`, with new faces `faces` (indices among the new faces for now).
+/// made for region `region` between `sides`, with new faces `faces` (indices among the new
+/// faces for now).
 fn record(
     mesh: &HalfedgeMesh,
     cut: Cut,
     a: &[u32],
     b: &[u32],
     region: u32,
+    sides: [u32; 2],
     faces: std::ops::Range<usize>,
 ) -> Tube {
     let c: DVec3 =
@@ -349,6 +496,7 @@ fn record(
         radius,
         loop_vertices: [a.len(), b.len()],
         region,
+        sides,
         faces,
     }
 }

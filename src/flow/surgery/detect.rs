@@ -123,8 +123,9 @@ pub fn facing_pairs_and_tunnels(
     let mut holes = Vec::new();
     let n = mesh.n_vertices();
     let mut partner = vec![None; n];
-    if let Some(s) = Sheet::beyond(mesh, normals, distances, q, q.empty, probe) {
+    if let Some(s) = Sheet::beyond(mesh, normals, distances, q, q.empty, probe, true) {
         let part = components(mesh);
+        let far_part = far_parts(mesh, distances, q.empty);
         let mut near: Vec<Near> = Vec::with_capacity(NEIGHBOURS);
         for (i, &v) in s.far.iter().enumerate() {
             let (p, nv, dv) = (s.pts[i], normals[v as usize], distances[v as usize].abs());
@@ -142,7 +143,11 @@ pub fn facing_pairs_and_tunnels(
                 let side = (w + sv * nv).length();
                 let back_to_back = sv > 0.0 && su > 0.0;
                 let face_to_face = sv < 0.0 && su < 0.0 && part[u as usize] != part[v as usize];
+                // In an opened hole, only sheets that empty space does not join yet.
+                let same_hole =
+                    (s.opened[i] || s.opened[j]) && far_part[u as usize] == far_part[v as usize];
                 let facing = nv.dot(nu) < FACING_COS
+                    && !same_hole
                     && (back_to_back || face_to_face)
                     && sv.abs().max(su.abs()) < q.gap_ratio * du.min(dv)
                     && side <= s.edges[i].max(s.edges[j]);
@@ -153,7 +158,17 @@ pub fn facing_pairs_and_tunnels(
     // Tunnels: the membranes over a narrow hole may rest nearer the data than `empty` (a hole
     // of 3 `empty` across has its axis 1.5 away); the clear path and the ring tell it from a part.
     let tunnels = (q.tunnel_ratio > 0.0)
-        .then(|| Sheet::beyond(mesh, normals, distances, q, TUNNEL_FAR * q.empty, probe))
+        .then(|| {
+            Sheet::beyond(
+                mesh,
+                normals,
+                distances,
+                q,
+                TUNNEL_FAR * q.empty,
+                probe,
+                false,
+            )
+        })
         .flatten();
     if let Some(s) = tunnels {
         // Only the vertices near a membrane's centre look straight down the tunnel (the others'
@@ -221,6 +236,8 @@ const RING_HIT: f64 = 0.5;
 /// Vertices farther from the data than a threshold, bucketed for neighbour queries.
 struct Sheet<'a> {
     far: Vec<u32>,
+    /// Whether each far vertex lies in an opened hole.
+    opened: Vec<bool>,
     pts: Vec<DVec3>,
     /// Mean length of each far vertex's edges.
     edges: Vec<f64>,
@@ -230,9 +247,9 @@ struct Sheet<'a> {
 }
 
 impl<'a> Sheet<'a> {
-    /// The vertices farther than `beyond` from the data and outside the opened holes (see
-    /// [`in_opened_hole`]), bucketed for queries up to the largest reach of `q`; `None` when
-    /// fewer than two.
+    /// The vertices farther than `beyond` from the data, bucketed for queries up to the largest
+    /// reach of `q`; `None` when fewer than two. Those in the opened holes (see
+    /// [`in_opened_hole`]) are flagged in `opened` when `keep_opened`, else left out.
     fn beyond(
         mesh: &HalfedgeMesh,
         normals: &'a [DVec3],
@@ -240,11 +257,20 @@ impl<'a> Sheet<'a> {
         q: &FacingQuery,
         beyond: f64,
         probe: &dyn Fn(DVec3) -> f64,
+        keep_opened: bool,
     ) -> Option<Self> {
-        let far: Vec<u32> = (0..mesh.n_vertices() as u32)
-            .filter(|&v| !mesh.is_deleted_vertex(v) && distances[v as usize].abs() > beyond)
-            .filter(|&v| !in_opened_hole(mesh.position(v), &q.opened, q.empty, probe))
-            .collect();
+        let mut far = Vec::new();
+        let mut opened = Vec::new();
+        for v in 0..mesh.n_vertices() as u32 {
+            if mesh.is_deleted_vertex(v) || distances[v as usize].abs() <= beyond {
+                continue;
+            }
+            let in_hole = in_opened_hole(mesh.position(v), &q.opened, q.empty, probe);
+            if keep_opened || !in_hole {
+                far.push(v);
+                opened.push(in_hole);
+            }
+        }
         if far.len() < 2 {
             return None;
         }
@@ -264,6 +290,7 @@ impl<'a> Sheet<'a> {
         let grid = PointGrid::new(&pts, max_reach);
         Some(Self {
             far,
+            opened,
             pts,
             edges,
             normals,
@@ -434,12 +461,31 @@ fn ray_meets_data(
 
 /// The connected component of every vertex (deterministic numbering).
 fn components(mesh: &HalfedgeMesh) -> Vec<u32> {
+    components_of(mesh, |_| true)
+}
+
+/// Vertices farther from the data than this share of `empty` join membranes in [`far_parts`]:
+/// every paired vertex is (see [`TUNNEL_FAR`]).
+const FAR_PART: f64 = TUNNEL_FAR;
+
+/// The parts of the surface in empty space: the component of every vertex farther than
+/// [`FAR_PART`] × `empty` from the data (`distances`) among such vertices, `u32::MAX` for the
+/// others. Two membranes over one hole are joined through empty space once a tube runs between
+/// them; membranes over different holes, or over the arms of one cavity (a cube drilled through
+/// along three axes), meet only at the data, however close they come in the middle.
+pub fn far_parts(mesh: &HalfedgeMesh, distances: &[f64], empty: f64) -> Vec<u32> {
+    components_of(mesh, |v| distances[v as usize].abs() > FAR_PART * empty)
+}
+
+/// The connected component of every vertex `keep` accepts, among those (deterministic
+/// numbering); `u32::MAX` for the others.
+fn components_of(mesh: &HalfedgeMesh, keep: impl Fn(u32) -> bool) -> Vec<u32> {
     let n = mesh.n_vertices();
     let mut part = vec![u32::MAX; n];
     let mut id = 0;
     let mut stack = Vec::new();
     for s in 0..n as u32 {
-        if part[s as usize] != u32::MAX {
+        if part[s as usize] != u32::MAX || !keep(s) {
             continue;
         }
         part[s as usize] = id;
@@ -449,7 +495,7 @@ fn components(mesh: &HalfedgeMesh) -> Vec<u32> {
                 continue;
             }
             for u in mesh.neighbors(v) {
-                if part[u as usize] == u32::MAX {
+                if part[u as usize] == u32::MAX && keep(u) {
                     part[u as usize] = id;
                     stack.push(u);
                 }
@@ -504,6 +550,46 @@ mod tests {
         assert!(facing_pairs(&m, &normals, &far, &q, &|_| 1.0)
             .iter()
             .all(Option::is_none));
+    }
+
+    /// The pancake's top and bottom inside an opened hole's ball, joined only at its rim. Joined
+    /// through empty space (the rim far from the data, as around a tube) they are that hole and
+    /// do not pair; with the rim on the data they are two membranes that meet in one cavity (the
+    /// arms of a cube drilled along three axes) and pair.
+    #[test]
+    fn sheets_joined_only_at_the_data_pair_in_an_opened_hole() {
+        let m = pancake(0.02);
+        let normals = angle_weighted_normals(&m);
+        let q = FacingQuery {
+            empty: 0.5,
+            gap_ratio: 0.25,
+            opened: vec![(DVec3::ZERO, 2.0)],
+            tunnel_ratio: 0.0,
+            min_width: 0.0,
+        };
+        let count = |distances: &[f64]| {
+            facing_pairs(&m, &normals, distances, &q, &|_| 1.0)
+                .iter()
+                .filter(|p| p.is_some())
+                .count()
+        };
+        let far = vec![1.0; m.n_vertices()];
+        assert_eq!(count(&far), 0);
+        let rim_on_data: Vec<f64> = m
+            .positions()
+            .iter()
+            .map(|p| {
+                if p.truncate().length() > 0.9 {
+                    0.0
+                } else {
+                    1.0
+                }
+            })
+            .collect();
+        assert!(count(&rim_on_data) > m.n_vertices() / 2);
+        assert_eq!(far_parts(&m, &far, q.empty).iter().max(), Some(&0));
+        let parts = far_parts(&m, &rim_on_data, q.empty);
+        assert_eq!(parts.iter().filter(|&&p| p != u32::MAX).max(), Some(&1));
     }
 
     /// A hole opened by a small tube at x = −1.5: the pancake (|x|, |y| ≤ 1) lies partly in the

@@ -12,8 +12,8 @@ pub mod detect;
 use crate::geometry::operators::normals::angle_weighted_normals;
 use crate::mesh::HalfedgeMesh;
 use crate::metrics::intersections::self_intersecting_pairs;
-use bridge::{glue_facing_regions, Cut, Tube};
-use detect::{facing_pairs_and_tunnels, in_opened_hole, FacingQuery};
+use bridge::{glue_facing_regions, Cut, Pass, Tube};
+use detect::{facing_pairs_and_tunnels, far_parts, in_opened_hole, FacingQuery};
 use glam::DVec3;
 use serde::Serialize;
 
@@ -65,6 +65,9 @@ pub struct Look {
     pub paired: usize,
     /// The operated surface, if surgery was done.
     pub operated: Option<Operated>,
+    /// Nothing was done because the surface already had intersecting faces (it had moved since
+    /// the contact guard's last check): look again once it is certified.
+    pub intersecting: bool,
     /// The tunnels paired across (see [`detect::facing_pairs_and_tunnels`]).
     pub tunnels: Vec<(DVec3, f64)>,
 }
@@ -87,10 +90,10 @@ pub fn open_handles(
     let (partner, tunnels) = facing_pairs_and_tunnels(mesh, &normals, distances, query, probe);
     let paired = partner.iter().filter(|p| p.is_some()).count();
     let settled = paired as f64 <= SETTLED_GROWTH * previous as f64;
-    let operated = if paired < 2 * min_vertices {
-        None
+    let (operated, intersecting) = if paired < 2 * min_vertices {
+        (None, false)
     } else {
-        operate(
+        match operate(
             mesh,
             &partner,
             distances,
@@ -98,19 +101,27 @@ pub fn open_handles(
             probe,
             settled,
             min_vertices,
-        )
+        ) {
+            Ok(op) => (op, false),
+            Err(Intersecting) => (None, true),
+        }
     };
     Look {
         paired,
         operated,
+        intersecting,
         tunnels,
     }
 }
 
+/// The surface to operate on had intersecting faces of its own.
+struct Intersecting;
+
 /// Cuts and glues; `None` when nothing qualified or the result failed a check. A tube in the
-/// same hole as an earlier tube of this look ([`detect::in_opened_hole`]: a membrane that met in
-/// two spots) is left out; so are the operations whose new faces cross others, and the rest is
-/// tried again (one bad tube must not hold back the other holes).
+/// same hole as an earlier tube of this look (a membrane that met in two spots: within its ball,
+/// [`detect::in_opened_hole`], between sheets that this look's earlier tubes join through empty
+/// space, [`detect::far_parts`]) is left out; so are the operations whose new faces cross others,
+/// and the rest is tried again (one bad tube must not hold back the other holes).
 fn operate(
     mesh: &HalfedgeMesh,
     partner: &[Option<u32>],
@@ -119,17 +130,49 @@ fn operate(
     probe: &dyn Fn(DVec3) -> f64,
     settled: bool,
     min_vertices: usize,
-) -> Option<Operated> {
-    let before = mesh.validate().ok()?;
+) -> Result<Option<Operated>, Intersecting> {
+    let Ok(before) = mesh.validate() else {
+        return Ok(None);
+    };
     let rim = RIM * query.empty;
+    let far = far_parts(mesh, distances, query.empty);
     let mut skip = Vec::new();
     for _attempt in 0..3 {
-        let glued =
-            glue_facing_regions(mesh, partner, distances, rim, settled, min_vertices, &skip)?;
+        let Some(glued) = glue_facing_regions(&Pass {
+            mesh,
+            partner,
+            distances,
+            rim,
+            settled,
+            min_vertices,
+            skip: &skip,
+            far: &far,
+        }) else {
+            return Ok(None);
+        };
         let mut balls = Vec::new();
         let mut twins = Vec::new();
+        // Union-find over the parts in empty space: the tubes so far join theirs.
+        let mut set: Vec<u32> = (0..=far
+            .iter()
+            .filter(|&&p| p != u32::MAX)
+            .max()
+            .map_or(0, |&m| m))
+            .collect();
+        let root = |set: &[u32], mut p: u32| {
+            while set[p as usize] != p {
+                p = set[p as usize];
+            }
+            p
+        };
         for t in glued.tubes.iter().filter(|t| t.cut == Cut::Tube) {
-            if in_opened_hole(t.position, &balls, query.empty, probe) {
+            let [a, b] = t.sides.map(|v| far[v as usize]);
+            let joined = a != u32::MAX && b != u32::MAX && {
+                let (ra, rb) = (root(&set, a), root(&set, b));
+                set[ra.max(rb) as usize] = ra.min(rb);
+                ra == rb
+            };
+            if joined && in_opened_hole(t.position, &balls, query.empty, probe) {
                 twins.push(t.region);
             } else {
                 balls.push((t.position, t.radius + OPENED_MARGIN * query.empty));
@@ -139,43 +182,59 @@ fn operate(
             skip.extend(twins);
             continue;
         }
-        let out = HalfedgeMesh::from_triangles(glued.positions, &glued.triangles).ok()?;
-        let after = out.validate().ok()?;
+        let Ok(out) = HalfedgeMesh::from_triangles(glued.positions, &glued.triangles) else {
+            return Ok(None);
+        };
+        let Ok(after) = out.validate() else {
+            return Ok(None);
+        };
         let change: i64 = glued
             .tubes
             .iter()
             .map(|t| if t.cut == Cut::Tube { -2 } else { 2 })
             .sum();
         if after.euler_characteristic != before.euler_characteristic + change {
-            return None;
+            return Ok(None);
         }
         let pairs = self_intersecting_pairs(out.positions(), &out.triangles());
         if pairs.is_empty() {
-            return Some(Operated {
+            return Ok(Some(Operated {
                 mesh: out,
                 tubes: glued.tubes,
                 genus_before: before.genus,
                 genus_after: after.genus,
                 components_before: before.components,
                 components_after: after.components,
-            });
+            }));
         }
-        let bad: Vec<u32> = glued
-            .tubes
-            .iter()
-            .filter(|t| {
-                let hit = |f: u32| t.faces.contains(&(f as usize));
-                pairs.iter().any(|&(f, g)| hit(f) || hit(g))
-            })
-            .map(|t| t.region)
-            .collect();
-        // Crossings among the old faces only, or every operation at fault: nothing to retry.
-        if bad.is_empty() || bad.len() == glued.tubes.len() {
-            return None;
+        // Each crossing is blamed on the operation that made its faces, and two operations
+        // crossing each other on the later one: the first stays in (tubes across the arms of
+        // one cavity can cross; a cube drilled along three axes had all four of a look's tubes
+        // at fault, and nothing was cut).
+        let owner = |f: u32| {
+            glued
+                .tubes
+                .iter()
+                .position(|t| t.faces.contains(&(f as usize)))
+        };
+        let mut bad = Vec::new();
+        for &(f, g) in &pairs {
+            match (owner(f), owner(g)) {
+                // Crossings among the old faces: they were there before.
+                (None, None) => return Err(Intersecting),
+                (Some(t), None) | (None, Some(t)) => bad.push(t),
+                (Some(s), Some(t)) => bad.push(s.max(t)),
+            }
         }
+        bad.sort_unstable();
+        bad.dedup();
+        if bad.len() == glued.tubes.len() {
+            return Ok(None);
+        }
+        let bad = bad.into_iter().map(|t| glued.tubes[t].region);
         skip.extend(bad);
     }
-    None
+    Ok(None)
 }
 
 /// The event records of `op`, in the target's units: positions mapped by `to_target`, lengths
