@@ -98,7 +98,10 @@ pub fn glue_facing_regions(pass: &Pass) -> Option<Glued> {
                 .collect();
             sheets.sort_unstable();
             sheets.dedup();
-            sheets.len() >= 2 && !used[r as usize] && disk_loop(mesh, region, r, &removed).is_none()
+            sheets.len() >= 2
+                && !used[r as usize]
+                && !skip.contains(&r)
+                && disk_loop(mesh, region, r, &removed).is_none()
         })
         .collect();
     if tangled.iter().any(|&t| t) {
@@ -107,7 +110,7 @@ pub fn glue_facing_regions(pass: &Pass) -> Option<Glued> {
             let s = region[partner[v]? as usize]?;
             match tangled[r as usize] {
                 true => Some((r, s)),
-                false if !used[r as usize] => Some((r, u32::MAX)),
+                false if !used[r as usize] && !skip.contains(&r) => Some((r, u32::MAX)),
                 false => None,
             }
         };
@@ -174,7 +177,7 @@ pub fn glue_facing_regions(pass: &Pass) -> Option<Glued> {
 }
 
 /// Vertex labels of facing regions, numbered from `first_id` (distinct between the regions and
-/// the pieces of tangled ones, so that `skip` names either).
+/// the pieces of tangled ones).
 struct Labels {
     of: Vec<Option<u32>>,
     sizes: Vec<usize>,
@@ -184,6 +187,16 @@ struct Labels {
 }
 
 impl Labels {
+    /// The name of label `local` (counted from 0) in `skip` and [`Tube::region`]: a region's
+    /// number, or a piece's first vertex with [`PIECE`] set (pieces are numbered after what the
+    /// first pass used, which a retry may change; their first vertices stay).
+    fn name(&self, local: u32) -> u32 {
+        match self.first_id {
+            0 => local,
+            _ => PIECE | self.seeds[local as usize],
+        }
+    }
+
     /// The label of vertex `v`, counted from 0.
     fn local(&self, v: usize) -> Option<u32> {
         self.of[v].map(|l| l - self.first_id)
@@ -218,6 +231,9 @@ impl Labels {
         votes
     }
 }
+
+/// Set in the name of a piece of a tangled region (see [`Labels::name`]).
+const PIECE: u32 = 1 << 31;
 
 /// What to glue (see [`glue_facing_regions`]).
 pub struct Pass<'a> {
@@ -266,7 +282,7 @@ impl Pass<'_> {
             let Some(b) = faces_of[a as usize] else {
                 continue;
             };
-            if self.skip.contains(&id(a)) || b <= a || faces_of[b as usize] != Some(a) {
+            if self.skip.contains(&labels.name(a)) || b <= a || faces_of[b as usize] != Some(a) {
                 continue;
             }
             if labels.sizes[a as usize] < self.min_vertices
@@ -296,7 +312,7 @@ impl Pass<'_> {
                 Cut::Tube,
                 la,
                 lb,
-                id(a),
+                labels.name(a),
                 sides,
                 start..tubes_tris.len(),
             ));
