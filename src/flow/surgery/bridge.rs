@@ -73,7 +73,8 @@ pub fn glue_facing_regions(pass: &Pass) -> Option<Glued> {
     let level = regions(mesh, partner);
     let (region, sizes, seeds) = (&level.of, &level.sizes, &level.seeds);
     let n_regions = sizes.len();
-    let faces_of = level.facing(partner);
+    let votes = level.votes(partner);
+    let faces_of = Labels::facing(&votes);
     let mut removed = vec![false; mesh.n_faces()];
     let mut tubes_tris = Vec::new();
     let mut tubes = Vec::new();
@@ -88,7 +89,6 @@ pub fn glue_facing_regions(pass: &Pass) -> Option<Glued> {
             used[r as usize] = true;
         }
     }
-    let votes = level.votes(partner);
     let tangled: Vec<bool> = (0..n_regions as u32)
         .map(|r| {
             let mut sheets: Vec<u32> = votes[r as usize]
@@ -115,7 +115,7 @@ pub fn glue_facing_regions(pass: &Pass) -> Option<Glued> {
             }
         };
         let pieces = split(mesh, key, n_regions as u32);
-        let faces_of = pieces.facing(partner);
+        let faces_of = Labels::facing(&pieces.votes(partner));
         pass.tubes(
             &pieces,
             &faces_of,
@@ -202,9 +202,10 @@ impl Labels {
         self.of[v].map(|l| l - self.first_id)
     }
 
-    /// The region each region mostly faces (ties to the smaller label), counted from 0.
-    fn facing(&self, partner: &[Option<u32>]) -> Vec<Option<u32>> {
-        self.votes(partner)
+    /// The region each region mostly faces by its `votes` ([`Labels::votes`]; ties to the smaller
+    /// label), counted from 0.
+    fn facing(votes: &[Vec<(u32, usize)>]) -> Vec<Option<u32>> {
+        votes
             .iter()
             .map(|list| {
                 list.iter()
