@@ -180,6 +180,27 @@ fn a_neck_between_two_separate_spheres_pinches_into_two_components() {
     assert!(kinds.contains(&"pinch"), "{kinds:?}");
 }
 
+/// A fat torus (R 0.5, r 0.44) whose hole is 0.12 wide at its waist, 6 % of its width: the
+/// flow squeezes the hole to a thin tube of the outside, the wrap's two sides pressing together
+/// round it in a ring that faces itself. That ring is no neck: capping it filled the hole, and
+/// the mesh came out genus 0.
+#[test]
+fn a_hole_squeezed_by_the_flow_is_not_pinched_shut() {
+    let torus = |p: DVec3| {
+        let q = (p.x * p.x + p.y * p.y).sqrt() - 0.5;
+        (q * q + p.z * p.z).sqrt() - 0.44
+    };
+    let (p, t) =
+        lsw::demo::shapes::implicit_surface(torus, DVec3::splat(-1.2), DVec3::splat(1.2), 0.02);
+    let (genus, events) = wrap_target(
+        "fat torus",
+        Target::new(p, t).unwrap(),
+        WrapSettings::default(),
+    );
+    assert_eq!(genus, 1, "{events:?}");
+    assert!(events.iter().all(|e| e.kind != "pinch"), "{events:?}");
+}
+
 #[test]
 fn close_gaps_keeps_narrower_handles_closed() {
     // torus-g1-cloud: the hole is 0.8 wide, 28 % of the diagonal (2.88).

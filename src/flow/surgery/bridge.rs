@@ -137,10 +137,17 @@ pub fn glue_facing_regions(pass: &Pass) -> Option<Glued> {
         // No waiting here: the stumps of a neck cut at its thinnest part retract onto the data
         // (or, around nothing, are dropped).
         let [la, lb] = [&loops[0], &loops[1]];
-        remove_region(mesh, region, &[a], &mut removed);
         let centroid =
             |lp: &[u32]| lp.iter().map(|&v| mesh.position(v)).sum::<DVec3>() / lp.len() as f64;
         let (ca, cb) = (centroid(la), centroid(lb));
+        // A neck whose loops stay joined round the rest of the surface takes a handle away:
+        // only one whose sheets face across it (see `faces_across`).
+        if joined_beyond(mesh, region, a, la[0], lb[0])
+            && !faces_across(mesh, region, partner, a, cb - ca)
+        {
+            continue;
+        }
+        remove_region(mesh, region, &[a], &mut removed);
         let start = tubes_tris.len();
         for (lp, away) in [(la, cb - ca), (lb, ca - cb)] {
             tubes_tris.extend(cap(&mut positions, lp, away.normalize_or_zero()));
@@ -174,6 +181,66 @@ pub fn glue_facing_regions(pass: &Pass) -> Option<Glued> {
         triangles,
         tubes,
     })
+}
+
+/// A neck's sheets face each other across its axis: the mean |cos| of the angle between a pair's
+/// line and the axis stays below this (0 across, 1 along).
+const NECK_ALONG: f64 = 0.5;
+
+/// Whether the vertices of region `r` face their partners across `axis` (the line between its
+/// two loops), as a neck's do. The wrap's two sides pressed together round a narrow through-hole
+/// also form a ring facing itself: curvature flow squeezed the hole to a thin tube of the
+/// outside, which the ring surrounds, and its two sheets face each other along the tube. Capping
+/// that ring's loops would fill the hole (a fat torus with a hole of 6 % of its width came out
+/// genus 0). A neck whose pinch would split the surface is never taken for that ring.
+fn faces_across(
+    mesh: &HalfedgeMesh,
+    region: &[Option<u32>],
+    partner: &[Option<u32>],
+    r: u32,
+    axis: DVec3,
+) -> bool {
+    let axis = axis.normalize_or_zero();
+    let (mut along, mut n) = (0.0, 0usize);
+    for (v, p) in partner.iter().enumerate() {
+        let (Some(u), true) = (p, region[v] == Some(r)) else {
+            continue;
+        };
+        let d = (mesh.position(*u) - mesh.position(v as u32)).normalize_or_zero();
+        along += d.dot(axis).abs();
+        n += 1;
+    }
+    axis != DVec3::ZERO && n > 0 && along < NECK_ALONG * n as f64
+}
+
+/// Whether vertices `a` and `b` are joined through faces of `mesh` outside region `r` (a face is
+/// in it when all its vertices are): cutting `r` out leaves them on one piece.
+fn joined_beyond(mesh: &HalfedgeMesh, region: &[Option<u32>], r: u32, a: u32, b: u32) -> bool {
+    let outside = |f: u32| {
+        mesh.is_deleted_face(f)
+            || mesh
+                .face_vertices(f)
+                .iter()
+                .any(|&v| region[v as usize] != Some(r))
+    };
+    let mut seen = vec![false; mesh.n_vertices()];
+    let mut stack = vec![a];
+    seen[a as usize] = true;
+    while let Some(v) = stack.pop() {
+        if v == b {
+            return true;
+        }
+        for h in mesh.outgoing(v) {
+            let u = mesh.to(h);
+            let o = HalfedgeMesh::opposite(h);
+            let kept = |h: u32| !mesh.is_boundary_halfedge(h) && outside(mesh.face(h));
+            if !seen[u as usize] && (kept(h) || kept(o)) {
+                seen[u as usize] = true;
+                stack.push(u);
+            }
+        }
+    }
+    false
 }
 
 /// Vertex labels of facing regions, numbered from `first_id` (distinct between the regions and
