@@ -119,12 +119,21 @@ def utunnel(x, y, z):
 def small_hole(x, y, z):
     return sd_torus(x, y, z, 0.5, 0.44)
 
+def linked(x, y, z):
+    a = sd_torus(x + 0.25, y, z, 0.5, 0.12)
+    b = sd_torus(x - 0.25, z, y, 0.5, 0.12)
+    return min(a, b)
+
+def bead(x, y, z):
+    return max(math.sqrt(x * x + y * y + z * z) - 0.8, -(math.hypot(x, y) - 0.07))
+
 SHAPES = {
     "gear": (gear, 1.2, 1), "pipe": (pipe, 1.2, 1), "bottle": (bottle, 1.2, 0),
     "ribbon": (ribbon, 1.2, 0), "washer": (washer, 1.2, 1), "hourglass": (hourglass, 1.0, 0),
     "spiky": (spiky, 1.1, 0), "thin-torus": (thin_torus, 1.0, 1), "var-torus": (var_torus, 1.0, 1),
     "pits": (pits, 0.8, 0), "bowl": (bowl, 1.0, 0), "tripod": (tripod, 1.1, 0),
     "u-tunnel": (utunnel, 1.0, 1), "small-hole": (small_hole, 1.0, 1),
+    "linked": (linked, 1.0, 2), "bead": (bead, 1.0, 1),
 }
 
 def main():

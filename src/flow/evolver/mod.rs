@@ -48,6 +48,10 @@ pub const CREASE_PHASE: &str = "sharp creases";
 /// The progress phase of a cloud's stray-point test (before the field; ~0.5 s natively on 1 M
 /// points).
 pub const STRAY_PHASE: &str = "stray points";
+/// Grid refinements tried for an isosurface start that lost a closed mesh's topology (see
+/// `Evolver::finer_start`).
+const FINER_GRIDS: [f64; 2] = [1.5, 2.0];
+
 /// The progress phase of the start surface.
 pub const START_PHASE: &str = "start surface";
 
@@ -422,6 +426,9 @@ impl Evolver {
                 progress.report(START_PHASE, 0.0);
                 let start =
                     Self::build_start_with_fallback(target, &field, &settings, &mut resolved)?;
+                if let Some(finer) = Self::finer_start(target, &settings, &resolved, progress) {
+                    return Ok(finer);
+                }
                 Ok((field, start, resolved))
             },
         );
@@ -553,6 +560,42 @@ impl Evolver {
             }
             other => other,
         }
+    }
+
+    /// `auto` on a closed one-part mesh whose isosurface start lost the target's topology (an
+    /// offset of ~1 cell closes a bore under ~4 cells wide, and the icosphere then wraps over
+    /// it): the isosurface start on grids [`FINER_GRIDS`] times finer, the first with the
+    /// target's topology, with its field and settings. `None` when the start taken is not that
+    /// fallback, or no finer grid helps (or fits the field's memory cap).
+    fn finer_start(
+        target: &Target,
+        requested: &WrapSettings,
+        resolved: &WrapSettings,
+        progress: &mut Progress,
+    ) -> Option<(DistanceField, Start, WrapSettings)> {
+        let fell_back = requested.start.surface == StartSurface::Auto
+            && resolved.start.surface == StartSurface::Icosphere
+            && !target.sampled
+            && !target.triangles.is_empty()
+            && crate::mesh::closed_topology(target.points.len(), &target.triangles)
+                .is_some_and(|t| t.components == 1);
+        if !fell_back {
+            return None;
+        }
+        FINER_GRIDS.iter().find_map(|&k| {
+            let mut s = requested.clone();
+            let n = s.field.cells_per_min_dimension as f64;
+            s.field.cells_per_min_dimension = (k * n).round() as u32;
+            let field = DistanceField::new_with_progress(target, &s.field, progress).ok()?;
+            let mut resolved = s.clone().resolved_for(field.is_signed());
+            (resolved.start.surface == StartSurface::Isosurface).then_some(())?;
+            let start = build_start(target, &field, &resolved).ok()?;
+            if !same_topology(&start.mesh, target) {
+                return None;
+            }
+            resolved.start.surface = StartSurface::Isosurface;
+            Some((field, start, resolved))
+        })
     }
 
     /// `auto`'s way on from an isosurface start it cannot use: the coarser isosurface start, if
