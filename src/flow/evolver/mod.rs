@@ -48,12 +48,12 @@ pub const CREASE_PHASE: &str = "sharp creases";
 /// The progress phase of a cloud's stray-point test (before the field; ~0.5 s natively on 1 M
 /// points).
 pub const STRAY_PHASE: &str = "stray points";
+/// The progress phase of the start surface.
+pub const START_PHASE: &str = "start surface";
+
 /// Grid refinements tried for an isosurface start that lost a closed mesh's topology (see
 /// `Evolver::finer_start`).
 const FINER_GRIDS: [f64; 2] = [1.5, 2.0];
-
-/// The progress phase of the start surface.
-pub const START_PHASE: &str = "start surface";
 
 /// `auto`'s isosurface start `resolved` with the isosurface preset's λ_min instead of its own
 /// finer one, unless the user chose λ_min (in `requested`) or the start is not the isosurface.
@@ -587,14 +587,10 @@ impl Evolver {
             let n = s.field.cells_per_min_dimension as f64;
             s.field.cells_per_min_dimension = (k * n).round() as u32;
             let field = DistanceField::new_with_progress(target, &s.field, progress).ok()?;
-            let mut resolved = s.clone().resolved_for(field.is_signed());
+            let resolved = s.clone().resolved_for(field.is_signed());
             (resolved.start.surface == StartSurface::Isosurface).then_some(())?;
             let start = build_start(target, &field, &resolved).ok()?;
-            if !same_topology(&start.mesh, target) {
-                return None;
-            }
-            resolved.start.surface = StartSurface::Isosurface;
-            Some((field, start, resolved))
+            same_topology(&start.mesh, target).then_some((field, start, resolved))
         })
     }
 
