@@ -233,6 +233,7 @@ fn membrane(gap: f64) -> (HalfedgeMesh, Vec<f64>) {
 fn a_membrane_across_a_ring_becomes_a_tube() {
     let (m, d) = membrane(0.02);
     let q = FacingQuery {
+        least_genus: None,
         empty: 0.15,
         gap_ratio: 0.25,
         opened: vec![],
@@ -256,6 +257,7 @@ fn a_membrane_across_a_ring_becomes_a_tube() {
     assert!(t.radius > 0.5 && t.radius < 1.0, "{}", t.radius);
     // Nothing pairs inside the opened hole any more.
     let q2 = FacingQuery {
+        least_genus: None,
         opened: vec![(t.position, t.radius + 1.5 * q.empty)],
         ..q
     };
@@ -278,6 +280,7 @@ fn a_first_contact_waits_until_the_membranes_settle() {
     let (m, d) = membrane(0.02);
     let deep: Vec<f64> = d.iter().map(|d| d + 1.0).collect();
     let q = FacingQuery {
+        least_genus: None,
         empty: 0.15,
         gap_ratio: 0.25,
         opened: vec![],
@@ -292,6 +295,7 @@ fn a_first_contact_waits_until_the_membranes_settle() {
 
 fn far_query() -> FacingQuery {
     FacingQuery {
+        least_genus: None,
         empty: 0.15,
         gap_ratio: 0.25,
         opened: vec![],
@@ -359,6 +363,7 @@ fn a_membrane_at_the_data_is_left_alone() {
     let (m, _) = membrane(0.02);
     let near = vec![0.1; m.n_vertices()];
     let q = FacingQuery {
+        least_genus: None,
         empty: 0.15,
         gap_ratio: 0.25,
         opened: vec![],

@@ -253,6 +253,9 @@ pub struct Evolver {
     /// Half of `surgery.close_gaps` diagonals (stabilised frame): a tunnel narrower than this
     /// stays closed.
     close_gap_distance: f64,
+    /// The target's genus where it is known (a closed one-part mesh's): no neck cut takes the
+    /// surface below it.
+    least_genus: Option<i64>,
     /// Every topology change so far.
     surgery_events: Vec<SurgeryEvent>,
     /// The tunnels opened so far (middle, farthest wall; stabilised frame): nothing pairs there.
@@ -477,6 +480,9 @@ impl Evolver {
         let d0 = settings.flow.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
         let empty_distance = phi * empty_distance(target, c, &settings);
         let close_gap_distance = phi * close_gap_distance(target, &settings);
+        let least_genus = crate::mesh::closed_topology(target.points.len(), &target.triangles)
+            .filter(|t| !target.triangles.is_empty() && t.components == 1)
+            .map(|t| t.genus);
         let mut ev = Evolver {
             tau: settings.flow.tau,
             d1: settings.flow.d1,
@@ -513,6 +519,7 @@ impl Evolver {
             guarded_left: 0,
             empty_distance,
             close_gap_distance,
+            least_genus,
             surgery_events: Vec::new(),
             tunnels_opened: Vec::new(),
             surgery_paired: 0,

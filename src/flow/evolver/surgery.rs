@@ -73,6 +73,7 @@ impl Evolver {
             gap_ratio: s.gap_ratio,
             opened,
             min_width: self.close_gap_distance,
+            least_genus: self.least_genus,
             tunnel_ratio: if self.step as f64 >= TUNNELS_FROM * self.settings.stop.steps as f64 {
                 s.tunnel_ratio
             } else {

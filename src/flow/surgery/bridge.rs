@@ -68,8 +68,10 @@ pub fn glue_facing_regions(pass: &Pass) -> Option<Glued> {
         min_vertices,
         skip,
         far,
+        spare_handles,
         ..
     } = *pass;
+    let mut spare_handles = spare_handles;
     let level = regions(mesh, partner);
     let (region, sizes, seeds) = (&level.of, &level.sizes, &level.seeds);
     let n_regions = sizes.len();
@@ -141,11 +143,16 @@ pub fn glue_facing_regions(pass: &Pass) -> Option<Glued> {
             |lp: &[u32]| lp.iter().map(|&v| mesh.position(v)).sum::<DVec3>() / lp.len() as f64;
         let (ca, cb) = (centroid(la), centroid(lb));
         // A neck whose loops stay joined round the rest of the surface takes a handle away:
-        // only one whose sheets face across it (see `faces_across`).
-        if joined_beyond(mesh, region, a, la[0], lb[0])
-            && !faces_across(mesh, region, partner, a, cb - ca)
-        {
-            continue;
+        // only a handle the target lacks, or (its genus unknown) one whose sheets face across
+        // the neck (see `faces_across`).
+        if joined_beyond(mesh, region, a, la[0], lb[0]) {
+            let take = match &mut spare_handles {
+                Some(k) => std::mem::replace(k, *k - 1) > 0,
+                None => faces_across(mesh, region, partner, a, cb - ca),
+            };
+            if !take {
+                continue;
+            }
         }
         remove_region(mesh, region, &[a], &mut removed);
         let start = tubes_tris.len();
@@ -192,7 +199,8 @@ const NECK_ALONG: f64 = 0.5;
 /// also form a ring facing itself: curvature flow squeezed the hole to a thin tube of the
 /// outside, which the ring surrounds, and its two sheets face each other along the tube. Capping
 /// that ring's loops would fill the hole (a fat torus with a hole of 6 % of its width came out
-/// genus 0). A neck whose pinch would split the surface is never taken for that ring.
+/// genus 0). Asked only where the target's genus is unknown (a cloud's) and the pinch would not
+/// split the surface.
 fn faces_across(
     mesh: &HalfedgeMesh,
     region: &[Option<u32>],
@@ -320,6 +328,9 @@ pub struct Pass<'a> {
     pub skip: &'a [u32],
     /// Each vertex's part in empty space ([`super::detect::far_parts`]).
     pub far: &'a [u32],
+    /// Handles the surface has beyond the target's, where the target's genus is known: neck
+    /// cuts may take away that many (see [`super::detect::FacingQuery::least_genus`]).
+    pub spare_handles: Option<i64>,
 }
 
 impl Pass<'_> {

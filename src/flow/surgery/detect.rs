@@ -46,6 +46,10 @@ pub struct FacingQuery {
     /// `surgery.close_gaps` width: `empty` alone admits tunnels a little narrower, see
     /// [`PATH_CLEAR`]).
     pub min_width: f64,
+    /// The target's genus where known (a closed one-part mesh's): a neck cut that would take a
+    /// handle away is made only while the surface has more handles than this. Unknown (a
+    /// cloud's): only a neck whose sheets face across it (see [`super::bridge`]).
+    pub least_genus: Option<i64>,
 }
 
 /// A hole's membrane may reach farther from its tube than the ball in [`FacingQuery::opened`]:
@@ -528,6 +532,7 @@ mod tests {
         let normals = angle_weighted_normals(&m);
         let far = vec![1.0; m.n_vertices()];
         let mut q = FacingQuery {
+            least_genus: None,
             empty: 0.5,
             gap_ratio: 0.25,
             opened: vec![],
@@ -561,6 +566,7 @@ mod tests {
         let m = pancake(0.02);
         let normals = angle_weighted_normals(&m);
         let q = FacingQuery {
+            least_genus: None,
             empty: 0.5,
             gap_ratio: 0.25,
             opened: vec![(DVec3::ZERO, 2.0)],
@@ -602,6 +608,7 @@ mod tests {
         let normals = angle_weighted_normals(&m);
         let far = vec![1.0; m.n_vertices()];
         let q = FacingQuery {
+            least_genus: None,
             empty: 0.5,
             gap_ratio: 0.25,
             opened: vec![(DVec3::new(-1.5, 0.0, 0.0), 1.0)],
@@ -620,6 +627,7 @@ mod tests {
         assert!(count(&bar) > m.n_vertices() / 2);
         // Beyond reach (3 balls), a vertex is never taken for the opened hole.
         let far_hole = FacingQuery {
+            least_genus: None,
             opened: vec![(DVec3::new(-4.5, 0.0, 0.0), 1.0)],
             ..q.clone()
         };
@@ -653,6 +661,7 @@ mod tests {
         let pairs_wider = |tunnel_ratio: f64, min_width: f64, probe: &dyn Fn(DVec3) -> f64| {
             let d: Vec<f64> = m.positions().iter().map(|&p| probe(p)).collect();
             let q = FacingQuery {
+                least_genus: None,
                 empty: 0.5,
                 gap_ratio: 0.25,
                 opened: vec![],
@@ -679,6 +688,7 @@ mod tests {
         // The hole found: its middle between the faces, its farthest wall across the hole.
         let d: Vec<f64> = m.positions().iter().map(|&p| hole(p)).collect();
         let mut q = FacingQuery {
+            least_genus: None,
             empty: 0.5,
             gap_ratio: 0.25,
             opened: vec![],
@@ -736,6 +746,7 @@ mod tests {
         let probe = |p: DVec3| (p.length() - shell).abs();
         let d: Vec<f64> = m.positions().iter().map(|&p| probe(p)).collect();
         let q = FacingQuery {
+            least_genus: None,
             empty: 0.5,
             gap_ratio: 0.25,
             opened: vec![],
@@ -752,6 +763,7 @@ mod tests {
         let m = pancake(0.02);
         let normals = angle_weighted_normals(&m);
         let q = FacingQuery {
+            least_genus: None,
             empty: 0.5,
             gap_ratio: 0.25,
             opened: vec![],

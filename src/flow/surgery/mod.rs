@@ -147,6 +147,7 @@ fn operate(
             min_vertices,
             skip: &skip,
             far: &far,
+            spare_handles: query.least_genus.map(|g| before.genus - g),
         }) else {
             return Ok(None);
         };
