@@ -569,11 +569,13 @@ impl Evolver {
         }
     }
 
-    /// `auto` on a closed one-part mesh whose isosurface start lost the target's topology (an
-    /// offset of ~1 cell closes a bore under ~4 cells wide, and the icosphere then wraps over
-    /// it): the isosurface start on grids [`FINER_GRIDS`] times finer, the first with the
-    /// target's topology, with its field and settings. `None` when the start taken is not that
-    /// fallback, or no finer grid helps (or fits the field's memory cap).
+    /// `auto` on a closed one-part mesh (or a volume's one-part iso-surface) whose isosurface
+    /// start lost the target's topology or met itself (an offset of ~1 cell closes a bore under
+    /// ~4 cells wide, and the icosphere then wraps over it): the isosurface start on grids
+    /// [`FINER_GRIDS`] times finer, the first with the target's topology, with its field and
+    /// settings. `None` when the start taken is not that fallback, or no finer grid helps (or
+    /// fits the field's memory cap). (A noisy volume's iso-surface rarely matches: five of the 18
+    /// of `benches/noisy/sweep.sh` try both grids in vain, 1.3–1.9 s each.)
     fn finer_start(
         target: &Target,
         requested: &WrapSettings,
@@ -582,7 +584,6 @@ impl Evolver {
     ) -> Option<(DistanceField, Start, WrapSettings)> {
         let fell_back = requested.start.surface == StartSurface::Auto
             && resolved.start.surface == StartSurface::Icosphere
-            && !target.sampled
             && !target.triangles.is_empty()
             && crate::mesh::closed_topology(target.points.len(), &target.triangles)
                 .is_some_and(|t| t.components == 1);
