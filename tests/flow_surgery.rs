@@ -257,7 +257,6 @@ fn a_membrane_across_a_ring_becomes_a_tube() {
     assert!(t.radius > 0.5 && t.radius < 1.0, "{}", t.radius);
     // Nothing pairs inside the opened hole any more.
     let q2 = FacingQuery {
-        least_genus: None,
         opened: vec![(t.position, t.radius + 1.5 * q.empty)],
         ..q
     };

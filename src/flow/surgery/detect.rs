@@ -627,7 +627,6 @@ mod tests {
         assert!(count(&bar) > m.n_vertices() / 2);
         // Beyond reach (3 balls), a vertex is never taken for the opened hole.
         let far_hole = FacingQuery {
-            least_genus: None,
             opened: vec![(DVec3::new(-4.5, 0.0, 0.0), 1.0)],
             ..q.clone()
         };
