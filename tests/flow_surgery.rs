@@ -11,6 +11,7 @@
 use glam::{DQuat, DVec3};
 use lsw::demo::shapes::generate;
 use lsw::demo::{sample_mesh, Rng};
+use lsw::flow::surgery::bridge::Cut;
 use lsw::flow::surgery::detect::FacingQuery;
 use lsw::flow::surgery::{drop_empty_components, events, open_handles, SurgeryEvent};
 use lsw::flow::{Evolver, StartSurface, WrapSettings};
@@ -322,6 +323,50 @@ fn two_spheres_approaching_in_empty_space_merge_through_a_tube() {
     assert_eq!(events(&op, 1, 1.0, |p| p)[0].kind, "merge");
     let pairs = self_intersecting_pairs_brute_force(op.mesh.positions(), &op.mesh.triangles());
     assert!(pairs.is_empty(), "{pairs:?}");
+}
+
+/// A ring (R 1) whose tube thins from 0.3 to 0.04 on one side: that side is a neck in empty
+/// space, and cutting it takes the ring's handle away. Done where the target's genus is unknown
+/// (its sheets face across the neck) or lower than the surface's, refused where it equals it.
+#[wasm_bindgen_test(unsupported = test)]
+fn a_neck_that_takes_a_handle_away_is_cut_only_above_the_target_genus() {
+    let (nu, nv) = (64usize, 6usize);
+    let mut positions = Vec::with_capacity(nu * nv);
+    for i in 0..nu {
+        let u = std::f64::consts::TAU * i as f64 / nu as f64;
+        let r = 0.3 - 0.26 * lsw::fmath::cos(u).max(0.0).powi(2);
+        let (cu, su) = (lsw::fmath::cos(u), lsw::fmath::sin(u));
+        for j in 0..nv {
+            let v = std::f64::consts::TAU * j as f64 / nv as f64;
+            let (cv, sv) = (lsw::fmath::cos(v), lsw::fmath::sin(v));
+            positions.push(DVec3::new((1.0 + r * cv) * cu, (1.0 + r * cv) * su, r * sv));
+        }
+    }
+    let at = |i: usize, j: usize| ((i % nu) * nv + j % nv) as u32;
+    let mut triangles = Vec::with_capacity(2 * nu * nv);
+    for i in 0..nu {
+        for j in 0..nv {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            triangles.push([a, b, c]);
+            triangles.push([a, c, d]);
+        }
+    }
+    let m = HalfedgeMesh::from_triangles(positions, &triangles).unwrap();
+    assert_eq!(m.validate().unwrap().genus, 1);
+    let far = vec![1.0; m.n_vertices()];
+    let look = |least_genus| {
+        let q = FacingQuery {
+            least_genus,
+            ..far_query()
+        };
+        open_handles(&m, &far, &|_| 1.0, &q, 6, 1 << 20).operated
+    };
+    for least_genus in [None, Some(0)] {
+        let op = look(least_genus).expect("the neck is cut");
+        assert_eq!((op.genus_before, op.genus_after), (1, 0), "{least_genus:?}");
+        assert!(op.tubes.iter().all(|t| t.cut == Cut::Pinch));
+    }
+    assert!(look(Some(1)).is_none(), "a pinch below the target's genus");
 }
 
 #[wasm_bindgen_test(unsupported = test)]
