@@ -517,6 +517,18 @@ mod tests {
     use crate::geometry::operators::normals::angle_weighted_normals;
     use glam::DVec2;
 
+    /// The query of these tests: `empty` 0.5, gap ratio 0.25, nothing opened, no tunnels.
+    fn query() -> FacingQuery {
+        FacingQuery {
+            empty: 0.5,
+            gap_ratio: 0.25,
+            opened: vec![],
+            tunnel_ratio: 0.0,
+            min_width: 0.0,
+            least_genus: None,
+        }
+    }
+
     /// A sphere squashed into a pancake: its top and bottom face each other across a small gap.
     fn pancake(gap: f64) -> HalfedgeMesh {
         let mut m = icosphere(4, 1.0, DVec3::ZERO).unwrap();
@@ -531,14 +543,7 @@ mod tests {
         let m = pancake(0.02);
         let normals = angle_weighted_normals(&m);
         let far = vec![1.0; m.n_vertices()];
-        let mut q = FacingQuery {
-            least_genus: None,
-            empty: 0.5,
-            gap_ratio: 0.25,
-            opened: vec![],
-            tunnel_ratio: 0.0,
-            min_width: 0.0,
-        };
+        let mut q = query();
         let pairs = facing_pairs(&m, &normals, &far, &q, &|_| 1.0);
         let paired: Vec<u32> = (0..m.n_vertices() as u32)
             .filter(|&v| pairs[v as usize].is_some())
@@ -566,12 +571,8 @@ mod tests {
         let m = pancake(0.02);
         let normals = angle_weighted_normals(&m);
         let q = FacingQuery {
-            least_genus: None,
-            empty: 0.5,
-            gap_ratio: 0.25,
             opened: vec![(DVec3::ZERO, 2.0)],
-            tunnel_ratio: 0.0,
-            min_width: 0.0,
+            ..query()
         };
         let count = |distances: &[f64]| {
             facing_pairs(&m, &normals, distances, &q, &|_| 1.0)
@@ -608,12 +609,8 @@ mod tests {
         let normals = angle_weighted_normals(&m);
         let far = vec![1.0; m.n_vertices()];
         let q = FacingQuery {
-            least_genus: None,
-            empty: 0.5,
-            gap_ratio: 0.25,
             opened: vec![(DVec3::new(-1.5, 0.0, 0.0), 1.0)],
-            tunnel_ratio: 0.0,
-            min_width: 0.0,
+            ..query()
         };
         let count = |probe: &dyn Fn(DVec3) -> f64| {
             facing_pairs(&m, &normals, &far, &q, probe)
@@ -660,12 +657,9 @@ mod tests {
         let pairs_wider = |tunnel_ratio: f64, min_width: f64, probe: &dyn Fn(DVec3) -> f64| {
             let d: Vec<f64> = m.positions().iter().map(|&p| probe(p)).collect();
             let q = FacingQuery {
-                least_genus: None,
-                empty: 0.5,
-                gap_ratio: 0.25,
-                opened: vec![],
                 tunnel_ratio,
                 min_width,
+                ..query()
             };
             facing_pairs(&m, &normals, &d, &q, probe)
         };
@@ -687,12 +681,8 @@ mod tests {
         // The hole found: its middle between the faces, its farthest wall across the hole.
         let d: Vec<f64> = m.positions().iter().map(|&p| hole(p)).collect();
         let mut q = FacingQuery {
-            least_genus: None,
-            empty: 0.5,
-            gap_ratio: 0.25,
-            opened: vec![],
             tunnel_ratio: 4.0,
-            min_width: 0.0,
+            ..query()
         };
         let (_, holes) = facing_pairs_and_tunnels(&m, &normals, &d, &q, &hole);
         assert!(!holes.is_empty());
@@ -745,12 +735,8 @@ mod tests {
         let probe = |p: DVec3| (p.length() - shell).abs();
         let d: Vec<f64> = m.positions().iter().map(|&p| probe(p)).collect();
         let q = FacingQuery {
-            least_genus: None,
-            empty: 0.5,
-            gap_ratio: 0.25,
-            opened: vec![],
             tunnel_ratio: 4.0,
-            min_width: 0.0,
+            ..query()
         };
         let (found, holes) = facing_pairs_and_tunnels(&m, &normals, &d, &q, &probe);
         assert!(holes.is_empty(), "{holes:?}");
@@ -761,14 +747,7 @@ mod tests {
     fn sheets_near_the_data_or_far_apart_are_not_paired() {
         let m = pancake(0.02);
         let normals = angle_weighted_normals(&m);
-        let q = FacingQuery {
-            least_genus: None,
-            empty: 0.5,
-            gap_ratio: 0.25,
-            opened: vec![],
-            tunnel_ratio: 0.0,
-            min_width: 0.0,
-        };
+        let q = query();
         // At the data: every vertex within `empty` of the target.
         let near = vec![0.1; m.n_vertices()];
         assert!(facing_pairs(&m, &normals, &near, &q, &|_| 1.0)
