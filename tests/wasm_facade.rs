@@ -59,6 +59,17 @@ fn catalog_lists_what_the_session_accepts() {
     assert!(js_sys::Float32Array::from(get(&iso, "positions")).length() > 0);
 }
 
+/// A cloud too large for the browser's memory is refused at once, saying how to wrap it
+/// (building one here would take the 4 GB it lacks, so the check is called as the session does).
+#[wasm_bindgen_test]
+fn a_cloud_too_large_for_the_browser_is_refused_with_a_way_out() {
+    use lsw::wasm::session::{check_cloud_size, MAX_CLOUD_POINTS};
+    assert!(check_cloud_size(MAX_CLOUD_POINTS).is_ok());
+    let (code, hint) = code_and_hint(check_cloud_size(20_000_000).unwrap_err().into());
+    assert_eq!(code, "too-large");
+    assert!(hint.contains("lsw wrap"), "{hint}");
+}
+
 #[wasm_bindgen_test]
 fn core_errors_arrive_with_code_and_hint() {
     let e = WrapSession::new(b"hello\n", None, "{}", None)

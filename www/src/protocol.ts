@@ -435,6 +435,36 @@ export function toUiError(e: unknown): UiError {
   return { code: 'internal', message: String(e), hint: 'Reload the page; if it persists, report a bug.' };
 }
 
+/** The most linear memory a wasm32 instance can have: 4 GiB. */
+export const WASM_MEMORY_LIMIT = 4 * 1024 ** 3;
+
+/** A trap with more than this share of {@link WASM_MEMORY_LIMIT} in use is taken for an
+ * allocation that failed: the core aborts then, which wasm reports as a bare "unreachable" (a
+ * 20 M-point cloud stopped so with 2.8 GB in use, and the page said only "unreachable"). */
+const TRAP_NEAR_LIMIT = 0.5;
+
+/** What the worker reports for anything thrown while `wasmBytes` of linear memory were in use:
+ * core errors as they are; a failed allocation (a RangeError, an allocation message, or a trap
+ * with most of the memory in use) as `out-of-memory`; any other trap as an internal error. The
+ * page restarts the worker for both of the last two. */
+export function failureError(e: unknown, wasmBytes: number): UiError {
+  const error = toUiError(e);
+  if (error.code !== 'internal') return error;
+  const trapped = e instanceof WebAssembly.RuntimeError;
+  const restarted = 'The page has restarted its computation; the last result shown is kept.';
+  if (e instanceof RangeError || /memory|allocation/i.test(error.message) || (trapped && wasmBytes > TRAP_NEAR_LIMIT * WASM_MEMORY_LIMIT)) {
+    return {
+      code: 'out-of-memory',
+      message: `This input needs more memory than the browser gives the wrap (${(wasmBytes / 1e9).toFixed(1)} GB in use of at most ${(WASM_MEMORY_LIMIT / 1e9).toFixed(1)} GB).`,
+      hint: `${restarted} Use a smaller input (thin the cloud, or lower field.cells_per_min_dimension in the advanced settings), or wrap it with the native CLI (lsw wrap), which has no such limit.`,
+    };
+  }
+  if (trapped) {
+    return { code: 'internal', message: `The computation stopped on an internal error (wasm: ${error.message}).`, hint: `${restarted} If it happens again with this input, please report a bug.` };
+  }
+  return error;
+}
+
 /** UI → render worker. Geometry buffers are transferred, not copied. */
 export type ToRender =
   | { type: 'init'; canvas: OffscreenCanvas; width: number; height: number; pixelRatio: number }

@@ -6,7 +6,7 @@ import init, {
   VolumeView, phantomVolume,
 } from '../pkg/lsw.js';
 import type { Catalog, Certificate, ColourMap, FieldView, FromWorker, Histogram, McfStats, MeshTauAdvice, Source, StepReport, TargetInfo, TauAdvice, ToWorker, VolumeInfo } from './protocol';
-import { toUiError } from './protocol';
+import { failureError } from './protocol';
 import { batchSize } from './schedule';
 import { colorize, robustRange } from './colormap';
 import { Stopwatch } from './stopwatch';
@@ -49,12 +49,7 @@ function post(msg: FromWorker, transfer: Transferable[] = []): void {
 
 function fail(e: unknown): void {
   playing = false;
-  const error = toUiError(e);
-  if (error.code === 'internal' && (e instanceof RangeError || /memory|allocation/i.test(error.message))) {
-    error.code = 'out-of-memory';
-    error.hint = 'The browser ran out of memory: lower field.cells_per_min_dimension in the advanced settings, or use a smaller input.';
-  }
-  post({ type: 'error', error });
+  post({ type: 'error', error: failureError(e, wasmMemory?.buffer.byteLength ?? 0) });
 }
 
 /** Colours for a scalar, or null for plain shading. */
