@@ -513,10 +513,6 @@ pub fn triangles_band_by_nodes(
     let r2 = r * r;
     let n = grid.node_count();
     let [nx, ny, nz] = grid.dims;
-    let (mut mins, mut maxs) = (
-        Vec::with_capacity(triangles.len()),
-        Vec::with_capacity(triangles.len()),
-    );
     let mut reach = 0.0f64;
     let mut marked = vec![false; n];
     for tri in triangles {
@@ -528,8 +524,6 @@ pub fn triangles_band_by_nodes(
                 .max((b - centre).length())
                 .max((c - centre).length()),
         );
-        mins.push(a.min(b).min(c));
-        maxs.push(a.max(b).max(c));
         let q = ((centre - grid.origin) / grid.cell).round();
         if q.is_finite() {
             let [ix, iy, iz] = [q.x, q.y, q.z].map(|x| x.max(0.0) as usize);
@@ -542,7 +536,14 @@ pub fn triangles_band_by_nodes(
     // within half a cell diagonal of its marked node: dilate by that many cells per axis.
     let m = ((r + reach) / grid.cell).ceil() as usize + 1;
     dilate(&mut marked, grid.dims, m);
-    let bvh = Bvh::new_morton(&mins, &maxs, 4);
+    let bvh = Bvh::new_morton_with(
+        triangles.len(),
+        |t| {
+            let [a, b, c] = triangles[t].map(|v| points[v as usize]);
+            (a.min(b).min(c), a.max(b).max(c))
+        },
+        4,
+    );
     let nodes: Vec<u32> = (0..n as u32).filter(|&i| marked[i as usize]).collect();
     drop(marked);
     // Independent queries: in parallel natively, collected in node order.

@@ -123,8 +123,43 @@ fn case_table() -> Vec<[Vec<TriEdges>; 16]> {
 /// Extracts the isosurface `value = iso` as welded, oriented triangles (see the module docs).
 /// Returns positions and triangles; both are empty when the level set does not cross the grid.
 pub fn marching_cubes(grid: &ScalarGridView, iso: f64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let [nx, ny, _] = grid.dims;
+    assert_eq!(
+        grid.values.len(),
+        grid.dims.iter().product::<usize>(),
+        "values do not match dims"
+    );
+    let nodes = GridNodes {
+        origin: grid.origin,
+        cell: grid.cell,
+        dims: grid.dims,
+        first: grid.first,
+    };
+    marching_cubes_with(
+        &nodes,
+        |ix, iy, iz| grid.values[ix + nx * (iy + ny * iz)],
+        iso,
+    )
+}
+
+/// The lattice of [`marching_cubes_with`]: a [`ScalarGridView`] without its values.
+#[derive(Clone, Copy, Debug)]
+pub struct GridNodes {
+    pub origin: DVec3,
+    pub cell: f64,
+    pub dims: [usize; 3],
+    pub first: [usize; 3],
+}
+
+/// [`marching_cubes`] with the node values read through `value(ix, iy, iz)` (indices in
+/// `grid.dims`): a caller whose values are a function of stored ones (a voxel volume padded and
+/// offset by its iso-value) need not write them all out first (a 640³ volume's copy took 2 GB).
+pub fn marching_cubes_with(
+    grid: &GridNodes,
+    value: impl Fn(usize, usize, usize) -> f64,
+    iso: f64,
+) -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let [nx, ny, nz] = grid.dims;
-    assert_eq!(grid.values.len(), nx * ny * nz, "values do not match dims");
     let mut positions = Vec::new();
     let mut triangles = Vec::new();
     if nx < 2 || ny < 2 || nz < 2 {
@@ -137,7 +172,7 @@ pub fn marching_cubes(grid: &ScalarGridView, iso: f64) -> (Vec<DVec3>, Vec<[u32;
     let offsets: [usize; 8] = std::array::from_fn(|k| offset(k as u8));
     // Value used for the inside test and interpolation: border nodes are forced outside.
     let value = |ix: usize, iy: usize, iz: usize| -> f64 {
-        let v = grid.values[ix + sy * iy + sz * iz];
+        let v = value(ix, iy, iz);
         let border = ix == 0 || iy == 0 || iz == 0 || ix == nx - 1 || iy == ny - 1 || iz == nz - 1;
         if border {
             v.max(iso)

@@ -8,7 +8,7 @@
 //! threshold (the default iso-value) and the iso-surface of a volume in world coordinates.
 
 use super::error::{Format, IoError, Location};
-use crate::geometry::marching_cubes::{marching_cubes, ScalarGridView};
+use crate::geometry::marching_cubes::{marching_cubes_with, GridNodes};
 use glam::{DMat4, DVec3, DVec4};
 use serde::{Deserialize, Serialize};
 use std::io::Read;
@@ -177,28 +177,27 @@ impl VoxelVolume {
             Inside::Bright => -1.0,
             Inside::Dark => 1.0,
         };
-        let mut g = vec![1.0f64; px * py * pz];
-        for iz in 0..nz {
-            for iy in 0..ny {
-                let src = nx * (iy + ny * iz);
-                let dst = 1 + px * (iy + 1 + py * (iz + 1));
-                for (o, &v) in g[dst..dst + nx].iter_mut().zip(&self.values[src..src + nx]) {
-                    *o = if v.is_finite() {
-                        sign * (v as f64 - iso)
-                    } else {
-                        1.0
-                    };
-                }
+        // The volume padded by one voxel of outside (1) and offset by the iso-value, read where
+        // the marching needs it rather than written out (8 bytes a voxel: 2 GB for 640³).
+        let value = |ix: usize, iy: usize, iz: usize| -> f64 {
+            let pad = |i: usize, n: usize| i == 0 || i > n;
+            if pad(ix, nx) || pad(iy, ny) || pad(iz, nz) {
+                return 1.0;
             }
-        }
-        let view = ScalarGridView {
+            let v = self.values[(ix - 1) + nx * ((iy - 1) + ny * (iz - 1))];
+            if v.is_finite() {
+                sign * (v as f64 - iso)
+            } else {
+                1.0
+            }
+        };
+        let nodes = GridNodes {
             first: [0; 3],
             origin: DVec3::splat(-1.0),
             cell: 1.0,
             dims: [px, py, pz],
-            values: &g,
         };
-        let (mut positions, mut triangles) = marching_cubes(&view, 0.0);
+        let (mut positions, mut triangles) = marching_cubes_with(&nodes, value, 0.0);
         for p in &mut positions {
             *p = self.world(*p);
         }

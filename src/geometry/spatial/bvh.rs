@@ -51,6 +51,32 @@ fn box_dist2(p: DVec3, min: DVec3, max: DVec3) -> f64 {
     d.length_squared()
 }
 
+/// The nodes of a tree that splits every range of more than `leaf` primitives at its middle
+/// (`len / 2`), as both builders do: the exact capacity of its node list. (Guessed at `2n /
+/// leaf`, the list outgrew it, since such leaves hold about `0.6·leaf`, and its doubling held
+/// 1.5 GB at once for a 640³ volume's 9.7 M-triangle iso-surface.)
+fn halving_tree_nodes(n: usize, leaf: usize) -> usize {
+    // The ranges of one level differ in length by one at most: count them by length.
+    let mut level = vec![(n, 1usize)];
+    let mut total = 0;
+    while !level.is_empty() {
+        let mut next: Vec<(usize, usize)> = Vec::with_capacity(2);
+        for (len, k) in level {
+            total += k;
+            if len > leaf {
+                for half in [len / 2, len - len / 2] {
+                    match next.iter_mut().find(|e| e.0 == half) {
+                        Some(e) => e.1 += k,
+                        None => next.push((half, k)),
+                    }
+                }
+            }
+        }
+        level = next;
+    }
+    total
+}
+
 /// Spreads the low 21 bits of `v` to every third bit (for 63-bit Morton codes).
 fn spread3(v: u64) -> u64 {
     let mut x = v & 0x1f_ffff;
@@ -115,7 +141,7 @@ impl Boxes<'_> {
     /// first; node links are indices into the returned list.
     fn subtree(&self, order: &mut [u32], offset: usize) -> Vec<Node> {
         let n = order.len();
-        let mut nodes = Vec::with_capacity(2 * n / LEAF_SIZE + 1);
+        let mut nodes = Vec::with_capacity(halving_tree_nodes(n, LEAF_SIZE));
         nodes.push(Node::PLACEHOLDER);
         // Explicit stack: (node index, start, end), relative to `order`.
         let mut stack = vec![(0usize, 0usize, n)];
@@ -149,28 +175,38 @@ impl Bvh {
     /// sorted along the Morton curve of their box centres, then split at the middle of each range
     /// (no per-node partitioning). Leaves hold up to `leaf` primitives. Deterministic.
     pub fn new_morton(mins: &[DVec3], maxs: &[DVec3], leaf: usize) -> Self {
-        let n = mins.len();
+        assert_eq!(mins.len(), maxs.len());
+        Self::new_morton_with(mins.len(), |i| (mins[i], maxs[i]), leaf)
+    }
+
+    /// [`Self::new_morton`] over `n` primitives whose boxes `bounds(i) = (min, max)` are computed
+    /// where needed rather than stored: for millions of triangles (a big volume's iso-surface)
+    /// the two arrays took 48 bytes a triangle at the field's peak of memory. The same tree.
+    pub fn new_morton_with(
+        n: usize,
+        bounds: impl Fn(usize) -> (DVec3, DVec3),
+        leaf: usize,
+    ) -> Self {
         let leaf = leaf.max(1);
         let mut bvh = Bvh {
-            nodes: Vec::with_capacity(2 * n / leaf + 2),
+            nodes: Vec::with_capacity(halving_tree_nodes(n, leaf)),
             order: Vec::with_capacity(n),
         };
         if n == 0 {
             return bvh;
         }
         let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-        for (a, b) in mins.iter().zip(maxs) {
-            let c = 0.5 * (*a + *b);
+        for i in 0..n {
+            let (a, b) = bounds(i);
+            let c = 0.5 * (a + b);
             lo = lo.min(c);
             hi = hi.max(c);
         }
         let scale = DVec3::splat((1u64 << 21) as f64 - 1.0) / (hi - lo).max(DVec3::splat(1e-300));
-        let mut keyed: Vec<(u64, u32)> = mins
-            .iter()
-            .zip(maxs)
-            .enumerate()
-            .map(|(i, (a, b))| {
-                let q = ((0.5 * (*a + *b) - lo) * scale).max(DVec3::ZERO);
+        let mut keyed: Vec<(u64, u32)> = (0..n)
+            .map(|i| {
+                let (a, b) = bounds(i);
+                let q = ((0.5 * (a + b) - lo) * scale).max(DVec3::ZERO);
                 let code =
                     spread3(q.x as u64) | spread3(q.y as u64) << 1 | spread3(q.z as u64) << 2;
                 (code, i as u32)
@@ -178,6 +214,7 @@ impl Bvh {
             .collect();
         keyed.sort_unstable();
         bvh.order.extend(keyed.iter().map(|k| k.1));
+        drop(keyed);
         bvh.nodes.push(Node::PLACEHOLDER);
         // Children are built before their parent's box is needed: a post-order pass over an
         // explicit stack of (node, start, end, children done).
@@ -186,8 +223,9 @@ impl Bvh {
             if e - s <= leaf {
                 let (mut bmin, mut bmax) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
                 for &i in &bvh.order[s..e] {
-                    bmin = bmin.min(mins[i as usize]);
-                    bmax = bmax.max(maxs[i as usize]);
+                    let (a, b) = bounds(i as usize);
+                    bmin = bmin.min(a);
+                    bmax = bmax.max(b);
                 }
                 bvh.nodes[ni] = Node {
                     min: bmin,
@@ -682,6 +720,31 @@ impl PointBvh {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Both builders fill their node lists exactly to the capacity counted up front: no list
+    /// outgrows it (and doubles), none is left half empty.
+    #[test]
+    fn the_node_lists_are_counted_exactly() {
+        let mut seed = 3u64;
+        let mut rnd = move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for n in [1, 2, 4, 5, 7, 100, 1000, 4095, 4096, 10_007, 65_536] {
+            let mins: Vec<DVec3> = (0..n).map(|_| DVec3::new(rnd(), rnd(), rnd())).collect();
+            let maxs: Vec<DVec3> = mins.iter().map(|&m| m + 0.01).collect();
+            for leaf in [1, 2, 4] {
+                let bvh = Bvh::new_morton(&mins, &maxs, leaf);
+                assert_eq!(bvh.nodes.len(), halving_tree_nodes(n, leaf), "{n} {leaf}");
+                assert_eq!(bvh.nodes.capacity(), bvh.nodes.len(), "{n} {leaf}");
+            }
+            let bvh = Bvh::new(&mins, &maxs);
+            assert_eq!(bvh.nodes.len(), halving_tree_nodes(n, LEAF_SIZE), "{n}");
+        }
+        // By hand: 9 primitives in leaves of up to 2 split 4 + 5, then 2 + 2 and 2 + 3, and the 3
+        // into 1 + 2: 1 + 2 + 4 + 2 nodes.
+        assert_eq!(halving_tree_nodes(9, 2), 9);
+    }
 
     #[test]
     fn inside_means_an_odd_number_of_crossings_or_a_winding_and_touching_is_no_crossing() {
