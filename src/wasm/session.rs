@@ -70,7 +70,7 @@ pub fn check_cloud_size(points: usize) -> Result<(), UiError> {
     Err(UiError {
         code: "too-large",
         message: format!(
-            "The cloud has {} points: more than the browser can wrap ({} at most in its 4 GB of memory)",
+            "The cloud has {} points: more than the browser can wrap ({} at most in its 4 GiB of memory)",
             millions(points),
             millions(MAX_CLOUD_POINTS)
         ),

@@ -440,7 +440,7 @@ export const WASM_MEMORY_LIMIT = 4 * 1024 ** 3;
 
 /** A trap with more than this share of {@link WASM_MEMORY_LIMIT} in use is taken for an
  * allocation that failed: the core aborts then, which wasm reports as a bare "unreachable" (a
- * 20 M-point cloud stopped so with 2.8 GB in use, and the page said only "unreachable"). */
+ * 20 M-point cloud stopped so with 2.6 GiB in use, and the page said only "unreachable"). */
 const TRAP_NEAR_LIMIT = 0.5;
 
 /** What the worker reports for anything thrown while `wasmBytes` of linear memory were in use:
@@ -455,7 +455,7 @@ export function failureError(e: unknown, wasmBytes: number): UiError {
   if (e instanceof RangeError || /memory|allocation/i.test(error.message) || (trapped && wasmBytes > TRAP_NEAR_LIMIT * WASM_MEMORY_LIMIT)) {
     return {
       code: 'out-of-memory',
-      message: `This input needs more memory than the browser gives the wrap (${(wasmBytes / 1e9).toFixed(1)} GB in use of at most ${(WASM_MEMORY_LIMIT / 1e9).toFixed(1)} GB).`,
+      message: `This input needs more memory than the browser gives the wrap (${(wasmBytes / 1024 ** 3).toFixed(1)} GiB in use of at most 4 GiB).`,
       hint: `${restarted} Use a smaller input (thin the cloud, or lower field.cells_per_min_dimension in the advanced settings), or wrap it with the native CLI (lsw wrap), which has no such limit.`,
     };
   }

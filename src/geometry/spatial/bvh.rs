@@ -53,8 +53,8 @@ fn box_dist2(p: DVec3, min: DVec3, max: DVec3) -> f64 {
 
 /// The nodes of a tree that splits every range of more than `leaf` primitives at its middle
 /// (`len / 2`), as both builders do: the exact capacity of its node list. (Guessed at `2n /
-/// leaf`, the list outgrew it, since such leaves hold about `0.6·leaf`, and its doubling held
-/// 1.5 GB at once for a 640³ volume's 9.7 M-triangle iso-surface.)
+/// leaf`, the list outgrew it, since such leaves hold about `0.6·leaf`, and while it doubled it
+/// was held twice: 0.9 GB at once for a 640³ volume's 9.7 M-triangle iso-surface.)
 fn halving_tree_nodes(n: usize, leaf: usize) -> usize {
     // The ranges of one level differ in length by one at most: count them by length.
     let mut level = vec![(n, 1usize)];

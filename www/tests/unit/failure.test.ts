@@ -5,7 +5,7 @@ describe('what the worker says when the core fails', () => {
   it('takes a trap with most of the memory in use for a failed allocation', () => {
     const e = failureError(new WebAssembly.RuntimeError('unreachable'), 2.8e9);
     expect(e.code).toBe('out-of-memory');
-    expect(e.message).toContain('2.8 GB in use of at most 4.3 GB');
+    expect(e.message).toContain('2.6 GiB in use of at most 4 GiB');
     expect(e.hint).toContain('lsw wrap');
   });
 
