@@ -154,6 +154,29 @@ pub fn volume_target(
     encoding: Encoding,
     opts: &VolumeOptions,
 ) -> Result<ReadResult, IoError> {
+    let (target, iso, iso_source) = volume_surface(format, &volume, opts)?;
+    Ok(ReadResult {
+        target,
+        format,
+        encoding,
+        volume: Some(Box::new(VolumeRead {
+            volume,
+            iso,
+            iso_source,
+            inside: opts.inside,
+        })),
+        repairs: None,
+    })
+}
+
+/// The target of [`volume_target`] without taking the volume: its iso-surface, the iso-value,
+/// and where that came from ("option" or "otsu"). (The app wraps the volume it already holds for
+/// its slices, rather than a second copy read from the same bytes.)
+pub fn volume_surface(
+    format: Format,
+    volume: &VoxelVolume,
+    opts: &VolumeOptions,
+) -> Result<(Target, f64, &'static str), IoError> {
     let (iso, iso_source) = match opts.iso {
         Some(i) => (i, "option"),
         None => match volume.otsu() {
@@ -170,20 +193,9 @@ pub fn volume_target(
             }
         },
     };
-    let target = Target::from_volume(&volume, iso, opts.inside)
+    let target = Target::from_volume(volume, iso, opts.inside)
         .map_err(|source| IoError::Target { format, source })?;
-    Ok(ReadResult {
-        target,
-        format,
-        encoding,
-        volume: Some(Box::new(VolumeRead {
-            volume,
-            iso,
-            iso_source,
-            inside: opts.inside,
-        })),
-        repairs: None,
-    })
+    Ok((target, iso, iso_source))
 }
 
 /// Reads `bytes` as the given format, skipping detection.

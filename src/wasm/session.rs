@@ -36,18 +36,28 @@ impl WrapSession {
         progress: Option<js_sys::Function>,
     ) -> Result<WrapSession, JsValue> {
         let settings = WrapSettings::from_json(settings_json).map_err(UiError::settings)?;
-        if read.target.triangles.is_empty() {
-            check_cloud_size(read.target.points.len())?;
+        // A volume's voxels go before the evolver is built: the wrap needs only their
+        // iso-surface, and the page keeps its own copy for the slices (a 640³ volume: 1 GB).
+        let crate::io::ReadResult {
+            target,
+            format,
+            repairs,
+            volume,
+            ..
+        } = read;
+        drop(volume);
+        if target.triangles.is_empty() {
+            check_cloud_size(target.points.len())?;
         }
         let evolver = with_progress(progress.as_ref(), |p| {
-            Evolver::new_with_progress(&read.target, settings.clone(), p)
+            Evolver::new_with_progress(&target, settings.clone(), p)
         })
         .map_err(ui_error)?;
         Ok(WrapSession {
             evolver,
-            target: read.target,
-            format: read.format,
-            repairs: read.repairs,
+            target,
+            format,
+            repairs,
             settings_json: serde_json::to_string(&settings).unwrap_or_default(),
             progress,
             last: None,

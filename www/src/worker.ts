@@ -376,7 +376,7 @@ async function startSession(autoplay: boolean, id: number): Promise<void> {
     post({ type: 'progress', phase, fraction });
   };
   const session = volume
-    ? WrapSession.withVolume(source.bytes, source.name, JSON.stringify(wrapSettings), volume.iso ?? undefined, volume.frame, false, progress)
+    ? WrapSession.fromVolumeView(volume.view, JSON.stringify(wrapSettings), volume.iso ?? undefined, false, progress)
     : new WrapSession(source.bytes, source.name, JSON.stringify(wrapSettings), progress);
   wrap = session;
   const tp = session.targetPositions();
