@@ -4,7 +4,7 @@
 
 #![cfg(target_arch = "wasm32")]
 
-use lsw::wasm::{catalog, export_mesh, preset_settings, McfSession, WrapSession};
+use lsw::wasm::{catalog, export_mesh, preset_settings, McfSession, VolumeView, WrapSession};
 use wasm_bindgen::JsValue;
 use wasm_bindgen_test::*;
 
@@ -68,6 +68,27 @@ fn a_cloud_too_large_for_the_browser_is_refused_with_a_way_out() {
     let (code, hint) = code_and_hint(check_cloud_size(20_000_000).unwrap_err().into());
     assert_eq!(code, "too-large");
     assert!(hint.contains("lsw wrap"), "{hint}");
+}
+
+/// The app wraps a volume from the copy of its voxels that the page's view holds: the same
+/// surface, step for step, as from a second read of the bytes.
+#[wasm_bindgen_test]
+fn a_volume_wraps_the_same_from_its_view_as_from_its_bytes() {
+    let bytes = lsw::wasm::phantom_volume(40).to_vec();
+    let view = VolumeView::new(&bytes, Some("phantom.nii".into()), 0).unwrap();
+    let settings = r#"{"steps": 6}"#;
+    let name = Some("phantom.nii".to_string());
+    let mut read = WrapSession::with_volume(&bytes, name, settings, None, 0, false, None).unwrap();
+    let mut held = WrapSession::from_volume_view(&view, settings, None, false, None).unwrap();
+    assert_eq!(
+        read.target_positions().to_vec(),
+        held.target_positions().to_vec()
+    );
+    read.step(6).unwrap();
+    held.step(6).unwrap();
+    assert!(read.positions().length() > 0);
+    assert_eq!(read.positions().to_vec(), held.positions().to_vec());
+    assert_eq!(read.result_hash(), held.result_hash());
 }
 
 #[wasm_bindgen_test]

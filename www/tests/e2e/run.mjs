@@ -228,6 +228,42 @@ test('health badge: a genus-2 mesh ends done and certified (valid, genus 2, 0 SI
   await page.close();
 });
 
+/** A 48³ u8 NRRD volume: a ball bored through along z (genus 1), 0.5 mm voxels. */
+function boredBallNrrd() {
+  const n = 48;
+  const v = new Uint8Array(n * n * n);
+  for (let z = 0; z < n; z++) {
+    for (let y = 0; y < n; y++) {
+      for (let x = 0; x < n; x++) {
+        const [dx, dy, dz] = [x - 23.5, y - 23.5, z - 23.5];
+        const ball = dx * dx + dy * dy + dz * dz < 20 * 20;
+        const bore = dx * dx + dy * dy < 6 * 6;
+        v[x + n * (y + n * z)] = ball && !bore ? 200 : 0;
+      }
+    }
+  }
+  const header = `NRRD0004\ntype: uint8\ndimension: 3\nsizes: ${n} ${n} ${n}\nspacings: 0.5 0.5 0.5\nencoding: raw\n\n`;
+  return Buffer.concat([Buffer.from(header), Buffer.from(v)]);
+}
+
+test('a dropped voxel volume is wrapped from the page\'s own copy of its voxels: done, genus 1, the native CLI\'s mesh', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  const file = join(out, 'bored-ball.nrrd');
+  await writeFile(file, boredBallNrrd());
+  await dropFile(page, 'bored-ball.nrrd', await readFile(file));
+  await page.waitForSelector('[data-testid=status][data-state=done], [data-testid=status][data-state=invalid], [data-testid=status][data-state=error]', { timeout: 300000 });
+  const h = await health(page);
+  const state = await page.getAttribute('[data-testid=status]', 'data-state');
+  await page.screenshot({ path: join(out, 'volume-bored-ball.png') });
+  assert(state === 'done' && h.valid === 'true' && h.genus === '1', `bored ball: status ${state}, health ${JSON.stringify(h)}`);
+  const browserHash = await resultHash(page);
+  const native = lswWrap(file, join(out, 'bored-ball-native.ply'));
+  assert(browserHash === native.result_hash, `bored ball: browser result hash ${browserHash} differs from the native CLI's ${native.result_hash}`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+  console.log(`   bored ball (48³ NRRD): ${h.text}, hash ${browserHash} (native CLI: the same)`);
+  await page.close();
+});
+
 test('sphere → torus: surgery opens the handle (marked on the timeline), the badge follows the scrubber from genus 0 to 1', async (browser, url) => {
   const { page, errors } = await openApp(browser, url);
   await page.click('[data-testid=demo-sphere-torus]');
