@@ -104,6 +104,14 @@ pub const MIN_CLOUD_POINTS: usize = 20;
 pub const MOST_ISOLATED: f64 = 0.1;
 
 impl Target {
+    /// Genus and components of a mesh target of one closed manifold part, whose genus a wrap
+    /// must keep (the certificate's `target_genus`, the start's and the surgery's checks); None
+    /// for clouds, open or non-manifold meshes, and meshes of several parts.
+    pub fn one_closed_part(&self) -> Option<crate::mesh::MeshReport> {
+        crate::mesh::closed_topology(self.points.len(), &self.triangles)
+            .filter(|t| t.components == 1)
+    }
+
     /// Builds a target, checking that coordinates are finite and indices in range.
     pub fn new(points: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> Result<Self, TargetError> {
         if points.is_empty() {

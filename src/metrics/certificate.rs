@@ -110,7 +110,7 @@ impl CertificateTarget {
         let stride = t.points.len().div_ceil(OUTSIDE_SAMPLES).max(1);
         CertificateTarget {
             near,
-            topology: closed_topology(t),
+            topology: t.one_closed_part(),
             samples: t.points.iter().copied().step_by(stride).collect(),
             outside_tolerance: OUTSIDE_TOLERANCE * t.bbox.diagonal(),
         }
@@ -255,13 +255,6 @@ fn points_outside(
         bvh.closest_point_within(p, tolerance).is_none() && !bvh.encloses(p)
     });
     out.into_iter().filter(|&o| o).count()
-}
-
-/// Genus and components of a target of one closed manifold part (see
-/// [`Certificate::target_genus`]).
-fn closed_topology(target: &Target) -> Option<crate::mesh::MeshReport> {
-    crate::mesh::closed_topology(target.points.len(), &target.triangles)
-        .filter(|t| t.components == 1)
 }
 
 #[cfg(test)]

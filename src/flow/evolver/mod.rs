@@ -480,9 +480,7 @@ impl Evolver {
         let d0 = settings.flow.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
         let empty_distance = phi * empty_distance(target, c, &settings);
         let close_gap_distance = phi * close_gap_distance(target, &settings);
-        let least_genus = crate::mesh::closed_topology(target.points.len(), &target.triangles)
-            .filter(|t| !target.triangles.is_empty() && t.components == 1)
-            .map(|t| t.genus);
+        let least_genus = target.one_closed_part().map(|t| t.genus);
         let mut ev = Evolver {
             tau: settings.flow.tau,
             d1: settings.flow.d1,
@@ -554,8 +552,7 @@ impl Evolver {
         let wrong_topology = |start: &Start| {
             settings.start.surface == StartSurface::Isosurface
                 && !target.sampled
-                && crate::mesh::closed_topology(target.points.len(), &target.triangles)
-                    .is_some_and(|t| t.components == 1)
+                && target.one_closed_part().is_some()
                 && !same_topology(&start.mesh, target)
         };
         match built {
@@ -584,9 +581,7 @@ impl Evolver {
     ) -> Option<(DistanceField, Start, WrapSettings)> {
         let fell_back = requested.start.surface == StartSurface::Auto
             && resolved.start.surface == StartSurface::Icosphere
-            && !target.triangles.is_empty()
-            && crate::mesh::closed_topology(target.points.len(), &target.triangles)
-                .is_some_and(|t| t.components == 1);
+            && target.one_closed_part().is_some();
         if !fell_back {
             return None;
         }

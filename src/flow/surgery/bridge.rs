@@ -68,10 +68,9 @@ pub fn glue_facing_regions(pass: &Pass) -> Option<Glued> {
         min_vertices,
         skip,
         far,
-        spare_handles,
+        mut spare_handles,
         ..
     } = *pass;
-    let mut spare_handles = spare_handles;
     let level = regions(mesh, partner);
     let (region, sizes, seeds) = (&level.of, &level.sizes, &level.seeds);
     let n_regions = sizes.len();
