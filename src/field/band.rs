@@ -63,17 +63,15 @@ pub fn points_band(
     // depend on the order. The grid is cut into slabs of z-planes, each slab filled from the
     // points that reach it (bucketed by a counting sort), so that the slabs are independent:
     // in parallel natively, and progress is reported between groups of slabs.
-    let reach: Vec<Option<NodeBox>> = points
-        .iter()
-        .map(|p| {
-            let (x, y, z) = (
-                node_range(grid, 0, p.x - r, p.x + r)?,
-                node_range(grid, 1, p.y - r, p.y + r)?,
-                node_range(grid, 2, p.z - r, p.z + r)?,
-            );
-            Some([x.0, x.1, y.0, y.1, z.0, z.1].map(|k| k as u32))
-        })
-        .collect();
+    let reach: Vec<Option<NodeBox>> = crate::parallel::map(points.len(), |i| {
+        let p = points[i];
+        let (x, y, z) = (
+            node_range(grid, 0, p.x - r, p.x + r)?,
+            node_range(grid, 1, p.y - r, p.y + r)?,
+            node_range(grid, 2, p.z - r, p.z + r)?,
+        );
+        Some([x.0, x.1, y.0, y.1, z.0, z.1].map(|k| k as u32))
+    });
     let (start, members) = bucket_by_slab(&reach, nz);
     let slabs = start.len() - 1;
     let mut d2 = vec![init * init; plane * nz];
@@ -106,10 +104,11 @@ pub fn points_band(
                         let row = x0 + nx * (iy + ny * (iz - z_first));
                         let out = &mut slab[row..=row + (x1 - x0)];
                         for (v, &a) in out.iter_mut().zip(&dx2) {
+                            // A select and a store every time, not a store on a branch:
+                            // vectorised, the splat took a fifth less (spot 1 M: band
+                            // 214 → 173 ms); the same minimum.
                             let s = a + dyz;
-                            if s < *v {
-                                *v = s;
-                            }
+                            *v = if s < *v { s } else { *v };
                         }
                     }
                 }
