@@ -779,6 +779,27 @@ fn a_turned_plate_cloud_opens_its_narrow_through_holes() {
     assert_eq!(c.genus, Some(3), "{c:?}");
 }
 
+/// A single-layer sheet sampled at random (an open scan of a wavy panel: no thickness, no
+/// holes). Random sampling leaves gaps of a few spacings; the wrap's two sides sag into them and
+/// face each other across one, and the tunnel test, which looked at the path and at a ring round
+/// its middle, paired them through the gaps: 5 handles on these 3 000 points (6, 11 and 7 on
+/// other sheets of 3 000, 10 000 and 30 000). A tunnel's wall also runs along the path; a sheet's
+/// gap has none.
+#[test]
+fn a_randomly_sampled_sheet_gets_no_handles_through_its_sampling_gaps() {
+    let mut rng = lsw::demo::Rng::new(3009);
+    let points: Vec<glam::DVec3> = (0..3000)
+        .map(|_| {
+            let (x, y) = (2.0 * rng.uniform() - 1.0, 2.0 * rng.uniform() - 1.0);
+            glam::DVec3::new(x, y, 0.05 * (5.0 * x).sin())
+        })
+        .collect();
+    let target = Target::new(points, vec![]).unwrap();
+    let (_, _, c) = wrap_target("random sheet", &target, WrapSettings::default());
+    assert_valid("random sheet", &c);
+    assert_eq!(c.genus, Some(0), "{c:?}");
+}
+
 /// The same plate cloud with noise (σ = 0.2 % of the diagonal), which eats into the smallest
 /// hole (radius 0.03, 5 % of the diagonal). Turned, its axis-aligned box is about ten times as
 /// thick as the plate; a grid sized by that box (the method's) had cells 2.1× those of the plate
