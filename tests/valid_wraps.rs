@@ -791,7 +791,7 @@ fn a_randomly_sampled_sheet_gets_no_handles_through_its_sampling_gaps() {
     let points: Vec<glam::DVec3> = (0..3000)
         .map(|_| {
             let (x, y) = (2.0 * rng.uniform() - 1.0, 2.0 * rng.uniform() - 1.0);
-            glam::DVec3::new(x, y, 0.05 * (5.0 * x).sin())
+            glam::DVec3::new(x, y, 0.05 * lsw::fmath::sin(5.0 * x))
         })
         .collect();
     let target = Target::new(points, vec![]).unwrap();
