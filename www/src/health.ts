@@ -29,7 +29,7 @@ export function explain(c: Certificate, stopReason: string | null): string {
     return `Closed, manifold, no intersecting faces, but the target has genus ${c.target_genus} in ${c.target_components} part(s) and this wrap genus ${c.genus} in ${c.components}. Try the other start surface or a finer grid.`;
   }
   if (c.valid && partLeftOut(c)) {
-    return `Closed, manifold, no intersecting faces, but ${c.target_points_outside} of ${c.target_points_checked} target points checked lie outside the wrap: a thin part was cut off. Try the other start surface or a finer grid.`;
+    return `Closed, manifold, no intersecting faces, but ${c.target_points_outside} of ${c.target_points_checked} target points checked lie outside the wrap: a thin part was cut off. Try the other start surface or a finer grid; for an open sheet (a single-layer scan), the obstacle preset.`;
   }
   if (c.valid) return 'Closed, manifold, oriented, no intersecting faces.';
   if (!c.finite) return 'Has non-finite coordinates. Try a smaller time step τ.';
