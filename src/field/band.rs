@@ -105,8 +105,8 @@ pub fn points_band(
                         let out = &mut slab[row..=row + (x1 - x0)];
                         for (v, &a) in out.iter_mut().zip(&dx2) {
                             // A select and a store every time, not a store on a branch:
-                            // vectorised, the splat took a fifth less (spot 1 M: band
-                            // 214 → 173 ms); the same minimum.
+                            // vectorised natively, the splat took a fifth less (spot 1 M:
+                            // band 214 → 173 ms; in wasm the same 570 ms); the same minimum.
                             let s = a + dyz;
                             *v = if s < *v { s } else { *v };
                         }

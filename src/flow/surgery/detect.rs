@@ -445,7 +445,7 @@ fn tunnel_partner(
         let (mid, reach) = (p.lerp(pu, 0.5), RING_REACH * d(at(0.5)));
         [-1.0, 1.0].iter().all(|&side| {
             let m = mid + side * DEPTH * q.empty * dir;
-            (rays.clone())
+            rays.clone()
                 .all(|ray| ray_meets_data(m, ray, reach, RING_HIT * q.empty, probe).is_some())
         })
     };
