@@ -782,7 +782,7 @@ fn a_turned_plate_cloud_opens_its_narrow_through_holes() {
 /// A single-layer sheet sampled at random (an open scan of a wavy panel: no thickness, no
 /// holes). Random sampling leaves gaps of a few spacings; the wrap's two sides sag into them and
 /// face each other across one, and the tunnel test, which looked at the path and at a ring round
-/// its middle, paired them through the gaps: 5 handles on these 3 000 points (6, 11 and 7 on
+/// its middle, paired them through the gaps: 5 handles on these 3 000 points (6, 13 and 7 on
 /// other sheets of 3 000, 10 000 and 30 000). A tunnel's wall also runs along the path; a sheet's
 /// gap has none.
 #[test]
