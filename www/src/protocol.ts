@@ -435,8 +435,10 @@ export function toUiError(e: unknown): UiError {
   return { code: 'internal', message: String(e), hint: 'Reload the page; if it persists, report a bug.' };
 }
 
+const GIB = 1024 ** 3;
+
 /** The most linear memory a wasm32 instance can have: 4 GiB. */
-export const WASM_MEMORY_LIMIT = 4 * 1024 ** 3;
+export const WASM_MEMORY_LIMIT = 4 * GIB;
 
 /** A trap with more than this share of {@link WASM_MEMORY_LIMIT} in use is taken for an
  * allocation that failed: the core aborts then, which wasm reports as a bare "unreachable" (a
@@ -455,7 +457,7 @@ export function failureError(e: unknown, wasmBytes: number): UiError {
   if (e instanceof RangeError || /memory|allocation/i.test(error.message) || (trapped && wasmBytes > TRAP_NEAR_LIMIT * WASM_MEMORY_LIMIT)) {
     return {
       code: 'out-of-memory',
-      message: `This input needs more memory than the browser gives the wrap (${(wasmBytes / 1024 ** 3).toFixed(1)} GiB in use of at most 4 GiB).`,
+      message: `This input needs more memory than the browser gives the wrap (${(wasmBytes / GIB).toFixed(1)} GiB in use of at most ${WASM_MEMORY_LIMIT / GIB} GiB).`,
       hint: `${restarted} Use a smaller input (thin the cloud, or lower field.cells_per_min_dimension in the advanced settings), or wrap it with the native CLI (lsw wrap), which has no such limit.`,
     };
   }
