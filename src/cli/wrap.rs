@@ -80,7 +80,8 @@ pub fn apply_overrides(
 /// cloud's stray points, see `field.outlier_spacings`), specks_left_out (a mesh's small closed
 /// parts floating apart, see `geometry::specks`), repairs (what reading mended in a mesh's
 /// indices, or null; see `lsw info`), vertices, faces, steps, stopped_early,
-/// scale, result_hash, iso_level, times_ms {read, field, start, evolve, write, total}, evolve_ms {normals,
+/// scale, result_hash, iso_level, started_over (null, or why and how a cloud was wrapped a
+/// second time with a d₀ covering its sampling's gaps: see `flow::StartedOver`), times_ms {read, field, start, evolve, write, total}, evolve_ms {normals,
 /// assembly, solve, remesh, guard, fit, surgery}, fit_ms (the final fit part by part, see
 /// `flow::FitTimes`), distance_mean, distance_max; for volumes also iso (the iso-value
 /// wrapped) and volume (see [`super::volume::volume_json`]); error (why, when the wrap was
@@ -197,6 +198,7 @@ pub fn run(a: &WrapArgs) -> Result<String, super::Failure> {
         "scale": ev.scale(),
         "result_hash": crate::mesh::fingerprint::mesh_hash(&positions, &triangles),
         "iso_level": ev.iso_level(),
+        "started_over": ev.started_over(),
         "distance_mean": last.map_or(0.0, |r| r.distance_mean),
         "distance_max": last.map_or(0.0, |r| r.distance_max),
         "iso": read.volume.as_ref().map(|v| v.iso),

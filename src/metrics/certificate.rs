@@ -107,11 +107,10 @@ impl CertificateTarget {
         } else {
             Near::Triangles(TriangleBvh::new(&t.points, &t.triangles))
         };
-        let stride = t.points.len().div_ceil(OUTSIDE_SAMPLES).max(1);
         CertificateTarget {
             near,
             topology: t.one_closed_part(),
-            samples: t.points.iter().copied().step_by(stride).collect(),
+            samples: outside_samples(t),
             outside_tolerance: OUTSIDE_TOLERANCE * t.bbox.diagonal(),
         }
     }
@@ -235,15 +234,28 @@ pub fn certify_against(
         target_points_outside: outside,
         target_points_checked: outside.and(target.map(|t| t.samples.len())),
         target_part_outside: match (outside, target) {
-            (Some(n), Some(t)) => n as f64 > OUTSIDE_SHARE * t.samples.len() as f64,
+            (Some(n), Some(t)) => part_outside(n, t.samples.len()),
             _ => false,
         },
     }
 }
 
+/// The target points tested for lying outside a wrap: every point of a cloud or vertex of a
+/// mesh, or an even subsample of at most [`OUTSIDE_SAMPLES`].
+pub fn outside_samples(t: &Target) -> Vec<DVec3> {
+    let stride = t.points.len().div_ceil(OUTSIDE_SAMPLES).max(1);
+    t.points.iter().copied().step_by(stride).collect()
+}
+
+/// Whether `outside` of `checked` points is a part of the target left out (more than
+/// [`OUTSIDE_SHARE`]).
+pub fn part_outside(outside: usize, checked: usize) -> bool {
+    outside as f64 > OUTSIDE_SHARE * checked as f64
+}
+
 /// How many of `points` lie outside the closed surface `(positions, triangles)` and farther
 /// from it than `tolerance`.
-fn points_outside(
+pub fn points_outside(
     positions: &[DVec3],
     triangles: &[[u32; 3]],
     points: &[DVec3],

@@ -242,6 +242,13 @@ impl WrapSession {
         self.evolver.isolated_points() as u32
     }
 
+    /// Null, or why and how a cloud was wrapped a second time with a d₀ that covers its
+    /// sampling's gaps (see `flow::StartedOver`).
+    #[wasm_bindgen(js_name = startedOver)]
+    pub fn started_over(&self) -> Result<JsValue, JsValue> {
+        to_js(&self.evolver.started_over())
+    }
+
     /// How many specks of a mesh (small closed parts floating apart) the wrap left out.
     #[wasm_bindgen(js_name = specksLeftOut)]
     pub fn specks_left_out(&self) -> u32 {

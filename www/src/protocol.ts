@@ -2,6 +2,17 @@
 // Meshes travel as flat typed arrays (Transferables), never as JSON.
 
 /** The certificate of a result (Rust `metrics::certificate::Certificate`, snake_case keys). */
+/** A cloud wrapped a second time with an offset that covers its sampling's gaps (see the core's
+ * `flow::StartedOver`): checked points outside after each pass, and whether the second is shown. */
+export interface StartedOver {
+  outside_before: number;
+  outside_after: number;
+  checked: number;
+  iso_level_before: number;
+  iso_level_after: number;
+  kept: boolean;
+}
+
 export interface Certificate {
   valid: boolean;
   closed: boolean;
@@ -388,7 +399,7 @@ export type FromWorker =
   /** The worker stopped stepping: paused, finished, cancelled, or loaded and `ready` to play (no autoplay). */
   | { type: 'stopped'; reason: StopReason }
   /** `phases`: `elapsedMs` by phase, [name, ms] in the order they first ran (see Stopwatch). */
-  | { type: 'result'; run: number; hash: string; name: string; positions: Float32Array; normals: Float32Array; indices: Uint32Array; elapsedMs: number; phases: [string, number][]; steps: number; certificate: Certificate; stopReason: string | null; start: string; wasmBytes: number; isolated: number; specks: number }
+  | { type: 'result'; run: number; hash: string; name: string; positions: Float32Array; normals: Float32Array; indices: Uint32Array; elapsedMs: number; phases: [string, number][]; steps: number; certificate: Certificate; stopReason: string | null; start: string; wasmBytes: number; isolated: number; specks: number; startedOver: StartedOver | null }
   | { type: 'exported'; bytes: Uint8Array; format: string }
   | { type: 'curves'; curves: ControlCurves }
   /** The field view asked for (neither slice nor iso: nothing to show). `label` describes it. */

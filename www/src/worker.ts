@@ -5,7 +5,7 @@ import init, {
   McfSession, WrapSession, presetSettings, settingsDocs, settingsEnums, settingAliases, catalog, demoShape, demoMesh, controlCurves, exportMesh,
   VolumeView, phantomVolume,
 } from '../pkg/lsw.js';
-import type { Catalog, Certificate, ColourMap, FieldView, FromWorker, Histogram, McfStats, MeshTauAdvice, Source, StepReport, TargetInfo, TauAdvice, ToWorker, VolumeInfo } from './protocol';
+import type { Catalog, Certificate, ColourMap, FieldView, FromWorker, Histogram, McfStats, MeshTauAdvice, Source, StartedOver, StepReport, TargetInfo, TauAdvice, ToWorker, VolumeInfo } from './protocol';
 import { failureError } from './protocol';
 import { batchSize } from './schedule';
 import { colorize, robustRange } from './colormap';
@@ -300,6 +300,7 @@ function finish(session: WrapSession): void {
       certificate, stopReason: session.stopReason() ?? null, start: session.startSurface(), wasmBytes: wasmMemory?.buffer.byteLength ?? 0,
       isolated: session.isolatedPoints(),
       specks: session.specksLeftOut(),
+      startedOver: plain(session.startedOver()) as StartedOver | null,
     },
     [positions.buffer, normals.buffer, indices.buffer],
   );

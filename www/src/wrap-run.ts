@@ -8,7 +8,7 @@ import { revealView } from './layout';
 import type { KeptResult, TargetMesh } from './kept';
 import type { ModeSwitch } from './mode';
 import type { RunSettings } from './panel';
-import type { Draw, Frame, FromWorker, Send, Source, StopReason, TargetInfo } from './protocol';
+import type { Draw, Frame, FromWorker, Send, Source, StartedOver, StopReason, TargetInfo } from './protocol';
 import { repairsNote } from './protocol';
 import { describeFile, sameFile, validDataset, type FileStamp } from './share';
 import { stampFile } from './share-link';
@@ -60,6 +60,7 @@ export class WrapRun {
   private workMs = 0;
   /** Stray points of the last result's cloud that the wrap left out. */
   private isolated = 0;
+  private startedOver: StartedOver | null = null;
   /** Specks (small closed parts floating apart) of the last result's mesh that the wrap left out. */
   private specks = 0;
   /** The last completed run's working time by phase (see Stopwatch). */
@@ -276,6 +277,7 @@ export class WrapRun {
     this.d.readout.timed(msg.elapsedMs, msg.phases);
     this.isolated = msg.isolated;
     this.specks = msg.specks;
+    this.startedOver = msg.startedOver;
     this.lastDoneMs = performance.now() - this.startedAt;
     byId('hash').dataset.ms = String(Math.round(this.lastDoneMs));
     this.d.draw({ type: 'fit' });
@@ -290,7 +292,7 @@ export class WrapRun {
     else if (reason === 'finished' && k && topologyDiffers(k.certificate)) status.set('invalid', `Done, but not the target's topology — ${k.why}`);
     else if (reason === 'finished' && k && partLeftOut(k.certificate)) status.set('invalid', `Done, but part of the target lies outside the wrap — ${k.why}`);
     else if (reason === 'finished') {
-      status.set('done', `Done — ${this.name} wrapped in ${(this.workMs / 1000).toFixed(1)} s${leftOut(this.isolated, this.specks)}`);
+      status.set('done', `Done — ${this.name} wrapped in ${(this.workMs / 1000).toFixed(1)} s${leftOut(this.isolated, this.specks)}${secondPass(this.startedOver)}`);
     }
     else if (reason === 'cancelled') {
       this.live = false;
@@ -302,6 +304,14 @@ export class WrapRun {
 }
 
 /** What the wrap left out of the target, for the done line: "" or " (3 stray points left out)". */
+/** What a second pass with an offset covering the sampling's gaps did, for the done line. */
+export function secondPass(s: StartedOver | null): string {
+  if (!s) return '';
+  return s.kept
+    ? `; wrapped twice: the first pass left ${s.outside_before} of ${s.checked} checked points outside through gaps in the sampling, the second (a larger offset) ${s.outside_after}`
+    : `; a second pass with a larger offset left more points outside, so the first is shown`;
+}
+
 export function leftOut(strays: number, specks: number): string {
   const parts = [
     strays > 0 ? `${strays} stray point${strays === 1 ? '' : 's'}` : '',

@@ -57,7 +57,9 @@ impl Evolver {
         // The fit was the last use of the target's tree (no step follows a done one): freed
         // before the certificate builds its own (a 640³ volume's 9.7 M triangles: ≈ 0.8 GB, the
         // difference between done and out of memory in the browser).
-        self.fit_target = None;
+        if !self.second_pass_may_follow() {
+            self.fit_target = None;
+        }
         times.fit = now_ms() - t0;
         parts.other = times.fit - parts.named();
         times.fit_parts = parts;

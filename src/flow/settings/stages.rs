@@ -101,6 +101,14 @@ pub struct FlowSettings {
     /// field equals d₀. Range 0–10; default 1.0 (the reference used 2.0 on a field that
     /// overestimates distances ×1.7; our field is exact near the target).
     pub iso_level_factor: f64,
+    /// Point clouds only: a wrap that leaves part of the cloud outside starts over once with
+    /// d₀ grown to the sampling's gap spacing (the 99th percentile of the nearest-point
+    /// distances), at most this many times the value above, and the pass that leaves fewer
+    /// points outside is kept. At a sparse cloud's usual d₀ (1.7 median spacings) a tenth of a
+    /// randomly sampled surface lies farther than d₀ from every point, and round the rim of an
+    /// open single-layer scan the wrap slipped through those gaps (`flow/evolver/gaps.rs`). 1
+    /// turns it off. Range 1–4; default 1.5.
+    pub cover_gaps: f64,
     /// σ: the stabilisation scales the start so its mean co-volume is τ/σ. Default 0.2.
     pub shrink_factor: f64,
     /// Steps after which sizes shrink by λ_dec, τ by λ_dec² and D1 grows by 1/λ_dec.
@@ -137,6 +145,7 @@ impl Default for FlowSettings {
             mcf_positive_support: true,
             advection_positive_support: true,
             iso_level_factor: 1.0,
+            cover_gaps: 1.5,
             shrink_factor: 0.2,
             schedule: vec![3, 10, 20, 50, 100, 120, 140, 145],
             decay: 0.7,

@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { leftOut } from '../../src/wrap-run';
+import { leftOut, secondPass } from '../../src/wrap-run';
 
 describe('what the wrap left out, in words', () => {
   it('says nothing when nothing was left out', () => {
@@ -11,5 +11,18 @@ describe('what the wrap left out, in words', () => {
     expect(leftOut(42, 0)).toBe(' (42 stray points left out)');
     expect(leftOut(0, 1)).toBe(' (1 small loose part left out)');
     expect(leftOut(3, 282)).toBe(' (3 stray points and 282 small loose parts left out)');
+  });
+});
+
+describe('a second pass over the sampling gaps, in words', () => {
+  const pass = { outside_before: 254, outside_after: 0, checked: 9999, iso_level_before: 0.0163, iso_level_after: 0.0244, kept: true };
+
+  it('says nothing when the wrap ran once', () => {
+    expect(secondPass(null)).toBe('');
+  });
+
+  it('gives both passes\' counts when the second is shown, and says so when it is not', () => {
+    expect(secondPass(pass)).toBe('; wrapped twice: the first pass left 254 of 9999 checked points outside through gaps in the sampling, the second (a larger offset) 0');
+    expect(secondPass({ ...pass, outside_after: 300, kept: false })).toBe('; a second pass with a larger offset left more points outside, so the first is shown');
   });
 });
