@@ -242,8 +242,8 @@ impl WrapSession {
         self.evolver.isolated_points() as u32
     }
 
-    /// Null, or why and how a cloud was wrapped a second time with a d₀ that covers its
-    /// sampling's gaps (see `flow::StartedOver`).
+    /// Null, or how a cloud that the first pass left partly outside was wrapped a second time
+    /// (see `flow::StartedOver`).
     #[wasm_bindgen(js_name = startedOver)]
     pub fn started_over(&self) -> Result<JsValue, JsValue> {
         to_js(&self.evolver.started_over())

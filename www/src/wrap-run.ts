@@ -304,12 +304,12 @@ export class WrapRun {
 }
 
 /** What the wrap left out of the target, for the done line: "" or " (3 stray points left out)". */
-/** What a second pass with an offset covering the sampling's gaps did, for the done line. */
+/** What the second pass over a cloud the first left partly outside did, for the done line. */
 export function secondPass(s: StartedOver | null): string {
   if (!s) return '';
   return s.kept
-    ? `; wrapped twice: the first pass left ${s.outside_before} of ${s.checked} checked points outside through gaps in the sampling, the second (a larger offset) ${s.outside_after}`
-    : `; a second pass with a larger offset left more points outside, so the first is shown`;
+    ? `; wrapped twice: the first pass left ${s.outside_before} of ${s.checked} checked points outside (an open rim or gaps in the sampling), the second ${s.outside_after}`
+    : `; a second pass left more points outside, so the first is shown`;
 }
 
 export function leftOut(strays: number, specks: number): string {

@@ -1,12 +1,14 @@
-//! After the final fit, *a second pass* for a point cloud whose random sampling has gaps wider
-//! than d₀ (`flow.cover_gaps`). At a sparse cloud's usual d₀ (1.7 median spacings) a tenth of a
-//! randomly sampled surface lies farther than d₀ from every point. A closed surface's wrap only
-//! sags into those holes, but round the rim of an open single-layer scan the two sides of the
-//! wrap slipped through them, met inside the sheet and left a fifth of it outside. A d₀ that
-//! covers the gaps keeps the rim; used for every cloud it also changed results that were right
-//! (genus sweep: one handle lost, a 3 000-point plate 23 s instead of 1 s), so it is used only
-//! where the first pass left part of the cloud outside: the evolution starts over once from its
-//! start surface, and the pass that leaves fewer points outside is the result.
+//! After the final fit, *a second pass* for a point cloud that the first left partly outside
+//! (`flow.cover_gaps`, `flow.second_pass_d2`). At a sparse cloud's usual d₀ (1.7 median spacings)
+//! a tenth of a randomly sampled surface lies farther than d₀ from every point. A closed
+//! surface's wrap only sags into those holes, but round the rim of an open single-layer scan the
+//! two sides of the wrap slipped through them, met inside the sheet and left a fifth of it
+//! outside; on denser sheets full-wrap's push where the normal lies across the gradient (D₂)
+//! drove the coarse early wrap's edge past the rim. A d₀ that covers the gaps and D₂ = 0 keep the
+//! rim; used for every cloud the larger d₀ also changed results that were right (genus sweep: one
+//! handle lost, a 3 000-point plate 23 s instead of 1 s), so both are used only where the first
+//! pass left part of the cloud outside: the evolution starts over once from its start surface,
+//! and the pass that leaves fewer points outside is the result.
 
 use super::{Checkpoint, Evolver, PhaseTimes, StepReport};
 use crate::flow::settings::WrapSettings;
@@ -21,7 +23,7 @@ use glam::DVec3;
 use serde::Serialize;
 
 /// The progress phase of the second pass.
-pub const GAP_PASS_PHASE: &str = "second pass (sampling gaps)";
+pub const GAP_PASS_PHASE: &str = "second pass (part outside)";
 
 /// What a second pass needs: its d₀, the start to go back to, and the points to check.
 pub(super) struct GapPass {
@@ -53,6 +55,7 @@ pub struct StartedOver {
 struct FirstPass {
     mesh: HalfedgeMesh,
     d0: f64,
+    d2: f64,
     steps: u32,
     surgery_events: Vec<SurgeryEvent>,
     outside: usize,
@@ -60,9 +63,10 @@ struct FirstPass {
 
 impl GapPass {
     /// The second pass of a wrap of `target` whose d₀ is `d0` (stabilised frame, scale `phi`
-    /// about `center`; `fits`: there is a final fit): for a cloud whose gap spacing
-    /// ([`crate::geometry::spatial::spacing::gap_spacing`]) exceeds d₀, with d₀ grown to it, at
-    /// most `flow.cover_gaps` times. `None` otherwise. Its start is set by [`Self::starting`].
+    /// about `center`; `fits`: there is a final fit): for a cloud, with d₀ grown to its gap
+    /// spacing ([`crate::geometry::spatial::spacing::gap_spacing`]) where that is larger, at
+    /// most `flow.cover_gaps` times. `None` for a mesh or with `flow.cover_gaps` = 1. Its start
+    /// is set by [`Self::starting`].
     pub(super) fn new(
         target: &Target,
         settings: &WrapSettings,
@@ -74,18 +78,15 @@ impl GapPass {
             return None;
         }
         let gap = phi * crate::geometry::spatial::spacing::gap_spacing(&target.points);
-        let second = gap.min(grow * d0);
-        (second > d0).then(|| {
-            Box::new(GapPass {
-                d0: second,
-                start: None,
-                samples: outside_samples(target)
-                    .into_iter()
-                    .map(|p| (p - center) * phi)
-                    .collect(),
-                tolerance: OUTSIDE_TOLERANCE * target.bbox.diagonal() * phi,
-            })
-        })
+        Some(Box::new(GapPass {
+            d0: d0.max(gap.min(grow * d0)),
+            start: None,
+            samples: outside_samples(target)
+                .into_iter()
+                .map(|p| (p - center) * phi)
+                .collect(),
+            tolerance: OUTSIDE_TOLERANCE * target.bbox.diagonal() * phi,
+        }))
     }
 
     /// Sets the state to begin again from (the evolver's before its first step).
@@ -132,6 +133,7 @@ impl Evolver {
         let first = FirstPass {
             mesh: self.mesh.clone(),
             d0: self.d0,
+            d2: self.settings.flow.d2,
             steps: self.step,
             surgery_events: std::mem::take(&mut self.surgery_events),
             outside,
@@ -174,9 +176,10 @@ impl Evolver {
                 r
             }
             _ => {
-                // The first pass stays: its surface, d₀, step count and events.
+                // The first pass stays: its surface, d₀, D₂, step count and events.
                 self.mesh = first.mesh;
                 self.d0 = first.d0;
+                self.settings.flow.d2 = first.d2;
                 self.step = first.steps;
                 self.surgery_events = first.surgery_events;
                 self.stop_reason = None;
@@ -189,9 +192,10 @@ impl Evolver {
         }
     }
 
-    /// Back to the state before the first step, with the second pass's d₀.
+    /// Back to the state before the first step, with the second pass's d₀ and D₂.
     fn begin_again(&mut self, pass: &GapPass) {
         self.d0 = pass.d0;
+        self.settings.flow.d2 = self.settings.flow.second_pass_d2;
         if let Some(start) = &pass.start {
             self.checkpoint = start.clone();
         }

@@ -101,14 +101,19 @@ pub struct FlowSettings {
     /// field equals d₀. Range 0–10; default 1.0 (the reference used 2.0 on a field that
     /// overestimates distances ×1.7; our field is exact near the target).
     pub iso_level_factor: f64,
-    /// Point clouds only: a wrap that leaves part of the cloud outside starts over once with
+    /// Point clouds only: a wrap that leaves part of the cloud outside starts over once, with
     /// d₀ grown to the sampling's gap spacing (the 99th percentile of the nearest-point
-    /// distances), at most this many times the value above, and the pass that leaves fewer
-    /// points outside is kept. At a sparse cloud's usual d₀ (1.7 median spacings) a tenth of a
-    /// randomly sampled surface lies farther than d₀ from every point, and round the rim of an
-    /// open single-layer scan the wrap slipped through those gaps (`flow/evolver/gaps.rs`). 1
-    /// turns it off. Range 1–4; default 1.5.
+    /// distances) where that is larger, at most this many times the value above, and with D₂ =
+    /// `second_pass_d2`; the pass that leaves fewer points outside is kept. At a sparse cloud's
+    /// usual d₀ (1.7 median spacings) a tenth of a randomly sampled surface lies farther than d₀
+    /// from every point, and round the rim of an open single-layer scan the wrap slipped through
+    /// those gaps (`flow/evolver/gaps.rs`). 1 turns the second pass off. Range 1–4; default 1.5.
     pub cover_gaps: f64,
+    /// D₂ of that second pass: 0, the obstacle setting, does not push harder where the normal
+    /// lies across the gradient, which on a sheet of 100 000 random points drove the wrap's
+    /// edge past the sheet's rim early on (4 389 of 20 000 points outside after a full-wrap
+    /// second pass, 389 after this one). Range ≥ 0; default 0.
+    pub second_pass_d2: f64,
     /// σ: the stabilisation scales the start so its mean co-volume is τ/σ. Default 0.2.
     pub shrink_factor: f64,
     /// Steps after which sizes shrink by λ_dec, τ by λ_dec² and D1 grows by 1/λ_dec.
@@ -146,6 +151,7 @@ impl Default for FlowSettings {
             advection_positive_support: true,
             iso_level_factor: 1.0,
             cover_gaps: 1.5,
+            second_pass_d2: 0.0,
             shrink_factor: 0.2,
             schedule: vec![3, 10, 20, 50, 100, 120, 140, 145],
             decay: 0.7,

@@ -14,7 +14,7 @@ describe('what the wrap left out, in words', () => {
   });
 });
 
-describe('a second pass over the sampling gaps, in words', () => {
+describe('a second pass over a cloud left partly outside, in words', () => {
   const pass = { outside_before: 254, outside_after: 0, checked: 9999, iso_level_before: 0.0163, iso_level_after: 0.0244, kept: true };
 
   it('says nothing when the wrap ran once', () => {
@@ -22,7 +22,7 @@ describe('a second pass over the sampling gaps, in words', () => {
   });
 
   it('gives both passes\' counts when the second is shown, and says so when it is not', () => {
-    expect(secondPass(pass)).toBe('; wrapped twice: the first pass left 254 of 9999 checked points outside through gaps in the sampling, the second (a larger offset) 0');
-    expect(secondPass({ ...pass, outside_after: 300, kept: false })).toBe('; a second pass with a larger offset left more points outside, so the first is shown');
+    expect(secondPass(pass)).toBe('; wrapped twice: the first pass left 254 of 9999 checked points outside (an open rim or gaps in the sampling), the second 0');
+    expect(secondPass({ ...pass, outside_after: 300, kept: false })).toBe('; a second pass left more points outside, so the first is shown');
   });
 });
