@@ -795,14 +795,33 @@ fn a_randomly_sampled_sheet_gets_no_handles_through_its_sampling_gaps() {
 
 /// `n` random points on the open sheet z = 0.05 sin 5x over [−1, 1]², no thickness.
 fn random_wavy_sheet(n: usize, seed: u64) -> Target {
+    random_sheet(n, seed, |x, _| 0.05 * lsw::fmath::sin(5.0 * x))
+}
+
+/// `n` random points on the open sheet z = `height(x, y)` over [−1, 1]², no thickness.
+fn random_sheet(n: usize, seed: u64, height: impl Fn(f64, f64) -> f64) -> Target {
     let mut rng = lsw::demo::Rng::new(seed);
     let points: Vec<glam::DVec3> = (0..n)
         .map(|_| {
             let (x, y) = (2.0 * rng.uniform() - 1.0, 2.0 * rng.uniform() - 1.0);
-            glam::DVec3::new(x, y, 0.05 * lsw::fmath::sin(5.0 * x))
+            glam::DVec3::new(x, y, height(x, y))
         })
         .collect();
     Target::new(points, vec![]).unwrap()
+}
+
+/// Wraps `target` at the defaults: the certificate, and the second pass if there was one.
+fn wrap_with_passes(name: &str, target: &Target) -> (Certificate, Option<lsw::flow::StartedOver>) {
+    let mut ev = Evolver::new(target, WrapSettings::default()).unwrap();
+    ev.run(|_| {}).unwrap();
+    let c = certify(&ev.positions(), &ev.triangles(), Some(target));
+    println!(
+        "{name}: {:?}, outside {:?}",
+        ev.started_over(),
+        c.target_points_outside
+    );
+    assert_valid(name, &c);
+    (c, ev.started_over())
 }
 
 /// A random sampling leaves gaps: at the d₀ of a sparse cloud (1.7 median spacings) a tenth of
@@ -812,13 +831,7 @@ fn random_wavy_sheet(n: usize, seed: u64) -> Target {
 /// (`flow.cover_gaps`), which keeps the rim: none outside.
 #[test]
 fn a_randomly_sampled_open_sheet_keeps_its_rim_inside() {
-    let target = random_wavy_sheet(10_000, 3011);
-    let mut ev = Evolver::new(&target, WrapSettings::default()).unwrap();
-    ev.run(|_| {}).unwrap();
-    let c = certify(&ev.positions(), &ev.triangles(), Some(&target));
-    let again = ev.started_over();
-    println!("random sheet rim: {again:?}, {c:?}");
-    assert_valid("random sheet rim", &c);
+    let (c, again) = wrap_with_passes("random sheet rim", &random_wavy_sheet(10_000, 3011));
     assert_eq!(c.genus, Some(0), "{c:?}");
     let outside = c.target_points_outside.unwrap();
     assert!(outside <= 10, "{outside} of the sheet's points outside");
@@ -831,20 +844,8 @@ fn a_randomly_sampled_open_sheet_keeps_its_rim_inside() {
 /// grown 2 447, and the second pass without that push (`flow.second_pass_d2` = 0) 37.
 #[test]
 fn a_densely_sampled_open_dome_keeps_its_rim_inside() {
-    let mut rng = lsw::demo::Rng::new(3013);
-    let points: Vec<glam::DVec3> = (0..100_000)
-        .map(|_| {
-            let (x, y) = (2.0 * rng.uniform() - 1.0, 2.0 * rng.uniform() - 1.0);
-            glam::DVec3::new(x, y, 0.25 * (1.0 - 0.5 * (x * x + y * y)))
-        })
-        .collect();
-    let target = Target::new(points, vec![]).unwrap();
-    let mut ev = Evolver::new(&target, WrapSettings::default()).unwrap();
-    ev.run(|_| {}).unwrap();
-    let c = certify(&ev.positions(), &ev.triangles(), Some(&target));
-    let again = ev.started_over();
-    println!("dense dome: {again:?}");
-    assert_valid("dense dome", &c);
+    let dome = random_sheet(100_000, 3013, |x, y| 0.25 * (1.0 - 0.5 * (x * x + y * y)));
+    let (c, again) = wrap_with_passes("dense dome", &dome);
     assert_eq!(c.genus, Some(0), "{c:?}");
     assert!(!c.target_part_outside, "{c:?}");
     assert!(again.is_some_and(|s| s.kept), "{again:?}");
@@ -854,13 +855,10 @@ fn a_densely_sampled_open_dome_keeps_its_rim_inside() {
 /// them, nothing is left outside, and nothing starts over.
 #[test]
 fn a_randomly_sampled_closed_cloud_is_wrapped_once() {
-    let target = Target::new(lsw::demo::noisy_sphere_cloud(3000, 0.0, 3011), vec![]).unwrap();
-    let mut ev = Evolver::new(&target, WrapSettings::default()).unwrap();
-    ev.run(|_| {}).unwrap();
-    let c = certify(&ev.positions(), &ev.triangles(), Some(&target));
-    assert_valid("random sphere", &c);
+    let sphere = Target::new(lsw::demo::noisy_sphere_cloud(3000, 0.0, 3011), vec![]).unwrap();
+    let (c, again) = wrap_with_passes("random sphere", &sphere);
     assert_eq!(c.target_points_outside, Some(0), "{c:?}");
-    assert_eq!(ev.started_over(), None);
+    assert_eq!(again, None);
 }
 
 /// The same plate cloud with noise (σ = 0.2 % of the diagonal), which eats into the smallest
