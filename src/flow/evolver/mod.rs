@@ -10,15 +10,16 @@
 //! [`advance`] (move, divergence guard) → [`remeshing`] → [`contact`] (contact guard) →
 //! [`schedule`] (sizes, τ, stop rule) → [`fit`] (final fit, last step) → [`surgery`] (topology,
 //! every few steps). A new phase is one file and one line in `Evolver::step_once`. After the
-//! last step a cloud may be wrapped again with a larger d₀ ([`gaps`]).
+//! last step a cloud that the first pass left partly outside is wrapped again
+//! ([`second_pass`]).
 
 mod advance;
 mod contact;
 mod fit;
 pub use fit::FitTimes;
 mod forces;
-mod gaps;
-pub use gaps::{StartedOver, GAP_PASS_PHASE};
+mod second_pass;
+pub use second_pass::{StartedOver, SECOND_PASS_PHASE};
 mod remeshing;
 mod schedule;
 mod solve;
@@ -267,11 +268,11 @@ pub struct Evolver {
     surgery_paired: usize,
     /// The last look found the surface intersecting itself: look again at the next step.
     surgery_pending: bool,
-    /// A cloud's second pass with a d₀ that covers its sampling's gaps, while it may still come
-    /// ([`gaps`]).
-    gap_pass: Option<Box<gaps::GapPass>>,
+    /// A cloud's second pass, for when the first leaves part of it outside, while it may still
+    /// come ([`second_pass`]).
+    second_pass: Option<Box<second_pass::SecondPass>>,
     /// Why and how the evolution started over, when it did.
-    started_over: Option<gaps::StartedOver>,
+    started_over: Option<second_pass::StartedOver>,
 }
 
 /// What the evolution needs to resume from a certified state.
@@ -489,8 +490,12 @@ impl Evolver {
         let empty_distance = phi * empty_distance(target, c, &settings);
         let close_gap_distance = phi * close_gap_distance(target, &settings);
         let least_genus = target.one_closed_part().map(|t| t.genus);
-        let gap_pass =
-            gaps::GapPass::new(target, &settings, (d0, phi, center), fit_target.is_some());
+        let pass = second_pass::SecondPass::new(
+            target,
+            &settings,
+            (d0, phi, center),
+            fit_target.is_some(),
+        );
         let mut ev = Evolver {
             tau: settings.flow.tau,
             d1: settings.flow.d1,
@@ -532,12 +537,12 @@ impl Evolver {
             tunnels_opened: Vec::new(),
             surgery_paired: 0,
             surgery_pending: false,
-            gap_pass,
+            second_pass: pass,
             started_over: None,
         };
         ev.save_checkpoint();
         let start = ev.checkpoint.clone();
-        if let Some(pass) = ev.gap_pass.as_mut() {
+        if let Some(pass) = ev.second_pass.as_mut() {
             pass.starting(start);
         }
         ev.refresh_distances();

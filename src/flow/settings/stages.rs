@@ -107,7 +107,7 @@ pub struct FlowSettings {
     /// `second_pass_d2`; the pass that leaves fewer points outside is kept. At a sparse cloud's
     /// usual d₀ (1.7 median spacings) a tenth of a randomly sampled surface lies farther than d₀
     /// from every point, and round the rim of an open single-layer scan the wrap slipped through
-    /// those gaps (`flow/evolver/gaps.rs`). 1 turns the second pass off. Range 1–4; default 1.5.
+    /// those gaps (`flow/evolver/second_pass.rs`). 1 turns the second pass off. Range 1–4; default 1.5.
     pub cover_gaps: f64,
     /// D₂ of that second pass: 0, the obstacle setting, does not push harder where the normal
     /// lies across the gradient, which on a sheet of 100 000 random points drove the wrap's

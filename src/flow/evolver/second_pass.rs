@@ -23,10 +23,10 @@ use glam::DVec3;
 use serde::Serialize;
 
 /// The progress phase of the second pass.
-pub const GAP_PASS_PHASE: &str = "second pass (part outside)";
+pub const SECOND_PASS_PHASE: &str = "second pass (part outside)";
 
 /// What a second pass needs: its d₀, the start to go back to, and the points to check.
-pub(super) struct GapPass {
+pub(super) struct SecondPass {
     /// d₀ of the second pass (stabilised frame).
     d0: f64,
     /// The state before the first step.
@@ -61,7 +61,7 @@ struct FirstPass {
     outside: usize,
 }
 
-impl GapPass {
+impl SecondPass {
     /// The second pass of a wrap of `target` whose d₀ is `d0` (stabilised frame, scale `phi`
     /// about `center`; `fits`: there is a final fit): for a cloud, with d₀ grown to its gap
     /// spacing ([`crate::geometry::spatial::spacing::gap_spacing`]) where that is larger, at
@@ -78,7 +78,7 @@ impl GapPass {
             return None;
         }
         let gap = phi * crate::geometry::spatial::spacing::gap_spacing(&target.points);
-        Some(Box::new(GapPass {
+        Some(Box::new(SecondPass {
             d0: d0.max(gap.min(grow * d0)),
             start: None,
             samples: outside_samples(target)
@@ -109,7 +109,7 @@ impl Evolver {
     /// Whether the fit's view of the target is still needed after the final fit: a second pass
     /// may follow.
     pub(super) fn second_pass_may_follow(&self) -> bool {
-        self.gap_pass.is_some()
+        self.second_pass.is_some()
     }
 
     /// Called with the report of a step that ended the evolution: when part of the cloud lies
@@ -122,7 +122,7 @@ impl Evolver {
         last: StepReport,
         progress: &mut Progress,
     ) -> StepReport {
-        let Some(pass) = self.gap_pass.take().filter(|p| p.start.is_some()) else {
+        let Some(pass) = self.second_pass.take().filter(|p| p.start.is_some()) else {
             return last;
         };
         let outside = pass.outside(&self.mesh);
@@ -141,12 +141,12 @@ impl Evolver {
         self.begin_again(&pass);
         let (mut times, mut events) = (last.times, Vec::new());
         let mut report = None;
-        progress.report(GAP_PASS_PHASE, 0.0);
+        progress.report(SECOND_PASS_PHASE, 0.0);
         let limit = self.settings.stop.steps.max(1) as f64;
         while !self.done {
             match self.step_with_progress(progress) {
                 Ok(r) => {
-                    progress.report(GAP_PASS_PHASE, r.step as f64 / limit);
+                    progress.report(SECOND_PASS_PHASE, r.step as f64 / limit);
                     add_times(&mut times, &r.times);
                     events.extend(r.surgery.iter().cloned());
                     report = Some(r);
@@ -154,7 +154,7 @@ impl Evolver {
                 Err(_) => break,
             }
         }
-        progress.report(GAP_PASS_PHASE, 1.0);
+        progress.report(SECOND_PASS_PHASE, 1.0);
         let after = match (&self.stop_reason, &report) {
             (None, Some(_)) => pass.outside(&self.mesh),
             _ => usize::MAX,
@@ -193,7 +193,7 @@ impl Evolver {
     }
 
     /// Back to the state before the first step, with the second pass's d₀ and D₂.
-    fn begin_again(&mut self, pass: &GapPass) {
+    fn begin_again(&mut self, pass: &SecondPass) {
         self.d0 = pass.d0;
         self.settings.flow.d2 = self.settings.flow.second_pass_d2;
         if let Some(start) = &pass.start {
