@@ -80,7 +80,7 @@ pub fn apply_overrides(
 /// cloud's stray points, see `field.outlier_spacings`), specks_left_out (a mesh's small closed
 /// parts floating apart, see `geometry::specks`), repairs (what reading mended in a mesh's
 /// indices, or null; see `lsw info`), vertices, faces, steps, stopped_early,
-/// scale, result_hash, iso_level, started_over (null, or how a cloud that the first pass left
+/// scale, result_hash, iso_level, started_over (null, or how a target that the first pass left
 /// partly outside was wrapped a second time: see `flow::StartedOver`), times_ms {read, field, start, evolve, write, total}, evolve_ms {normals,
 /// assembly, solve, remesh, guard, fit, surgery}, fit_ms (the final fit part by part, see
 /// `flow::FitTimes`), distance_mean, distance_max; for volumes also iso (the iso-value

@@ -242,7 +242,7 @@ impl WrapSession {
         self.evolver.isolated_points() as u32
     }
 
-    /// Null, or how a cloud that the first pass left partly outside was wrapped a second time
+    /// Null, or how a target that the first pass left partly outside was wrapped a second time
     /// (see `flow::StartedOver`).
     #[wasm_bindgen(js_name = startedOver)]
     pub fn started_over(&self) -> Result<JsValue, JsValue> {

@@ -2,7 +2,7 @@
 // Meshes travel as flat typed arrays (Transferables), never as JSON.
 
 /** The certificate of a result (Rust `metrics::certificate::Certificate`, snake_case keys). */
-/** A cloud wrapped a second time because the first pass left part of it outside (see the core's
+/** A target wrapped a second time because the first pass left part of it outside (see the core's
  * `flow::StartedOver`): checked points outside after each pass, and whether the second is shown. */
 export interface StartedOver {
   outside_before: number;

@@ -10,7 +10,7 @@
 //! [`advance`] (move, divergence guard) → [`remeshing`] → [`contact`] (contact guard) →
 //! [`schedule`] (sizes, τ, stop rule) → [`fit`] (final fit, last step) → [`surgery`] (topology,
 //! every few steps). A new phase is one file and one line in `Evolver::step_once`. After the
-//! last step a cloud that the first pass left partly outside is wrapped again
+//! last step a target that the first pass left partly outside is wrapped again
 //! ([`second_pass`]).
 
 mod advance;
@@ -268,7 +268,7 @@ pub struct Evolver {
     surgery_paired: usize,
     /// The last look found the surface intersecting itself: look again at the next step.
     surgery_pending: bool,
-    /// A cloud's second pass, for when the first leaves part of it outside, while it may still
+    /// The second pass, for when the first leaves part of the target outside, while it may still
     /// come ([`second_pass`]).
     second_pass: Option<Box<second_pass::SecondPass>>,
     /// Why and how the evolution started over, when it did.

@@ -1,14 +1,15 @@
-//! After the final fit, *a second pass* for a point cloud that the first left partly outside
-//! (`flow.cover_gaps`, `flow.second_pass_d2`). At a sparse cloud's usual d₀ (1.7 median spacings)
-//! a tenth of a randomly sampled surface lies farther than d₀ from every point. A closed
-//! surface's wrap only sags into those holes, but round the rim of an open single-layer scan the
-//! two sides of the wrap slipped through them, met inside the sheet and left a fifth of it
-//! outside; on denser sheets full-wrap's push where the normal lies across the gradient (D₂)
-//! drove the coarse early wrap's edge past the rim. A d₀ that covers the gaps and D₂ = 0 keep the
-//! rim; used for every cloud the larger d₀ also changed results that were right (genus sweep: one
-//! handle lost, a 3 000-point plate 23 s instead of 1 s), so both are used only where the first
-//! pass left part of the cloud outside: the evolution starts over once from its start surface,
-//! and the pass that leaves fewer points outside is the result.
+//! After the final fit, *a second pass* for a point cloud or mesh that the first left partly
+//! outside (`flow.cover_gaps`, `flow.second_pass_d2`). At a sparse cloud's usual d₀ (1.7 median
+//! spacings) a tenth of a randomly sampled surface lies farther than d₀ from every point. A
+//! closed surface's wrap only sags into those holes, but round the rim of an open single-layer
+//! scan the two sides of the wrap slipped through them, met inside the sheet and left a fifth of
+//! it outside; on denser sheets, and on single-layer meshes, full-wrap's push where the normal
+//! lies across the gradient (D₂) drove the coarse early wrap's edge past the rim. A d₀ that
+//! covers the gaps and D₂ = 0 keep the rim; used for every cloud the larger d₀ also changed
+//! results that were right (genus sweep: one handle lost, a 3 000-point plate 23 s instead of
+//! 1 s), so both are used only where the first pass left part of the target outside: the
+//! evolution starts over once from its start surface, and the pass that leaves fewer points
+//! outside is the result.
 
 use super::{Checkpoint, Evolver, PhaseTimes, StepReport};
 use crate::flow::settings::WrapSettings;
@@ -63,10 +64,11 @@ struct FirstPass {
 
 impl SecondPass {
     /// The second pass of a wrap of `target` whose d₀ is `d0` (stabilised frame, scale `phi`
-    /// about `center`; `fits`: there is a final fit): for a cloud, with d₀ grown to its gap
-    /// spacing ([`crate::geometry::spatial::spacing::gap_spacing`]) where that is larger, at
-    /// most `flow.cover_gaps` times. `None` for a mesh or with `flow.cover_gaps` = 1. Its start
-    /// is set by [`Self::starting`].
+    /// about `center`; `fits`: there is a final fit), with D₂ = `flow.second_pass_d2`; a cloud's
+    /// with d₀ grown to its gap spacing ([`crate::geometry::spatial::spacing::gap_spacing`])
+    /// where that is larger, at most `flow.cover_gaps` times. `None` for a volume's iso-surface
+    /// (a second pass of a 640³ volume would take another minute) or with `flow.cover_gaps` = 1.
+    /// Its start is set by [`Self::starting`].
     pub(super) fn new(
         target: &Target,
         settings: &WrapSettings,
@@ -74,10 +76,13 @@ impl SecondPass {
         fits: bool,
     ) -> Option<Box<Self>> {
         let grow = settings.flow.cover_gaps;
-        if !target.triangles.is_empty() || grow <= 1.0 || !fits {
+        if target.sampled || grow <= 1.0 || !fits {
             return None;
         }
-        let gap = phi * crate::geometry::spatial::spacing::gap_spacing(&target.points);
+        let gap = match target.triangles.is_empty() {
+            true => phi * crate::geometry::spatial::spacing::gap_spacing(&target.points),
+            false => 0.0, // (A mesh's field has no gaps.)
+        };
         Some(Box::new(SecondPass {
             d0: d0.max(gap.min(grow * d0)),
             start: None,
@@ -112,7 +117,7 @@ impl Evolver {
         self.second_pass.is_some()
     }
 
-    /// Called with the report of a step that ended the evolution: when part of the cloud lies
+    /// Called with the report of a step that ended the evolution: when part of the target lies
     /// outside and a second pass is possible, runs it from the start (its steps reported to
     /// `progress`) and returns the report of its last step (times: both passes' last steps and
     /// every step of the second; surgery: the second pass's events), or `last` when the first

@@ -101,18 +101,20 @@ pub struct FlowSettings {
     /// field equals d₀. Range 0–10; default 1.0 (the reference used 2.0 on a field that
     /// overestimates distances ×1.7; our field is exact near the target).
     pub iso_level_factor: f64,
-    /// Point clouds only: a wrap that leaves part of the cloud outside starts over once, with
-    /// d₀ grown to the sampling's gap spacing (the 99th percentile of the nearest-point
-    /// distances) where that is larger, at most this many times the value above, and with D₂ =
-    /// `second_pass_d2`; the pass that leaves fewer points outside is kept. At a sparse cloud's
-    /// usual d₀ (1.7 median spacings) a tenth of a randomly sampled surface lies farther than d₀
-    /// from every point, and round the rim of an open single-layer scan the wrap slipped through
-    /// those gaps (`flow/evolver/second_pass.rs`). 1 turns the second pass off. Range 1–4; default 1.5.
+    /// A wrap that leaves part of its target outside starts over once with D₂ =
+    /// `second_pass_d2`, and on a point cloud with d₀ grown to the sampling's gap spacing (the
+    /// 99th percentile of the nearest-point distances) where that is larger, at most this many
+    /// times the value above; the pass that leaves fewer points outside is kept. At a sparse
+    /// cloud's usual d₀ (1.7 median spacings) a tenth of a randomly sampled surface lies farther
+    /// than d₀ from every point, and round the rim of an open single-layer scan the wrap slipped
+    /// through those gaps (`flow/evolver/second_pass.rs`). Not for volumes. 1 turns the second
+    /// pass off. Range 1–4; default 1.5.
     pub cover_gaps: f64,
     /// D₂ of that second pass: 0, the obstacle setting, does not push harder where the normal
-    /// lies across the gradient, which on a sheet of 100 000 random points drove the wrap's
-    /// edge past the sheet's rim early on (4 389 of 20 000 points outside after a full-wrap
-    /// second pass, 389 after this one). Range ≥ 0; default 0.
+    /// lies across the gradient, which on open single-layer sheets drove the coarse early
+    /// wrap's edge past the sheet's rim (a dome of 100 000 random points: 2 447 of 20 000 points
+    /// outside after a full-wrap second pass, 37 after this one; a wavy sheet as a mesh: 2 811
+    /// of 14 641 vertices after the first pass, 31 after this one). Range ≥ 0; default 0.
     pub second_pass_d2: f64,
     /// σ: the stabilisation scales the start so its mean co-volume is τ/σ. Default 0.2.
     pub shrink_factor: f64,
