@@ -67,7 +67,8 @@ impl SecondPass {
     /// about `center`; `fits`: there is a final fit), with D₂ = `flow.second_pass_d2`; a cloud's
     /// with d₀ grown to its gap spacing ([`crate::geometry::spatial::spacing::gap_spacing`])
     /// where that is larger, at most `flow.cover_gaps` times. `None` for a volume's iso-surface
-    /// (a second pass of a 640³ volume would take another minute) or with `flow.cover_gaps` = 1.
+    /// (a second pass of a 640³ volume would take another minute), with `flow.cover_gaps` = 1,
+    /// and where it would repeat the first.
     /// Its start is set by [`Self::starting`].
     pub(super) fn new(
         target: &Target,
@@ -83,8 +84,13 @@ impl SecondPass {
             true => phi * crate::geometry::spatial::spacing::gap_spacing(&target.points),
             false => 0.0, // (A mesh's field has no gaps.)
         };
+        let second = d0.max(gap.min(grow * d0));
+        // (The same d₀ and D₂ would only repeat the first pass: the obstacle preset on a mesh.)
+        if second == d0 && settings.flow.d2 == settings.flow.second_pass_d2 {
+            return None;
+        }
         Some(Box::new(SecondPass {
-            d0: d0.max(gap.min(grow * d0)),
+            d0: second,
             start: None,
             samples: outside_samples(target)
                 .into_iter()
