@@ -1,6 +1,6 @@
 // The health badge: the certificate of the current result at a glance (green only when valid),
 // with one line saying what is wrong and what to try. It shows; it computes nothing.
-import type { Certificate } from './protocol';
+import type { Certificate, StartedOver } from './protocol';
 
 /** The badge's state before any result exists or while a run is under way. */
 export function showPending(el: HTMLElement, text: string): void {
@@ -22,11 +22,15 @@ export function partLeftOut(c: Certificate): boolean {
   return c.target_part_outside === true;
 }
 
-/** One sentence on what is wrong with an invalid result, and what to try. */
-export function explain(c: Certificate, stopReason: string | null): string {
+/** One sentence on what is wrong with an invalid result, and what to try (`again`: the second
+ * pass the core ran because the first left part of the target outside, if it did). */
+export function explain(c: Certificate, stopReason: string | null, again: StartedOver | null = null): string {
   if (stopReason) return `Stopped early (${stopReason}). Try a smaller time step τ.`;
   if (c.valid && topologyDiffers(c)) {
     return `Closed, manifold, no intersecting faces, but the target has genus ${c.target_genus} in ${c.target_components} part(s) and this wrap genus ${c.genus} in ${c.components}. Try the other start surface or a finer grid.`;
+  }
+  if (c.valid && partLeftOut(c) && again) {
+    return `Closed, manifold, no intersecting faces, but ${c.target_points_outside} of ${c.target_points_checked} target points checked lie outside the wrap, also after a second pass without full-wrap's push (${again.outside_before} → ${again.outside_after}): a thin part or an open rim was cut off. Try a finer grid (Detail) or the other start surface.`;
   }
   if (c.valid && partLeftOut(c)) {
     return `Closed, manifold, no intersecting faces, but ${c.target_points_outside} of ${c.target_points_checked} target points checked lie outside the wrap: a thin part was cut off. Try the other start surface or a finer grid; for an open sheet (a single-layer scan), the obstacle preset.`;

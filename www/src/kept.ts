@@ -38,7 +38,7 @@ export class KeptResult {
   /** Keeps a completed wrap (with the target it was wrapped around) and shows its certificate and hash. */
   keep(msg: Extract<FromWorker, { type: 'result' }>, target: TargetMesh | null): void {
     const valid = msg.certificate.valid && !msg.stopReason;
-    this.kept = { positions: msg.positions, normals: msg.normals, indices: msg.indices, hash: msg.hash, name: msg.name, target, valid, why: explain(msg.certificate, msg.stopReason), certificate: msg.certificate, stopReason: msg.stopReason };
+    this.kept = { positions: msg.positions, normals: msg.normals, indices: msg.indices, hash: msg.hash, name: msg.name, target, valid, why: explain(msg.certificate, msg.stopReason, msg.startedOver), certificate: msg.certificate, stopReason: msg.stopReason };
     showCertificate(this.health, msg.certificate, msg.stopReason);
     this.hashEl.textContent = `result ${msg.hash.slice(0, 12)}`;
     this.hashEl.dataset.hash = msg.hash;

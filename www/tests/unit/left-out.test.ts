@@ -1,4 +1,6 @@
 import { describe, expect, it } from 'vitest';
+import { explain } from '../../src/health';
+import type { Certificate } from '../../src/protocol';
 import { leftOut, secondPass } from '../../src/wrap-run';
 
 describe('what the wrap left out, in words', () => {
@@ -24,5 +26,21 @@ describe('a second pass over a cloud left partly outside, in words', () => {
   it('gives both passes\' counts when the second is shown, and says so when it is not', () => {
     expect(secondPass(pass)).toBe('; wrapped twice: the first pass left 254 of 9999 checked points outside (an open rim or gaps in the sampling), the second 0');
     expect(secondPass({ ...pass, outside_after: 300, kept: false })).toBe('; a second pass left more points outside, so the first is shown');
+  });
+});
+
+describe('a part left outside, explained', () => {
+  const c: Certificate = {
+    valid: true, closed: true, manifold: true, oriented: true, finite: true, genus: 0, components: 1, euler_characteristic: 2,
+    self_intersections: 0, degenerate_faces: 0, distance_min: 0, distance_max: 0.01, problem: null, target_genus: null, target_components: null,
+    target_points_outside: 390, target_points_checked: 20000, target_part_outside: true,
+  };
+
+  it('names the obstacle preset when the wrap ran once, and the second pass when there was one', () => {
+    expect(explain(c, null)).toContain('for an open sheet (a single-layer scan), the obstacle preset');
+    const again = { outside_before: 4379, outside_after: 390, checked: 20000, iso_level_before: 0.0069, iso_level_after: 0.0078, kept: true };
+    const text = explain(c, null, again);
+    expect(text).toContain('also after a second pass without full-wrap\'s push (4379 → 390)');
+    expect(text).not.toContain('obstacle preset');
   });
 });
