@@ -50,13 +50,24 @@ impl Evolver {
             spacing: 0.5 * cell,
         };
         let regrows = s.flow.regrow_depth > 0.0 && s.flow.regrow_edges > 0.0;
+        // Beyond this distance, a surface with the data in front of it deflates (see
+        // `FlowSettings::deflate_far`).
+        let deflate_beyond = match s.flow.deflate_far {
+            k if k > 0.0 => k * self.empty_distance,
+            _ => f64::INFINITY,
+        };
         if s.flow.use_target {
             for i in 0..n {
                 let delta = self.distances[i] - self.d0;
                 eps[i] = controls.epsilon(delta);
                 let advects = eps[i] != 0.0 || !s.flow.advection_positive_support || delta >= 0.0;
                 if advects && !held[i] {
-                    eta[i] = controls.eta(delta, self.gradients[i].dot(normals[i]));
+                    let cos = self.gradients[i].dot(normals[i]);
+                    let cos = match self.distances[i] > deflate_beyond {
+                        true => -cos.abs(),
+                        false => cos,
+                    };
+                    eta[i] = controls.eta(delta, cos);
                 }
                 // A held-still vertex on a chord through a thin part moves out (its row is the
                 // identity, so this η is its whole move).

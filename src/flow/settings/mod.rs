@@ -198,6 +198,7 @@ pub const RANGES: &[SettingRange] = &[
     SettingRange::new("flow.iso_level_factor", 0.0, 10.0, false, "0–10"),
     SettingRange::new("flow.cover_gaps", 1.0, 4.0, false, "1–4"),
     SettingRange::new("flow.second_pass_d2", 0.0, f64::INFINITY, false, "≥ 0"),
+    SettingRange::new("flow.deflate_far", 0.0, 100.0, false, "0–100"),
     SettingRange::new("flow.shrink_factor", 0.0, 10.0, true, "(0, 10]"),
     SettingRange::new("flow.decay", 0.0, 1.0, true, "(0, 1]"),
     SettingRange::new("remesh.min_edge_multiplier", 0.0, 10.0, true, "(0, 10]"),

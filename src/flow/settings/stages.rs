@@ -116,6 +116,18 @@ pub struct FlowSettings {
     /// outside after a full-wrap second pass, 37 after this one; a wavy sheet as a mesh: 2 811
     /// of 14 641 vertices after the first pass, 31 after this one). Range ≥ 0; default 0.
     pub second_pass_d2: f64,
+    /// Where the surface lies farther from the data than this many times the surgery's empty
+    /// distance (`surgery.empty_cells`, `surgery.empty_spacings`) and the data lies in front of
+    /// it (cos θ > 0: the distance falls along its outward normal), its advection is mirrored,
+    /// so that it moves away from the data, inwards, instead of towards it. Such a surface is a
+    /// bubble of the wrap's inside: where the membranes of several holes meet (three bores
+    /// crossing in a cube, a cube's frame, a shell with holes), what is left between the tubes
+    /// hung in empty space, inflated towards the walls by the advection and held back by the
+    /// curvature flow (a cube's frame: genus 3 for 5 and a hub 0.67 from the data; with this,
+    /// genus 5 and 0.08). A surface outside the data never faces it so, and a tube that must
+    /// widen to its hole's wall has the wall behind it. 0 turns this off (links made before it
+    /// decode to 0). Range 0–100; default 1.
+    pub deflate_far: f64,
     /// σ: the stabilisation scales the start so its mean co-volume is τ/σ. Default 0.2.
     pub shrink_factor: f64,
     /// Steps after which sizes shrink by λ_dec, τ by λ_dec² and D1 grows by 1/λ_dec.
@@ -154,6 +166,7 @@ impl Default for FlowSettings {
             iso_level_factor: 1.0,
             cover_gaps: 1.5,
             second_pass_d2: 0.0,
+            deflate_far: 1.0,
             shrink_factor: 0.2,
             schedule: vec![3, 10, 20, 50, 100, 120, 140, 145],
             decay: 0.7,
