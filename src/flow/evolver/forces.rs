@@ -51,9 +51,12 @@ impl Evolver {
         };
         let regrows = s.flow.regrow_depth > 0.0 && s.flow.regrow_edges > 0.0;
         // Beyond this distance, a surface with the data in front of it deflates (see
-        // `FlowSettings::deflate_far`).
+        // `FlowSettings::deflate_far`), once the surgery has cut: before that the surface is
+        // the shrinking start, and a part of it far from the data that faces the data has
+        // slipped through a gap in a sparse wall, where deflating drove it on into the inside.
+        let operated = self.surgery_events.iter().any(|e| e.kind != "drop");
         let deflate_beyond = match s.flow.deflate_far {
-            k if k > 0.0 => k * self.empty_distance,
+            k if k > 0.0 && operated => k * self.empty_distance,
             _ => f64::INFINITY,
         };
         if s.flow.use_target {

@@ -116,17 +116,18 @@ pub struct FlowSettings {
     /// outside after a full-wrap second pass, 37 after this one; a wavy sheet as a mesh: 2 811
     /// of 14 641 vertices after the first pass, 31 after this one). Range ≥ 0; default 0.
     pub second_pass_d2: f64,
-    /// Where the surface lies farther from the data than this many times the surgery's empty
-    /// distance (`surgery.empty_cells`, `surgery.empty_spacings`) and the data lies in front of
-    /// it (cos θ > 0: the distance falls along its outward normal), its advection is mirrored,
-    /// so that it moves away from the data, inwards, instead of towards it. Such a surface is a
-    /// bubble of the wrap's inside: where the membranes of several holes meet (three bores
-    /// crossing in a cube, a cube's frame, a shell with holes), what is left between the tubes
-    /// hung in empty space, inflated towards the walls by the advection and held back by the
-    /// curvature flow (a cube's frame: genus 3 for 5 and a hub 0.67 from the data; with this,
-    /// genus 5 and 0.08). A surface outside the data never faces it so, and a tube that must
-    /// widen to its hole's wall has the wall behind it. 0 turns this off (links made before it
-    /// decode to 0). Range 0–100; default 1.
+    /// Once the surgery has operated, where the surface lies farther from the data than this
+    /// many times the surgery's empty distance (`surgery.empty_cells`, `surgery.empty_spacings`)
+    /// and the data lies in front of it (cos θ > 0: the distance falls along its outward normal),
+    /// its advection is mirrored, so that it moves away from the data, inwards, instead of
+    /// towards it. Such a surface is a bubble of the wrap's inside: where the membranes of
+    /// several holes meet (bores crossing in a cube, a cube's frame), what is left between the
+    /// tubes hangs in empty space, inflated towards the walls by the advection and held back by
+    /// the curvature flow (a cube's frame of thin bars: genus 3 for 5 and a hub 0.67 from the
+    /// data; with this, genus 5 and 0.09). A tube that must widen to its hole's wall has the
+    /// wall behind it. Before any cut it is off: a surface far from the data that faces it has
+    /// then slipped through a gap in a sparsely sampled wall, and deflating drove it on into
+    /// the inside. 0 turns this off (links made before it decode to 0). Range 0–100; default 1.
     pub deflate_far: f64,
     /// σ: the stabilisation scales the start so its mean co-volume is τ/σ. Default 0.2.
     pub shrink_factor: f64,
