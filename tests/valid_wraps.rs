@@ -346,8 +346,9 @@ fn cube_frame_cloud(h: f64) -> Target {
 /// were taken for the same hole, and the membranes that met several others paired along rings,
 /// where no tube fits (genus 1). Checked on the flow those fixes were made on, without
 /// deflation (`flow.deflate_far` 0): a hub stays in the middle, a bubble of the wrap's inside
-/// 0.24 from the data. At the defaults this sampling ends at genus 4 (two other samplings of it:
-/// genus 5 at 0.05 and 0.09 from the data; benches/RESULTS.md, thirty-third session).
+/// 0.24 from the data. At the defaults this sampling ends at genus 4 (three other samplings of
+/// it: genus 5 at 0.053 and 0.085 from the data, and genus 4; benches/RESULTS.md, thirty-third
+/// session).
 #[test]
 fn a_cube_drilled_along_three_axes_gets_five_handles() {
     let target = cube_frame_cloud(0.14);
