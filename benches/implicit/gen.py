@@ -127,6 +127,34 @@ def linked(x, y, z):
 def bead(x, y, z):
     return max(math.sqrt(x * x + y * y + z * z) - 0.8, -(math.hypot(x, y) - 0.07))
 
+def cube_with(x, y, z, holes):
+    """A cube of half-side 0.7 less `holes`, each (axis, cut) with cut(u, v) the distance in the
+    plane across that axis (negative inside the hole)."""
+    q = (x, y, z)
+    d = max(abs(x), abs(y), abs(z)) - 0.7
+    for ax, cut in holes:
+        u, v = (q[i] for i in range(3) if i != ax)
+        d = max(d, -cut(u, v))
+    return d
+
+def square_tunnels(w):
+    """Square tunnels 2w wide along all three axes (w 0.58: a frame of bars 0.12 thick)."""
+    cut = lambda u, v: max(abs(u), abs(v)) - w
+    return lambda x, y, z: cube_with(x, y, z, [(a, cut) for a in range(3)])
+
+def round_bores(r, axes):
+    cut = lambda u, v: math.hypot(u, v) - r
+    return lambda x, y, z: cube_with(x, y, z, [(a, cut) for a in axes])
+
+def sieve(x, y, z):
+    """A spherical shell (radius 0.75, 0.12 thick) with six round holes (radius 0.25)."""
+    q = (x, y, z)
+    d = abs(math.sqrt(x * x + y * y + z * z) - 0.75) - 0.06
+    for ax in range(3):
+        u, v = (q[i] for i in range(3) if i != ax)
+        d = max(d, -(math.hypot(u, v) - 0.25))
+    return d
+
 SHAPES = {
     "gear": (gear, 1.2, 1), "pipe": (pipe, 1.2, 1), "bottle": (bottle, 1.2, 0),
     "ribbon": (ribbon, 1.2, 0), "washer": (washer, 1.2, 1), "hourglass": (hourglass, 1.0, 0),
@@ -134,6 +162,11 @@ SHAPES = {
     "pits": (pits, 0.8, 0), "bowl": (bowl, 1.0, 0), "tripod": (tripod, 1.1, 0),
     "u-tunnel": (utunnel, 1.0, 1), "small-hole": (small_hole, 1.0, 1),
     "linked": (linked, 1.0, 2), "bead": (bead, 1.0, 1),
+    # Holes that meet inside the shape (thirty-third session).
+    "frame": (square_tunnels(0.58), 0.85, 5), "tunnels-0.6": (square_tunnels(0.3), 0.85, 5),
+    "tunnels-0.9": (square_tunnels(0.45), 0.85, 5), "tunnels-1.1": (square_tunnels(0.55), 0.85, 5),
+    "bores-2": (round_bores(0.3, [0, 2]), 0.85, 3), "bores-3": (round_bores(0.3, [0, 1, 2]), 0.85, 5),
+    "sieve": (sieve, 0.9, 5),
 }
 
 def main():
