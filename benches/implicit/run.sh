@@ -2,7 +2,9 @@
 # Implicit test shapes unlike the demo's (a gear, a pipe, an open-necked bottle, a twisted
 # ribbon, a washer, an hourglass, a spiky ball, thin and uneven tori, a cube with blind pits, a
 # bowl, a tripod, a ball with a U-shaped tunnel, a fat torus with a narrow hole, two linked tori,
-# a ball with a narrow bore), each wrapped
+# a ball with a narrow bore; and holes that meet inside: a cube's frame, cubes with square
+# tunnels 0.6 / 0.9 / 1.1 wide, with two and three crossing round bores, a shell with six
+# holes), each wrapped
 # four ways: as a volume (NRRD, 120³), as that volume's iso-surface mesh, and as clouds sampled
 # from it (30 000 points; 8 000 with 0.2 % noise, turned). Prints one TSV line per wrap: shape,
 # input kind, expected genus, then valid, genus, components, wall ms, vertices, largest distance
@@ -12,7 +14,7 @@
 # Needs: python3.
 set -u -o pipefail
 if [ $# -lt 2 ]; then
-    sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//' >&2
+    sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//' >&2
     exit 2
 fi
 BIN=$1
