@@ -82,7 +82,8 @@ pub fn apply_overrides(
 /// indices, or null; see `lsw info`), vertices, faces, steps, stopped_early,
 /// scale, result_hash, iso_level, started_over (null, or how a target that the first pass left
 /// partly outside was wrapped a second time: see `flow::StartedOver`), times_ms {read, field, start, evolve, write, total}, evolve_ms {normals,
-/// assembly, solve, remesh, guard, fit, surgery}, fit_ms (the final fit part by part, see
+/// assembly, solve, remesh, guard, fit, surgery, redone (steps undone and redone after a
+/// failed contact check)}, fit_ms (the final fit part by part, see
 /// `flow::FitTimes`), distance_mean, distance_max; for volumes also iso (the iso-value
 /// wrapped) and volume (see [`super::volume::volume_json`]); error (why, when the wrap was
 /// refused: the report is then the [`super::Failure`]'s, printed on stdout all the same).
@@ -220,6 +221,7 @@ pub fn run(a: &WrapArgs) -> Result<String, super::Failure> {
             "guard": sum(|r| r.times.guard),
             "fit": sum(|r| r.times.fit),
             "surgery": sum(|r| r.times.surgery),
+            "redone": sum(|r| r.times.redone),
         },
         "fit_ms": last.map(|r| r.times.fit_parts),
     });

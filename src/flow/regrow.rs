@@ -60,7 +60,7 @@ pub fn outward_to_offset(
         // Deeper at the first sample: the normal points further into the solid. Marching on
         // to the solid's far side moved a fold of the wrap that had got in deeper each step,
         // and its new vertices after it (see the tests).
-        if k == 1 && through_band && !(d >= at_p) {
+        if k == 1 && through_band && d < at_p {
             return None;
         }
         if through_band {

@@ -157,6 +157,10 @@ pub struct PhaseTimes {
     pub fit_parts: FitTimes,
     /// Topology surgery (detection, and the cut, glue and remesh when it operates).
     pub surgery: f64,
+    /// Steps whose reports went unseen on the way to this one: the step whose contact check
+    /// found intersections since the last certified state (it was undone), and the steps redone
+    /// from that state before this one. Their whole time, included in `total`.
+    pub redone: f64,
     /// The whole step.
     pub total: f64,
 }
@@ -758,16 +762,20 @@ impl Evolver {
         let wanted = self.step + 1;
         // Surgery done in steps that were redone is still done: its events go with the report.
         let mut events = Vec::new();
+        let mut redone = 0.0;
         loop {
             let mut r = self.step_once(progress)?;
             events.append(&mut r.surgery);
             if self.step >= wanted || self.done {
                 r.surgery = events;
+                r.times.redone = redone;
+                r.times.total += redone;
                 return Ok(match self.done {
                     true => self.second_pass_if_outside(r, progress),
                     false => r,
                 });
             }
+            redone += r.times.total;
         }
     }
 

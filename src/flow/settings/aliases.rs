@@ -9,8 +9,8 @@ use serde_json::{Map, Value};
 /// the link keeps its result (`flow.regrow_depth` 0 is the flow before `flow::regrow`,
 /// `surgery.tunnel_ratio` 0 the surgery before tunnels, `field.principal_slack` 0 the grid of
 /// the axis-aligned box, `start.part_gap` 0 one icosphere around all, `field.enclosed_cells`
-/// 0 a cloud's field unsigned everywhere, `flow.cover_gaps` 1 a cloud's d₀ from the cell alone).
-/// (`flow.deflate_far` defaults to its old value, 0; it joins this table if that changes.)
+/// 0 a cloud's field unsigned everywhere, `flow.cover_gaps` 1 a cloud's d₀ from the cell alone,
+/// `flow.deflate_far` 0 no bubble deflated).
 pub const ADDED: &[(&str, f64)] = &[
     ("flow.regrow_depth", 0.0),
     ("surgery.tunnel_ratio", 0.0),
@@ -18,6 +18,7 @@ pub const ADDED: &[(&str, f64)] = &[
     ("start.part_gap", 0.0),
     ("field.enclosed_cells", 0.0),
     ("flow.cover_gaps", 1.0),
+    ("flow.deflate_far", 0.0),
 ];
 
 /// `(old flat key, key in the nested settings)`. An old key that was an object (`features`)

@@ -127,10 +127,8 @@ pub struct FlowSettings {
     /// data; with this, genus 5 and 0.09). A tube that must widen to its hole's wall has the
     /// wall behind it. Before any cut it is off: a surface far from the data that faces it has
     /// then slipped through a gap in a sparsely sampled wall, and deflating drove it on into
-    /// the inside. 0 turns this off. Range 0–100; default 0 (off): on a cloud of a cube with two
-    /// crossing round bores the wrap then grew from 50 K to 655 K vertices in four steps and
-    /// took 212 s instead of 3.7 s, which is not understood yet (benches/RESULTS.md,
-    /// thirty-third session). 1 is the value measured there.
+    /// the inside. 0 turns this off (links made before it was the default decode to 0).
+    /// Range 0–100; default 1 (benches/RESULTS.md, thirty-third and thirty-fourth sessions).
     pub deflate_far: f64,
     /// σ: the stabilisation scales the start so its mean co-volume is τ/σ. Default 0.2.
     pub shrink_factor: f64,
@@ -170,7 +168,7 @@ impl Default for FlowSettings {
             iso_level_factor: 1.0,
             cover_gaps: 1.5,
             second_pass_d2: 0.0,
-            deflate_far: 0.0,
+            deflate_far: 1.0,
             shrink_factor: 0.2,
             schedule: vec![3, 10, 20, 50, 100, 120, 140, 145],
             decay: 0.7,

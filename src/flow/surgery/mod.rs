@@ -137,10 +137,12 @@ fn operate(
     let rim = RIM * query.empty;
     let far = far_parts(mesh, distances, query.empty);
     let mut skip = Vec::new();
-    for _attempt in 0..3 {
+    let mut partner = std::borrow::Cow::Borrowed(partner);
+    let mut eroded = 0;
+    for _attempt in 0..3 + ERODE {
         let Some(glued) = glue_facing_regions(&Pass {
             mesh,
-            partner,
+            partner: &partner,
             distances,
             rim,
             settled,
@@ -229,6 +231,14 @@ fn operate(
         }
         bad.sort_unstable();
         bad.dedup();
+        // Crossings at a curved membrane's rim, where the sheets part: the same cut a ring
+        // further in, where they lie closer, is tried before the operation is left out.
+        if skip.is_empty() && eroded < ERODE {
+            let sides = bad.iter().flat_map(|&t| glued.tubes[t].sides);
+            erode_rims(mesh, partner.to_mut(), sides);
+            eroded += 1;
+            continue;
+        }
         if bad.len() == glued.tubes.len() {
             return Ok(None);
         }
@@ -236,6 +246,43 @@ fn operate(
         skip.extend(bad);
     }
     Ok(None)
+}
+
+/// Rings by which a cut whose new faces cross the surface is moved into its membranes
+/// ([`erode_rims`]) before it is left out.
+const ERODE: usize = 2;
+
+/// Unpairs the rim of each facing region that holds one of `seeds`: its paired vertices with
+/// an unpaired neighbour. The regions' loops move a ring inwards.
+fn erode_rims(mesh: &HalfedgeMesh, partner: &mut [Option<u32>], seeds: impl Iterator<Item = u32>) {
+    let mut seen = vec![false; partner.len()];
+    let mut rim = Vec::new();
+    for s in seeds {
+        if seen[s as usize] || partner[s as usize].is_none() {
+            continue;
+        }
+        seen[s as usize] = true;
+        let mut stack = vec![s];
+        while let Some(v) = stack.pop() {
+            let mut edge = false;
+            for u in mesh.neighbors(v) {
+                match partner[u as usize] {
+                    None => edge = true,
+                    Some(_) if !seen[u as usize] => {
+                        seen[u as usize] = true;
+                        stack.push(u);
+                    }
+                    Some(_) => {}
+                }
+            }
+            if edge {
+                rim.push(v);
+            }
+        }
+    }
+    for v in rim {
+        partner[v as usize] = None;
+    }
 }
 
 /// The event records of `op`, in the target's units: positions mapped by `to_target`, lengths
