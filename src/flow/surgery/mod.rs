@@ -360,3 +360,43 @@ pub fn drop_empty_components(
     let (p, t) = bridge::compact(mesh.positions(), &tris);
     Some((HalfedgeMesh::from_triangles(p, &t).ok()?, centroid))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::icosphere::icosphere;
+
+    #[test]
+    fn eroding_a_region_unpairs_its_rim_ring_and_only_its_own() {
+        let mesh = icosphere(3, 1.0, DVec3::ZERO).unwrap();
+        let n = mesh.n_vertices();
+        // Two caps paired: around the north pole (the one eroded) and the south pole.
+        let cap = |v: usize, z: f64| (mesh.position(v as u32).z * z.signum()) > z.abs();
+        let mut partner: Vec<Option<u32>> = (0..n)
+            .map(|v| (cap(v, 0.6) || cap(v, -0.6)).then_some(0))
+            .collect();
+        let before = partner.clone();
+        let north = (0..n as u32).find(|&v| cap(v as usize, 0.6)).unwrap();
+        erode_rims(&mesh, &mut partner, [north].into_iter());
+        for v in 0..n {
+            let rim = before[v].is_some()
+                && mesh
+                    .neighbors(v as u32)
+                    .any(|u| before[u as usize].is_none());
+            let north_cap = cap(v, 0.6);
+            match (north_cap, rim) {
+                (true, true) => assert_eq!(partner[v], None, "rim vertex {v} still paired"),
+                _ => assert_eq!(partner[v], before[v], "vertex {v} changed"),
+            }
+        }
+        let unpaired = (0..n)
+            .filter(|&v| before[v].is_some() && partner[v].is_none())
+            .count();
+        assert!(unpaired > 0);
+        // What is left of the north cap is still a patch: eroding again takes the next ring.
+        let left = (0..n)
+            .filter(|&v| cap(v, 0.6) && partner[v].is_some())
+            .count();
+        assert!(left > 0, "the cap vanished in one ring");
+    }
+}
