@@ -11,22 +11,24 @@
 # to the data, self-intersections.
 #
 # Usage: benches/implicit/run.sh LSW_BIN OUT_DIR [shape ...]
-# Needs: python3.
+# GEN=benches/implicit/more.py runs that script's shapes instead (a knot, a spring, a lattice…).
+# Needs: python3 (numpy for more.py).
 set -u -o pipefail
 if [ $# -lt 2 ]; then
-    sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//' >&2
+    sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//' >&2
     exit 2
 fi
 BIN=$1
 OUT=$2
 shift 2
 HERE=$(cd "$(dirname "$0")" && pwd)
+GEN=${GEN:-$HERE/gen.py}
 SAMPLE="$HERE/../genus/sample.py"
 mkdir -p "$OUT"
-shapes=${*:-$(python3 "$HERE/gen.py" --list | cut -d' ' -f1)}
+shapes=${*:-$(python3 "$GEN" --list | cut -d' ' -f1)}
 for s in $shapes; do
-    g=$(python3 "$HERE/gen.py" --list | awk -v s="$s" '$1 == s { print $2 }')
-    [ -f "$OUT/$s.nrrd" ] || python3 "$HERE/gen.py" "$s" 120 "$OUT/$s.nrrd"
+    g=$(python3 "$GEN" --list | awk -v s="$s" '$1 == s { print $2 }')
+    [ -f "$OUT/$s.nrrd" ] || python3 "$GEN" "$s" 120 "$OUT/$s.nrrd"
     [ -f "$OUT/$s.obj" ] || "$BIN" wrap "$OUT/$s.nrrd" -o "$OUT/$s-vol.ply" --isosurface-out "$OUT/$s.obj" >/dev/null 2>&1
     [ -f "$OUT/$s-30k.ply" ] || python3 "$SAMPLE" "$OUT/$s.obj" 30000 "$OUT/$s-30k.ply" 1 0 0
     [ -f "$OUT/$s-8kn.ply" ] || python3 "$SAMPLE" "$OUT/$s.obj" 8000 "$OUT/$s-8kn.ply" 2 0.002 1

@@ -36,7 +36,7 @@ use crate::field::{DistanceField, FieldError};
 use crate::geometry::cloud_creases::detect_cloud_creases;
 use crate::geometry::creases::{detect_creases, Creases};
 use crate::geometry::icosphere::IcosphereError;
-use crate::mesh::{HalfedgeMesh, MeshBuildError};
+use crate::mesh::{HalfedgeMesh, MeshBuildError, MeshReport};
 use crate::parallel::Later;
 use crate::progress::Progress;
 use crate::remesh::adaptive::{RemeshError, RemeshReport};
@@ -78,14 +78,21 @@ fn coarser_isosurface_start(
 
 /// Whether `mesh` has the Euler characteristic and the component count of `target`'s triangles
 /// (false when those do not form a manifold mesh). From connectivity alone: degenerate faces of
-/// an iso-surface do not matter here.
-fn same_topology(mesh: &HalfedgeMesh, target: &Target) -> bool {
-    let topology = |m: &HalfedgeMesh| {
-        let t = m.topology();
-        (t.euler_characteristic, t.components)
-    };
-    HalfedgeMesh::from_triangles(target.points.clone(), &target.triangles)
-        .is_ok_and(|t| topology(&t) == topology(mesh))
+/// an iso-surface do not matter here. `closed`: the target's [`crate::mesh::closed_topology`],
+/// computed once per wrap (a sort of its edges: 50 ms on a volume's 575 K faces); a target that
+/// is not closed is built as a half-edge mesh.
+fn same_topology(mesh: &HalfedgeMesh, target: &Target, closed: Option<&MeshReport>) -> bool {
+    let t = mesh.topology();
+    let mine = (t.euler_characteristic, t.components);
+    match closed {
+        Some(t) => (t.euler_characteristic, t.components) == mine,
+        None => {
+            HalfedgeMesh::from_triangles(target.points.clone(), &target.triangles).is_ok_and(|t| {
+                let t = t.topology();
+                (t.euler_characteristic, t.components) == mine
+            })
+        }
+    }
 }
 
 /// Why a wrap could not start or continue.
@@ -440,15 +447,30 @@ impl Evolver {
                 let field = DistanceField::new_with_progress(target, &settings.field, progress)?;
                 let mut resolved = settings.clone().resolved_for(field.is_signed());
                 progress.report(START_PHASE, 0.0);
-                let start =
-                    Self::build_start_with_fallback(target, &field, &settings, &mut resolved)?;
-                if let Some(finer) = Self::finer_start(target, &settings, &resolved, progress) {
-                    return Ok(finer);
+                // The target's topology where it is closed: for the start's checks and
+                // surgery's least genus.
+                let closed = crate::mesh::closed_topology(target.points.len(), &target.triangles);
+                let start = Self::build_start_with_fallback(
+                    target,
+                    closed.as_ref(),
+                    &field,
+                    &settings,
+                    &mut resolved,
+                )?;
+                if let Some(finer) = Self::finer_start(
+                    target,
+                    closed.as_ref(),
+                    &settings,
+                    &resolved,
+                    &start,
+                    progress,
+                ) {
+                    return Ok((finer, closed));
                 }
-                Ok((field, start, resolved))
+                Ok(((field, start, resolved), closed))
             },
         );
-        let (field, start, mut settings) = start?;
+        let ((field, start, mut settings), closed) = start?;
         let c = field.cell_size();
         progress.report(START_PHASE, 1.0);
         if target.sampled {
@@ -493,7 +515,7 @@ impl Evolver {
         let d0 = settings.flow.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
         let empty_distance = phi * empty_distance(target, c, &settings);
         let close_gap_distance = phi * close_gap_distance(target, &settings);
-        let least_genus = target.one_closed_part().map(|t| t.genus);
+        let least_genus = closed.filter(|t| t.components == 1).map(|t| t.genus);
         let pass = second_pass::SecondPass::new(
             target,
             &settings,
@@ -563,6 +585,7 @@ impl Evolver {
     /// `settings` becomes those of the start built.
     fn build_start_with_fallback(
         target: &Target,
+        closed: Option<&MeshReport>,
         field: &DistanceField,
         requested: &WrapSettings,
         settings: &mut WrapSettings,
@@ -577,15 +600,15 @@ impl Evolver {
         let wrong_topology = |start: &Start| {
             settings.start.surface == StartSurface::Isosurface
                 && !target.sampled
-                && target.one_closed_part().is_some()
-                && !same_topology(&start.mesh, target)
+                && closed.is_some_and(|t| t.components == 1)
+                && !same_topology(&start.mesh, target, closed)
         };
         match built {
             Ok(start) if auto && wrong_topology(&start) => {
-                Self::fall_back(target, field, requested, settings)
+                Self::fall_back(target, closed, field, requested, settings)
             }
             Err(EvolveError::StartIntersects { .. }) if auto => {
-                Self::fall_back(target, field, requested, settings)
+                Self::fall_back(target, closed, field, requested, settings)
             }
             other => other,
         }
@@ -598,19 +621,38 @@ impl Evolver {
     /// settings. `None` when the start taken is not that fallback, or no finer grid helps (or
     /// fits the field's memory cap). (A noisy volume's iso-surface rarely matches: five of the 18
     /// of `benches/noisy/sweep.sh` try both grids in vain, 1.3–1.9 s each.)
+    ///
+    /// A volume's iso-surface of one closed part whose isosurface `start` has another topology
+    /// tries the first of them too, and keeps `start` when it does not match (see
+    /// `build_start_with_fallback`: no icosphere for volumes). A knot of voxels whose strands pass 6 voxels apart started
+    /// with two of its crossings joined and three specks of tetrahedra, and ended so: genus 2
+    /// in 4 parts for genus 1; its start 1.5× finer has the knot's topology.
     fn finer_start(
         target: &Target,
+        closed: Option<&MeshReport>,
         requested: &WrapSettings,
         resolved: &WrapSettings,
+        start: &Start,
         progress: &mut Progress,
     ) -> Option<(DistanceField, Start, WrapSettings)> {
-        let fell_back = requested.start.surface == StartSurface::Auto
-            && resolved.start.surface == StartSurface::Icosphere
-            && target.one_closed_part().is_some();
-        if !fell_back {
+        let auto = requested.start.surface == StartSurface::Auto;
+        let fell_back = resolved.start.surface == StartSurface::Icosphere;
+        let volume_off = || {
+            target.sampled
+                && resolved.start.surface == StartSurface::Isosurface
+                && !same_topology(&start.mesh, target, closed)
+        };
+        let one_part = closed.is_some_and(|t| t.components == 1);
+        if !(auto && one_part && (fell_back || volume_off())) {
             return None;
         }
-        FINER_GRIDS.iter().find_map(|&k| {
+        // (A volume's own start only 1.5× finer: past its voxels a finer grid rarely changes
+        // the iso-surface's topology, and three of the noisy volumes tried both in vain, 1.7 s.)
+        let grids = match fell_back {
+            true => &FINER_GRIDS[..],
+            false => &FINER_GRIDS[..1],
+        };
+        grids.iter().find_map(|&k| {
             let mut s = requested.clone();
             let n = s.field.cells_per_min_dimension as f64;
             s.field.cells_per_min_dimension = (k * n).round() as u32;
@@ -618,7 +660,7 @@ impl Evolver {
             let resolved = s.clone().resolved_for(field.is_signed());
             (resolved.start.surface == StartSurface::Isosurface).then_some(())?;
             let start = build_start(target, &field, &resolved).ok()?;
-            same_topology(&start.mesh, target).then_some((field, start, resolved))
+            same_topology(&start.mesh, target, closed).then_some((field, start, resolved))
         })
     }
 
@@ -626,6 +668,7 @@ impl Evolver {
     /// it has the target's topology, else the icosphere.
     fn fall_back(
         target: &Target,
+        closed: Option<&MeshReport>,
         field: &DistanceField,
         requested: &WrapSettings,
         settings: &mut WrapSettings,
@@ -634,7 +677,7 @@ impl Evolver {
         match coarser.map(|s| (build_start(target, field, &s), s)) {
             // Only with the target's own topology: two linked voxel tori gave a clean coarse
             // start of 5 components (the offsets merge where they link).
-            Some((Ok(start), s)) if same_topology(&start.mesh, target) => {
+            Some((Ok(start), s)) if same_topology(&start.mesh, target, closed) => {
                 *settings = s;
                 Ok(start)
             }
