@@ -178,3 +178,36 @@ fn wrap_stats_carry_the_error_budget() {
     assert!(b["features"]["count"].as_u64().unwrap() >= 8);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `lsw wrap` says in `warnings` what its certificate shows beside `valid`: here a wrap stopped
+/// after three steps, still the icosphere's genus 0 round a genus-1 torus, is valid and says so.
+#[test]
+fn wrap_warns_of_a_genus_unlike_the_targets() {
+    use clap::Parser;
+    let dir = std::env::temp_dir().join(format!("lsw-warn-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (input, out) = (dir.join("torus.obj"), dir.join("w.ply"));
+    let (p, t) = lsw::demo::shapes::generate("torus-g1").unwrap();
+    write_path(&input, &WriteInput::new(&p, &t)).unwrap();
+    let cli = lsw::cli::Cli::try_parse_from([
+        "lsw",
+        "wrap",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--start",
+        "icosphere",
+        "--steps",
+        "3",
+        "--set",
+        "field.cells_per_min_dimension=16",
+    ])
+    .unwrap();
+    let v: serde_json::Value = serde_json::from_str(&lsw::cli::run(cli).unwrap()).unwrap();
+    assert_eq!(v["certificate"]["valid"], true);
+    assert_eq!(
+        v["warnings"],
+        serde_json::json!(["the target has genus 1 in 1 part(s) and the wrap genus 0 in 1"])
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -75,7 +75,9 @@ pub fn apply_overrides(
 /// {valid, closed, manifold, oriented, finite, genus, components, euler_characteristic,
 /// self_intersections, degenerate_faces, distance_min, distance_max, problem, target_genus,
 /// target_components, target_points_outside, target_points_checked,
-/// target_part_outside}, contacts,
+/// target_part_outside}, warnings (what the certificate shows beside `valid`, in words: a
+/// genus or part count unlike the target's, a part of the target outside; also on stderr; see
+/// `Certificate::warnings`), contacts,
 /// surgery [{step, kind, position, genus_before, genus_after}], isolated_points_left_out (a
 /// cloud's stray points, see `field.outlier_spacings`), specks_left_out (a mesh's small closed
 /// parts floating apart, see `geometry::specks`), repairs (what reading mended in a mesh's
@@ -183,6 +185,7 @@ pub fn run(a: &WrapArgs) -> Result<String, super::Failure> {
         "written": failure.is_none() || a.keep_invalid,
         "stop_reason": ev.stop_reason(),
         "certificate": certificate,
+        "warnings": certificate.warnings(),
         "contacts": {
             "steps_with_contact": reports.iter().filter(|r| r.contacts.pairs > 0).count(),
             "pairs_resolved": reports.iter().map(|r| r.contacts.pairs).sum::<usize>(),

@@ -65,6 +65,37 @@ pub struct Certificate {
     pub target_part_outside: bool,
 }
 
+impl Certificate {
+    /// What a certificate shows beside `valid`, in words: the wrap's genus or parts differ from
+    /// the target's (a handle lost or added, a speck split off), or a part of the target lies
+    /// outside the wrap. Empty when neither. A script that checks `valid` alone would take such
+    /// a wrap as done; `lsw wrap` prints these on stderr and as `warnings`.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut w = Vec::new();
+        if let (Some(tg), Some(tc), Some(g), Some(c)) = (
+            self.target_genus,
+            self.target_components,
+            self.genus,
+            self.components,
+        ) {
+            if (tg, tc) != (g, c) {
+                w.push(format!(
+                    "the target has genus {tg} in {tc} part(s) and the wrap genus {g} in {c}"
+                ));
+            }
+        }
+        if self.target_part_outside {
+            w.push(format!(
+                "{} of {} target points checked lie outside the wrap: a part of the target is \
+                 left out",
+                self.target_points_outside.unwrap_or(0),
+                self.target_points_checked.unwrap_or(0)
+            ));
+        }
+        w
+    }
+}
+
 /// At most this many target points are tested for lying outside the wrap.
 pub const OUTSIDE_SAMPLES: usize = 20_000;
 /// A target point counts as outside the wrap when it is farther from it than this fraction of
@@ -319,6 +350,11 @@ mod tests {
             c.valid,
             "a topology difference is shown, not part of `valid`"
         );
+        assert_eq!(
+            c.warnings(),
+            ["the target has genus 2 in 1 part(s) and the wrap genus 0 in 1"]
+        );
+        assert!(certify(&p, &t, None).warnings().is_empty());
         let open = Target::new(p.clone(), t[1..].to_vec()).unwrap();
         let c = certify(&p, &t, Some(&open));
         assert_eq!((c.target_genus, c.target_components), (None, None));
