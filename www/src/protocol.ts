@@ -3,7 +3,9 @@
 
 /** The certificate of a result (Rust `metrics::certificate::Certificate`, snake_case keys). */
 /** A target wrapped a second time because the first pass left part of it outside (see the core's
- * `flow::StartedOver`): checked points outside after each pass, and whether the second is shown. */
+ * `flow::StartedOver`): checked points outside after each pass, and whether the second is shown;
+ * the farthest vertex's distance after each (null: the pass stopped); and a third pass, where
+ * the second ended far off the data. */
 export interface StartedOver {
   outside_before: number;
   outside_after: number;
@@ -11,6 +13,9 @@ export interface StartedOver {
   iso_level_before: number;
   iso_level_after: number;
   kept: boolean;
+  far_before?: number;
+  far_after?: number | null;
+  third?: { d2: number; outside: number; far: number; kept: boolean } | null;
 }
 
 export interface Certificate {

@@ -303,14 +303,21 @@ export class WrapRun {
   }
 }
 
-/** What the wrap left out of the target, for the done line: "" or " (3 stray points left out)". */
-/** What the second pass over a cloud the first left partly outside did, for the done line. */
+/** What the second pass over a cloud the first left partly outside did (and a third, where the
+ * second ended far off the data), for the done line. */
 export function secondPass(s: StartedOver | null): string {
   if (!s) return '';
+  const first = `the first pass left ${s.outside_before} of ${s.checked} checked points outside (an open rim or gaps in the sampling)`;
+  if (s.third?.kept) {
+    return `; wrapped three times: ${first}, the second ${s.outside_after} but ended far off the data, the third ${s.third.outside}`;
+  }
+  const third = s.third ? ' (a third pass did no better)' : '';
   return s.kept
-    ? `; wrapped twice: the first pass left ${s.outside_before} of ${s.checked} checked points outside (an open rim or gaps in the sampling), the second ${s.outside_after}`
-    : `; a second pass left more points outside, so the first is shown`;
+    ? `; wrapped twice: ${first}, the second ${s.outside_after}${third}`
+    : `; a second pass left more points outside, so the first is shown${third}`;
 }
+
+/** What the wrap left out of the target, for the done line: "" or " (3 stray points left out)". */
 
 export function leftOut(strays: number, specks: number): string {
   const parts = [

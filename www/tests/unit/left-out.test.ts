@@ -27,6 +27,12 @@ describe('a second pass over a cloud left partly outside, in words', () => {
     expect(secondPass(pass)).toBe('; wrapped twice: the first pass left 254 of 9999 checked points outside (an open rim or gaps in the sampling), the second 0');
     expect(secondPass({ ...pass, outside_after: 300, kept: false })).toBe('; a second pass left more points outside, so the first is shown');
   });
+
+  it('names a third pass when one ran', () => {
+    const third = { d2: 0.5, outside: 1, far: 0.03, kept: true };
+    expect(secondPass({ ...pass, kept: false, third })).toBe('; wrapped three times: the first pass left 254 of 9999 checked points outside (an open rim or gaps in the sampling), the second 0 but ended far off the data, the third 1');
+    expect(secondPass({ ...pass, third: { ...third, kept: false } })).toBe('; wrapped twice: the first pass left 254 of 9999 checked points outside (an open rim or gaps in the sampling), the second 0 (a third pass did no better)');
+  });
 });
 
 describe('a part left outside, explained', () => {
