@@ -624,9 +624,10 @@ impl Evolver {
     ///
     /// A volume's iso-surface of one closed part whose isosurface `start` has another topology
     /// tries the first of them too, and keeps `start` when it does not match (see
-    /// `build_start_with_fallback`: no icosphere for volumes). A knot of voxels whose strands pass 6 voxels apart started
-    /// with two of its crossings joined and three specks of tetrahedra, and ended so: genus 2
-    /// in 4 parts for genus 1; its start 1.5× finer has the knot's topology.
+    /// `build_start_with_fallback`: no icosphere for volumes). A knot of voxels whose strands
+    /// pass 6 voxels apart started with two of its crossings joined and three specks of
+    /// tetrahedra, and ended so: genus 2 in 4 parts for genus 1; its start 1.5× finer has the
+    /// knot's topology.
     fn finer_start(
         target: &Target,
         closed: Option<&MeshReport>,

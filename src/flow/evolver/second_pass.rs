@@ -216,12 +216,11 @@ impl Evolver {
             }),
         });
         self.fit_target = None;
-        let result = match (third_kept, second_kept) {
-            (true, _) => third,
-            (false, true) => second,
-            (false, false) => Some(first),
+        let result = match (third, second) {
+            (Some(t), _) if third_kept => t,
+            (_, Some(s)) if second_kept => s,
+            _ => first,
         };
-        let result = result.expect("the pass kept ran to its end");
         // The pass kept: its surface, d₀, D₂, step count and events.
         self.mesh = result.mesh;
         self.d0 = result.d0;
