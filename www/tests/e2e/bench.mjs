@@ -4,6 +4,7 @@
 // frames, certificate), the certificate and the peak resident memory of the page's renderer
 // process (the tab: page, computation worker and render worker), sampled every 100 ms from /proc.
 // Usage: bash .ci/build && node tests/e2e/bench.mjs FILE [RUNS=1]
+// BENCH_SHOT=OUT.png also saves a screenshot of the page at done (the last run's).
 import { readFileSync, readdirSync } from 'node:fs';
 import { basename } from 'node:path';
 import { setInterval, clearInterval } from 'node:timers';
@@ -65,9 +66,10 @@ for (let run = 1; run <= runs; run++) {
   const status = await page.textContent('[data-testid=status]');
   console.log(JSON.stringify({
     file: basename(file), run, dropToDoneMs: Math.round(ms), peakRendererMB: Math.round(peak / 2 ** 20),
-    status: status.trim().slice(0, 120), date: new Date().toISOString(),
+    status: status.trim().slice(0, 400), date: new Date().toISOString(),
     phasesMs: Object.fromEntries(phases.map(([p, t]) => [p, Math.round(t)])),
   }));
+  if (process.env.BENCH_SHOT) await page.screenshot({ path: process.env.BENCH_SHOT });
   await page.close();
 }
 await browser.close();
