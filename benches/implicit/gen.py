@@ -184,6 +184,11 @@ def main():
                 d = f(x, y, z)
                 row.append(min(1.0, max(0.0, 0.5 - d / (2 * h))))
             vals += struct.pack("<%df" % n, *row)
+    write_nrrd(out, n, ext, vals)
+
+def write_nrrd(out, n, ext, vals):
+    """An n³ float volume over [-ext, ext]³ (`vals`: little-endian f32 bytes, x fastest)."""
+    h = 2 * ext / (n - 1)
     hdr = ("NRRD0004\ntype: float\ndimension: 3\nsizes: %d %d %d\nspace: left-posterior-superior\n"
            "space directions: (%g,0,0) (0,%g,0) (0,0,%g)\nspace origin: (%g,%g,%g)\nencoding: raw\nendian: little\n\n"
            % (n, n, n, h, h, h, -ext, -ext, -ext))

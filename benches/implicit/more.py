@@ -4,7 +4,9 @@ volumes like gen.py's: a trefoil knot whose strands pass 0.12 apart, a coil spri
 five spokes, a mug, two overlapping balls, a grate with nine square holes, a thick Moebius band,
 and a 2 x 2 x 2 lattice of bars (genus 28). Usage: more.py NAME N OUT.nrrd, or more.py --list
 (each name and the genus of its surface). Needs numpy (the curves' distances by segment)."""
-import sys, numpy as np
+import os, sys, numpy as np
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gen import write_nrrd  # noqa: E402
 
 def seg_d(P, a, b, r):
     a = np.asarray(a, float); b = np.asarray(b, float)
@@ -103,10 +105,7 @@ def main():
     P = np.stack([X, Y, Z], -1)
     d = f(P)
     vals = np.clip(0.5 - d / (2 * h), 0, 1).astype("<f4")
-    hdr = ("NRRD0004\ntype: float\ndimension: 3\nsizes: %d %d %d\nspace: left-posterior-superior\n"
-           "space directions: (%g,0,0) (0,%g,0) (0,0,%g)\nspace origin: (%g,%g,%g)\nencoding: raw\nendian: little\n\n"
-           % (n, n, n, h, h, h, -ext, -ext, -ext))
-    open(out, "wb").write(hdr.encode() + vals.tobytes())
+    write_nrrd(out, n, ext, vals.tobytes())
 
 if __name__ == "__main__":
     if sys.argv[1] == "--list":
