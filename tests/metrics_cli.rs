@@ -140,25 +140,11 @@ fn creases_are_measured_for_mesh_targets_only() {
 /// holding the Hausdorff distance, which is the largest of the classes' maxima.
 #[test]
 fn wrap_stats_carry_the_error_budget() {
-    use clap::Parser;
     let dir = std::env::temp_dir().join(format!("lsw-budget-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let (input, out, stats) = (dir.join("cube.obj"), dir.join("w.ply"), dir.join("s.json"));
+    let stats = dir.join("s.json");
     let (p, t) = lsw::demo::shapes::grid_box(DVec3::ONE, [4, 4, 4]);
-    write_path(&input, &WriteInput::new(&p, &t)).unwrap();
-    let cli = lsw::cli::Cli::try_parse_from([
-        "lsw",
-        "wrap",
-        input.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--stats",
-        stats.to_str().unwrap(),
-        "--set",
-        "field.cells_per_min_dimension=16",
-    ])
-    .unwrap();
-    lsw::cli::run(cli).unwrap();
+    wrap_cli(&dir, &p, &t, &["--stats", stats.to_str().unwrap()]);
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
     let b = &s["error_budget"];
@@ -183,31 +169,33 @@ fn wrap_stats_carry_the_error_budget() {
 /// after three steps, still the icosphere's genus 0 round a genus-1 torus, is valid and says so.
 #[test]
 fn wrap_warns_of_a_genus_unlike_the_targets() {
-    use clap::Parser;
     let dir = std::env::temp_dir().join(format!("lsw-warn-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let (input, out) = (dir.join("torus.obj"), dir.join("w.ply"));
     let (p, t) = lsw::demo::shapes::generate("torus-g1").unwrap();
-    write_path(&input, &WriteInput::new(&p, &t)).unwrap();
-    let cli = lsw::cli::Cli::try_parse_from([
-        "lsw",
-        "wrap",
-        input.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--start",
-        "icosphere",
-        "--steps",
-        "3",
-        "--set",
-        "field.cells_per_min_dimension=16",
-    ])
-    .unwrap();
-    let v: serde_json::Value = serde_json::from_str(&lsw::cli::run(cli).unwrap()).unwrap();
+    let v = wrap_cli(&dir, &p, &t, &["--start", "icosphere", "--steps", "3"]);
     assert_eq!(v["certificate"]["valid"], true);
     assert_eq!(
         v["warnings"],
         serde_json::json!(["the target has genus 1 in 1 part(s) and the wrap genus 0 in 1"])
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Writes the mesh `(p, t)` to DIR/in.obj and runs `lsw wrap` on it (output DIR/w.ply, a
+/// 16-cell grid) with `extra` arguments; its JSON report.
+fn wrap_cli(
+    dir: &std::path::Path,
+    p: &[DVec3],
+    t: &[[u32; 3]],
+    extra: &[&str],
+) -> serde_json::Value {
+    use clap::Parser;
+    let (input, out) = (dir.join("in.obj"), dir.join("w.ply"));
+    write_path(&input, &WriteInput::new(p, t)).unwrap();
+    let (input, out) = (input.to_str().unwrap(), out.to_str().unwrap());
+    let mut args = vec!["lsw", "wrap", input, "-o", out];
+    args.extend(["--set", "field.cells_per_min_dimension=16"]);
+    args.extend_from_slice(extra);
+    let cli = lsw::cli::Cli::try_parse_from(args).unwrap();
+    serde_json::from_str(&lsw::cli::run(cli).unwrap()).unwrap()
 }

@@ -87,7 +87,7 @@ struct Pass {
     steps: u32,
     surgery_events: Vec<SurgeryEvent>,
     outside: usize,
-    /// The farthest vertex's field distance (stabilised frame).
+    /// The farthest vertex's field distance (target units: its last step's `distance_max`).
     far: f64,
     /// Its last step's report (None for the first pass: the caller's).
     report: Option<StepReport>,
@@ -181,7 +181,7 @@ impl Evolver {
             steps: self.step,
             surgery_events: std::mem::take(&mut self.surgery_events),
             outside,
-            far: self.farthest(),
+            far: last.distance_max,
             report: None,
         };
         let mut times = last.times;
@@ -206,12 +206,12 @@ impl Evolver {
             iso_level_before: first.d0 / self.phi,
             iso_level_after: pass.d0 / self.phi,
             kept: second_kept && !third_kept,
-            far_before: first.far / self.phi,
-            far_after: second.as_ref().map_or(f64::INFINITY, |s| s.far / self.phi),
+            far_before: first.far,
+            far_after: second.as_ref().map_or(f64::INFINITY, |s| s.far),
             third: third.as_ref().map(|t| ThirdPass {
                 d2: t.d2,
                 outside: t.outside,
-                far: t.far / self.phi,
+                far: t.far,
                 kept: third_kept,
             }),
         });
@@ -274,15 +274,9 @@ impl Evolver {
             steps: self.step,
             surgery_events: events,
             outside: pass.outside(&self.mesh),
-            far: self.farthest(),
+            far: report.distance_max,
             report: Some(report),
         })
-    }
-
-    /// The farthest vertex's field distance (stabilised frame).
-    fn farthest(&self) -> f64 {
-        let field = &self.field;
-        (self.mesh.positions().iter()).fold(0.0, |m, &p| m.max(field.sample(p).abs()))
     }
 
     /// Back to the state before the first step, with the second pass's d₀ and D₂ = `d2`.
