@@ -1,7 +1,6 @@
 // Messages between the UI thread and the worker: the one source of truth for both sides.
 // Meshes travel as flat typed arrays (Transferables), never as JSON.
 
-/** The certificate of a result (Rust `metrics::certificate::Certificate`, snake_case keys). */
 /** A target wrapped a second time because the first pass left part of it outside (see the core's
  * `flow::StartedOver`): checked points outside after each pass, and whether the second is shown;
  * the farthest vertex's distance after each (null: the pass stopped); and a third pass, where
@@ -18,6 +17,7 @@ export interface StartedOver {
   third?: { d2: number; outside: number; far: number; kept: boolean } | null;
 }
 
+/** The certificate of a result (Rust `metrics::certificate::Certificate`, snake_case keys). */
 export interface Certificate {
   valid: boolean;
   closed: boolean;

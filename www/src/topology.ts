@@ -3,7 +3,7 @@
 // of the frame on screen in the health badge; the end of the timeline shows the certificate again.
 import { byId } from './dom';
 import { showCertificate } from './health';
-import type { Certificate, StepReport, SurgeryEvent } from './protocol';
+import type { Certificate, StartedOver, StepReport, SurgeryEvent } from './protocol';
 
 /** One line per event, in words; `n` events alike in one step (two handles opened at once) as one. */
 function describe(e: SurgeryEvent, n = 1): string {
@@ -32,9 +32,27 @@ export function describeAll(events: SurgeryEvent[]): string[] {
   return lines.map((l) => describe(l.first, l.n));
 }
 
+/** The later pass whose result is shown ('second' or 'third'), or null for the first. A later
+ * pass runs inside the first pass's last step, so its events reach the UI in that step's report
+ * only, and the first pass's earlier events are not the result's. */
+export function laterPassShown(s: StartedOver | null): 'second' | 'third' | null {
+  if (s?.third?.kept) return 'third';
+  return s?.kept ? 'second' : null;
+}
+
+/** The surgery line: the result's events in words, and which pass made them when not the first. */
+export function surgeryLine(events: SurgeryEvent[], pass: 'second' | 'third' | null): string {
+  if (!events.length) return '';
+  const which = pass ? ` (in the ${pass} pass, whose result is shown)` : '';
+  return `Surgery${which}: ${describeAll(events).join('; ')}`;
+}
+
 export class TopologyTimeline {
   private readonly genusAt = new Map<number, number>();
   private events: SurgeryEvent[] = [];
+  /** The events of the latest step report (a later pass's, when one ran). */
+  private lastEvents: SurgeryEvent[] = [];
+  private pass: 'second' | 'third' | null = null;
   private readonly list = byId('surgery');
   private readonly marks = byId<HTMLDataListElement>('scrub-marks');
 
@@ -42,8 +60,9 @@ export class TopologyTimeline {
   clear(): void {
     this.genusAt.clear();
     this.events = [];
-    this.list.textContent = '';
-    this.list.dataset.events = '0';
+    this.lastEvents = [];
+    this.pass = null;
+    this.render();
     this.marks.replaceChildren();
   }
 
@@ -52,10 +71,24 @@ export class TopologyTimeline {
     for (const r of reports) {
       this.genusAt.set(r.step, r.genus);
       this.events.push(...(r.surgery ?? []));
+      this.lastEvents = r.surgery ?? [];
     }
-    if (!this.events.length) return;
+    this.render();
+  }
+
+  /** The result arrived: where a later pass is shown, its events replace the first pass's, and
+   * the scrubber (the first pass's frames) gets no marks. */
+  result(startedOver: StartedOver | null): void {
+    this.pass = laterPassShown(startedOver);
+    if (!this.pass) return;
+    this.events = [...this.lastEvents];
+    this.render();
+    this.marks.replaceChildren();
+  }
+
+  private render(): void {
     this.list.dataset.events = String(this.events.length);
-    this.list.textContent = 'Surgery: ' + describeAll(this.events).join('; ');
+    this.list.textContent = surgeryLine(this.events, this.pass);
   }
 
   /** Genus of the surface after `step` (the latest step at or before it). */
@@ -69,6 +102,7 @@ export class TopologyTimeline {
 
   /** The scrubber's frames (their steps) changed: one tick at the first frame after each event. */
   place(steps: number[]): void {
+    if (this.pass) return;
     const ticks = this.events.map((e) => steps.findIndex((s) => s >= e.step)).filter((i) => i >= 0);
     this.marks.replaceChildren(...[...new Set(ticks)].map((i) => Object.assign(document.createElement('option'), { value: String(i) })));
   }

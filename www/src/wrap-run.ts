@@ -278,6 +278,7 @@ export class WrapRun {
     this.isolated = msg.isolated;
     this.specks = msg.specks;
     this.startedOver = msg.startedOver;
+    this.d.readout.topology.result(msg.startedOver);
     this.lastDoneMs = performance.now() - this.startedAt;
     byId('hash').dataset.ms = String(Math.round(this.lastDoneMs));
     this.d.draw({ type: 'fit' });

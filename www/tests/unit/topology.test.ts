@@ -1,6 +1,6 @@
 import { describe, expect, it } from 'vitest';
-import type { SurgeryEvent } from '../../src/protocol';
-import { describeAll } from '../../src/topology';
+import type { StartedOver, SurgeryEvent } from '../../src/protocol';
+import { describeAll, laterPassShown, surgeryLine } from '../../src/topology';
 
 const event = (step: number, kind: SurgeryEvent['kind'], genus: [number, number], parts: [number, number] = [1, 1]): SurgeryEvent => ({
   step, kind, position: [0, 0, 0], radius: 0.1, genus_before: genus[0], genus_after: genus[1], components_before: parts[0], components_after: parts[1],
@@ -23,5 +23,28 @@ describe('surgery events in words', () => {
       'step 11 cut a neck in empty space (components 1 → 2)',
       'step 11 dropped a part around nothing (components 2 → 1) (2×)',
     ]);
+  });
+});
+
+describe('the surgery of the pass whose result is shown', () => {
+  const over = (kept: boolean, third: boolean | null): StartedOver => ({
+    outside_before: 174, outside_after: 0, checked: 10000, iso_level_before: 0.01, iso_level_after: 0.02, kept,
+    third: third === null ? null : { d2: 0.5, outside: 0, far: 0.01, kept: third },
+  });
+
+  it('is the first pass unless a later one is kept', () => {
+    expect(laterPassShown(null)).toBeNull();
+    expect(laterPassShown(over(false, null))).toBeNull();
+    expect(laterPassShown(over(false, false))).toBeNull();
+    expect(laterPassShown(over(true, null))).toBe('second');
+    expect(laterPassShown(over(true, false))).toBe('second');
+    expect(laterPassShown(over(false, true))).toBe('third');
+  });
+
+  it('names the later pass, and says nothing without events', () => {
+    const events = [event(40, 'handle', [0, 1])];
+    expect(surgeryLine(events, null)).toBe('Surgery: step 40 opened a handle (genus 0 → 1)');
+    expect(surgeryLine(events, 'third')).toBe('Surgery (in the third pass, whose result is shown): step 40 opened a handle (genus 0 → 1)');
+    expect(surgeryLine([], 'second')).toBe('');
   });
 });
