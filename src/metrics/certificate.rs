@@ -292,12 +292,37 @@ pub fn points_outside(
     points: &[DVec3],
     tolerance: f64,
 ) -> usize {
+    outside_distances(positions, triangles, points, tolerance).len()
+}
+
+/// The distances to the closed surface `(positions, triangles)` of the `points` that lie
+/// outside it and farther than `tolerance` (in the points' order).
+pub fn outside_distances(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    points: &[DVec3],
+    tolerance: f64,
+) -> Vec<f64> {
     let bvh = TriangleBvh::new(positions, triangles);
     let out = crate::parallel::map(points.len(), |i| {
         let p = points[i];
-        bvh.closest_point_within(p, tolerance).is_none() && !bvh.encloses(p)
+        let outside = bvh.closest_point_within(p, tolerance).is_none() && !bvh.encloses(p);
+        outside.then(|| bvh.distance(p))
     });
-    out.into_iter().filter(|&o| o).count()
+    out.into_iter().flatten().collect()
+}
+
+/// How far out the part left outside lies: the distance beyond which at most the
+/// [`OUTSIDE_SHARE`] of `checked` points lie outside, given the `outside` points' distances
+/// (0 where that share is not exceeded: no part is outside, see [`part_outside`]).
+pub fn outside_miss(outside: &[f64], checked: usize) -> f64 {
+    let allowed = (OUTSIDE_SHARE * checked as f64) as usize;
+    if outside.len() <= allowed {
+        return 0.0;
+    }
+    let mut d = outside.to_vec();
+    d.sort_unstable_by(|a, b| b.total_cmp(a));
+    d[allowed]
 }
 
 #[cfg(test)]
@@ -367,6 +392,27 @@ mod tests {
     }
 
     /// Target points the wrap cut off are counted; points inside it, on it or near it are not.
+    #[test]
+    fn a_part_outside_lies_as_far_out_as_its_share_allows() {
+        let m = icosphere(3, 1.0, DVec3::ZERO).unwrap();
+        let (p, t) = (m.positions().to_vec(), m.triangles());
+        // A spike of 5 points out to 1.5 along z: at 1.1, 1.2, … 1.5 (about 0.1 … 0.5 out).
+        let spike: Vec<DVec3> = (1..=5)
+            .map(|k| DVec3::new(0.0, 0.0, 1.0 + 0.1 * k as f64))
+            .collect();
+        let d = outside_distances(&p, &t, &spike, 0.05);
+        assert_eq!(d.len(), 5);
+        for (k, d) in d.iter().enumerate() {
+            assert!((d - 0.1 * (k + 1) as f64).abs() < 0.01, "{d}");
+        }
+        // Of 400 checked points, 2 may lie outside (0.5 %): the miss is the third farthest.
+        assert!((outside_miss(&d, 400) - 0.3).abs() < 0.01);
+        assert!((outside_miss(&d, 200) - 0.4).abs() < 0.01);
+        // No part outside: no miss.
+        assert_eq!(outside_miss(&d, 1000), 0.0);
+        assert_eq!(outside_miss(&[], 10), 0.0);
+    }
+
     #[test]
     fn target_points_left_outside_are_counted() {
         let m = icosphere(3, 1.0, DVec3::ZERO).unwrap();

@@ -22,12 +22,27 @@ export function partLeftOut(c: Certificate): boolean {
   return c.target_part_outside === true;
 }
 
+/** Whether the first pass is shown although a later one left fewer points outside: the later
+ * ones ended far off the data (see the core's `flow::StartedOver`). */
+export function laterPassesFarOff(s: StartedOver): boolean {
+  return !s.kept && !s.third?.kept && s.outside_after < s.outside_before;
+}
+
+/** A length for a sentence: two significant digits. */
+function num(x: number | undefined | null): string {
+  return x === undefined || x === null ? '?' : x.toPrecision(2);
+}
+
 /** One sentence on what is wrong with an invalid result, and what to try (`again`: the second
  * pass the core ran because the first left part of the target outside, if it did). */
 export function explain(c: Certificate, stopReason: string | null, again: StartedOver | null = null): string {
   if (stopReason) return `Stopped early (${stopReason}). Try a smaller time step τ.`;
   if (c.valid && topologyDiffers(c)) {
     return `Closed, manifold, no intersecting faces, but the target has genus ${c.target_genus} in ${c.target_components} part(s) and this wrap genus ${c.genus} in ${c.components}. Try the other start surface or a finer grid.`;
+  }
+  if (c.valid && partLeftOut(c) && again && laterPassesFarOff(again)) {
+    const far = Math.min(again.far_after ?? Infinity, again.third?.far ?? Infinity);
+    return `Closed, manifold, no intersecting faces, but ${c.target_points_outside} of ${c.target_points_checked} target points checked lie outside the wrap, up to ${num(again.miss_before)} out (an open rim's edge or a thin part cut off); ${again.third ? 'the later passes' : 'a second pass'} that kept them ended farther off the data (${num(far)} against ${num(again.far_before)}), so the first is shown. Try a finer grid (Detail) or the other start surface.`;
   }
   if (c.valid && partLeftOut(c) && again) {
     return `Closed, manifold, no intersecting faces, but ${c.target_points_outside} of ${c.target_points_checked} target points checked lie outside the wrap, also after a second pass without full-wrap's push (${again.outside_before} → ${again.outside_after}): a thin part or an open rim was cut off. Try a finer grid (Detail) or the other start surface.`;

@@ -4,7 +4,8 @@
 /** A target wrapped a second time because the first pass left part of it outside (see the core's
  * `flow::StartedOver`): checked points outside after each pass, and whether the second is shown;
  * the farthest vertex's distance after each (null: the pass stopped); and a third pass, where
- * the second ended far off the data. */
+ * the second ended far off the data. The first is shown when the later ones end much farther off
+ * the data than its part outside lies. */
 export interface StartedOver {
   outside_before: number;
   outside_after: number;
@@ -14,7 +15,10 @@ export interface StartedOver {
   kept: boolean;
   far_before?: number;
   far_after?: number | null;
-  third?: { d2: number; outside: number; far: number; kept: boolean } | null;
+  /** How far out each pass's part left outside lies (0: none; null: the pass stopped). */
+  miss_before?: number;
+  miss_after?: number | null;
+  third?: { d2: number; outside: number; miss?: number; far: number; kept: boolean } | null;
 }
 
 /** The certificate of a result (Rust `metrics::certificate::Certificate`, snake_case keys). */

@@ -3,7 +3,7 @@
 // the worker's answers that belong to it (target, frames, volume, result, stop).
 import { byId } from './dom';
 import type { FieldControls } from './field-view';
-import { partLeftOut, showPending, topologyDiffers } from './health';
+import { laterPassesFarOff, partLeftOut, showPending, topologyDiffers } from './health';
 import { revealView } from './layout';
 import type { KeptResult, TargetMesh } from './kept';
 import type { ModeSwitch } from './mode';
@@ -313,8 +313,9 @@ export function secondPass(s: StartedOver | null): string {
     return `; wrapped three times: ${first}, the second ${s.outside_after} but ended far off the data, the third ${s.third.outside}`;
   }
   const third = s.third ? ' (a third pass did no better)' : '';
-  return s.kept
-    ? `; wrapped twice: ${first}, the second ${s.outside_after}${third}`
+  if (s.kept) return `; wrapped twice: ${first}, the second ${s.outside_after}${third}`;
+  return laterPassesFarOff(s)
+    ? `; a second pass left fewer points outside but ended far off the data, so the first is shown${third}`
     : `; a second pass left more points outside, so the first is shown${third}`;
 }
 

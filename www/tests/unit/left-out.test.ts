@@ -49,4 +49,13 @@ describe('a part left outside, explained', () => {
     expect(text).toContain('also after a second pass without full-wrap\'s push (4379 → 390)');
     expect(text).not.toContain('obstacle preset');
   });
+
+  it('says why the first pass is shown when the later ones ended far off the data', () => {
+    const again = {
+      outside_before: 188, outside_after: 7, checked: 16748, iso_level_before: 0.0113, iso_level_after: 0.0169, kept: false,
+      far_before: 0.0292, far_after: 0.279, miss_before: 0.0494, miss_after: 0, third: { d2: 0.5, outside: 0, miss: 0, far: 0.113, kept: false },
+    };
+    expect(explain(c, null, again)).toContain('up to 0.049 out (an open rim\'s edge or a thin part cut off); the later passes that kept them ended farther off the data (0.11 against 0.029), so the first is shown');
+    expect(secondPass(again)).toBe('; a second pass left fewer points outside but ended far off the data, so the first is shown (a third pass did no better)');
+  });
 });
