@@ -4,7 +4,8 @@
 // frames, certificate), the certificate and the peak resident memory of the page's renderer
 // process (the tab: page, computation worker and render worker), sampled every 100 ms from /proc.
 // Usage: bash .ci/build && node tests/e2e/bench.mjs FILE [RUNS=1]
-// BENCH_SHOT=OUT.png also saves a screenshot of the page at done (the last run's).
+// BENCH_SHOT=OUT.png also saves a screenshot of the page at done, or where a run ended otherwise
+// (the last run's).
 import { readFileSync, readdirSync } from 'node:fs';
 import { basename } from 'node:path';
 import { setInterval, clearInterval } from 'node:timers';
@@ -59,7 +60,10 @@ for (let run = 1; run <= runs; run++) {
   }, 100);
   await dropFile(page, basename(file), bytes);
   const end = await page.waitForSelector('[data-testid=status]:is([data-state=done], [data-state=invalid], [data-state=error])', { timeout: 600000 });
-  if ((await end.getAttribute('data-state')) !== 'done') broken(`the run ended as: ${(await end.textContent()).trim()}`);
+  if ((await end.getAttribute('data-state')) !== 'done') {
+    if (process.env.BENCH_SHOT) await page.screenshot({ path: process.env.BENCH_SHOT });
+    broken(`the run ended as: ${(await end.textContent()).trim()}`);
+  }
   clearInterval(sampler);
   const ms = await page.evaluate(() => window.__lsw.dropToDoneMs());
   const phases = await page.evaluate(() => window.__lsw.phaseTimes());
