@@ -13,11 +13,12 @@
 //!
 //! D₂ = 0 does not push into concavities (the method's reason for full-wrap): over a twisted
 //! band it left a web 6.5 % of the diagonal off the data where the first pass's farthest vertex
-//! was 1.4 % off. When the kept second pass ends more than [`FAR_GROWTH`] times farther from the
-//! data than the first, a third pass halfway between the two D₂ runs, and the result is the pass
-//! that leaves no part outside and ends nearest the data, else the one with the fewest outside;
-//! but a pass that leaves a part outside stays the result over one that ends more than
-//! [`FAR_GROWTH`] times farther off the data than that part lies out (see [`better`]).
+//! was 1.4 % off. When a second pass that leaves fewer points outside ends more than
+//! [`FAR_GROWTH`] times farther from the data than the first, a third pass halfway between the
+//! two D₂ runs. The result is the pass that leaves no part outside and ends nearest the data,
+//! else the one with the fewest outside; but a pass that leaves a part outside stays the result
+//! over one that ends more than [`FAR_GROWTH`] times farther off the data than that part lies
+//! out (see [`better`]).
 
 use super::{Checkpoint, Evolver, PhaseTimes, StepReport};
 use crate::flow::settings::WrapSettings;
@@ -84,8 +85,10 @@ pub struct ThirdPass {
     pub kept: bool,
 }
 
-/// A kept second pass that ends more than this many times farther from the data than the first
-/// (its farthest vertex) gets a third pass (see the module's doc).
+/// A second pass that leaves fewer points outside but ends more than this many times farther
+/// from the data than the first (its farthest vertex) gets a third pass; and a pass that leaves a
+/// part outside stays the result over one that ends this many times farther off the data than
+/// it misses (see the module's doc).
 pub const FAR_GROWTH: f64 = 2.0;
 
 /// A finished pass, kept while the next runs.
