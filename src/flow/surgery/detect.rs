@@ -111,18 +111,20 @@ pub fn facing_pairs(
     q: &FacingQuery,
     probe: &dyn Fn(DVec3) -> f64,
 ) -> Vec<Option<u32>> {
-    facing_pairs_and_tunnels(mesh, normals, distances, q, probe).0
+    facing_pairs_and_tunnels(mesh, normals, distances, q, probe, PATCH_WIDTHS).0
 }
 
 /// [`facing_pairs`], and the tunnels it paired across: each hole's middle and the farthest wall
 /// met from there (a ball in which no later look should pair again: a hole wider one way than
-/// the other keeps membrane around its tube that would open it a second time).
+/// the other keeps membrane around its tube that would open it a second time). A tunnel's
+/// membranes reach `patch_widths` times its half-width from its two ends ([`PATCH_WIDTHS`]).
 pub fn facing_pairs_and_tunnels(
     mesh: &HalfedgeMesh,
     normals: &[DVec3],
     distances: &[f64],
     q: &FacingQuery,
     probe: &dyn Fn(DVec3) -> f64,
+    patch_widths: f64,
 ) -> (Vec<Option<u32>>, Vec<(DVec3, f64)>) {
     let mut holes = Vec::new();
     let n = mesh.n_vertices();
@@ -196,7 +198,7 @@ pub fn facing_pairs_and_tunnels(
                 continue;
             };
             holes.push(hole);
-            let reach = (PATCH_WIDTHS * width).max(PATCH_EDGES * s.edges[i]);
+            let reach = (patch_widths * width).max(PATCH_EDGES * s.edges[i]);
             let (a, b) = (
                 s.patch(mesh, &slot, v, reach),
                 s.patch(mesh, &slot, u, reach),
@@ -212,10 +214,11 @@ pub fn facing_pairs_and_tunnels(
 }
 
 /// A tunnel's membrane reaches this many times the tunnel's half-width (the distance to the
-/// target at its middle) from the vertex that found it. At 2, wider tubes were cut in a genus-5
+/// target at its middle) from the vertex that found it (by default; see
+/// [`super::open_handles`] for the narrower retry). At 2, wider tubes were cut in a genus-5
 /// chain's holes and three of its twelve clouds of `benches/genus/sweep.sh` ended 3× farther
 /// from the data (0.02 → 0.06); at 1, a plate's hole was missed.
-const PATCH_WIDTHS: f64 = 1.5;
+pub const PATCH_WIDTHS: f64 = 1.5;
 /// … and at least this many of its edges: a hole a few edges wide (the smallest of a plate's)
 /// needs a patch of a ring or two to make a tube.
 const PATCH_EDGES: f64 = 2.0;
@@ -707,8 +710,19 @@ mod tests {
             tunnel_ratio: 4.0,
             ..query()
         };
-        let (_, holes) = facing_pairs_and_tunnels(&m, &normals, &d, &q, &hole);
+        let (wide, holes) = facing_pairs_and_tunnels(&m, &normals, &d, &q, &hole, PATCH_WIDTHS);
         assert!(!holes.is_empty());
+        // Narrower patches (the retry when a tube crossed the surface) pair fewer vertices,
+        // round the same path.
+        let (narrow, _) = facing_pairs_and_tunnels(&m, &normals, &d, &q, &hole, 0.5);
+        let count = |f: &[Option<u32>]| f.iter().filter(|p| p.is_some()).count();
+        assert!(
+            count(&narrow) > 2 && count(&narrow) < count(&wide),
+            "{} {}",
+            count(&narrow),
+            count(&wide)
+        );
+        assert!((0..narrow.len()).all(|v| narrow[v].is_none() || wide[v].is_some()));
         for (c, extent) in holes {
             assert!(c.z.abs() < 0.3 && c.truncate().length() < 0.6, "{c:?}");
             assert!(extent > 0.9 && extent < 2.4, "{extent}");
@@ -761,7 +775,7 @@ mod tests {
             tunnel_ratio: 4.0,
             ..query()
         };
-        let (found, holes) = facing_pairs_and_tunnels(&m, &normals, &d, &q, &probe);
+        let (found, holes) = facing_pairs_and_tunnels(&m, &normals, &d, &q, &probe, PATCH_WIDTHS);
         assert!(holes.is_empty(), "{holes:?}");
         assert!(found.iter().all(Option::is_none));
     }

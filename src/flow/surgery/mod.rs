@@ -13,7 +13,7 @@ use crate::geometry::operators::normals::angle_weighted_normals;
 use crate::mesh::HalfedgeMesh;
 use crate::metrics::intersections::self_intersecting_pairs;
 use bridge::{glue_facing_regions, Cut, Pass, Tube};
-use detect::{facing_pairs_and_tunnels, far_parts, in_opened_hole, FacingQuery};
+use detect::{facing_pairs_and_tunnels, far_parts, in_opened_hole, FacingQuery, PATCH_WIDTHS};
 use glam::DVec3;
 use serde::Serialize;
 
@@ -59,6 +59,10 @@ pub struct Operated {
 /// since the last look.
 const SETTLED_GROWTH: f64 = 1.1;
 
+/// A tunnel's membranes reach this many times its half-width from its path when the look with
+/// [`PATCH_WIDTHS`] cut nothing.
+const NARROW_PATCH_WIDTHS: f64 = 0.5;
+
 /// What one look for facing membranes found.
 pub struct Look {
     /// Vertices paired with a facing sheet (pass it to the next look).
@@ -87,24 +91,35 @@ pub fn open_handles(
     previous: usize,
 ) -> Look {
     let normals = angle_weighted_normals(mesh);
-    let (partner, tunnels) = facing_pairs_and_tunnels(mesh, &normals, distances, query, probe);
-    let paired = partner.iter().filter(|p| p.is_some()).count();
-    let settled = paired as f64 <= SETTLED_GROWTH * previous as f64;
-    let (operated, intersecting) = if paired < 2 * min_vertices {
-        (None, false)
-    } else {
-        match operate(
-            mesh,
-            &partner,
-            distances,
-            query,
-            probe,
-            settled,
-            min_vertices,
-        ) {
-            Ok(op) => (op, false),
-            Err(Intersecting) => (None, true),
-        }
+    let look = |widths: f64| {
+        let (partner, tunnels) =
+            facing_pairs_and_tunnels(mesh, &normals, distances, query, probe, widths);
+        let paired = partner.iter().filter(|p| p.is_some()).count();
+        let settled = paired as f64 <= SETTLED_GROWTH * previous as f64;
+        let op = match paired < 2 * min_vertices {
+            true => Ok(None),
+            false => operate(
+                mesh,
+                &partner,
+                distances,
+                query,
+                probe,
+                settled,
+                min_vertices,
+            ),
+        };
+        (paired, tunnels, op)
+    };
+    let (mut paired, mut tunnels, mut op) = look(PATCH_WIDTHS);
+    if matches!(op, Ok(None)) && !tunnels.is_empty() {
+        // Nothing cut although a tunnel paired: its tube may have crossed the surface. Membranes
+        // resting tilted across a bore (a scan saw its wall only near the ends) gave rims whose
+        // tube crossed itself; narrower patches round the path give rounder loops.
+        (paired, tunnels, op) = look(NARROW_PATCH_WIDTHS);
+    }
+    let (operated, intersecting) = match op {
+        Ok(op) => (op, false),
+        Err(Intersecting) => (None, true),
     };
     Look {
         paired,
