@@ -23,9 +23,14 @@ export function partLeftOut(c: Certificate): boolean {
 }
 
 /** Whether the first pass is shown although a later one left fewer points outside: the later
- * ones ended far off the data (see the core's `flow::StartedOver`). */
+ * ones ended far off the data, or with fewer handles (see the core's `flow::StartedOver`). */
 export function laterPassesFarOff(s: StartedOver): boolean {
   return !s.kept && !s.third?.kept && s.outside_after < s.outside_before;
+}
+
+/** The genus of each later pass that ended as a closed manifold. */
+function laterGenera(s: StartedOver): number[] {
+  return [s.genus_after, s.third?.genus].filter((g): g is number => typeof g === 'number');
 }
 
 /** A length for a sentence: two significant digits. */
@@ -42,7 +47,11 @@ export function explain(c: Certificate, stopReason: string | null, again: Starte
   }
   if (c.valid && partLeftOut(c) && again && laterPassesFarOff(again)) {
     const far = Math.min(again.far_after ?? Infinity, again.third?.far ?? Infinity);
-    return `Closed, manifold, no intersecting faces, but ${c.target_points_outside} of ${c.target_points_checked} target points checked lie outside the wrap, up to ${num(again.miss_before)} out (an open rim's edge or a thin part cut off); ${again.third ? 'the later passes' : 'a second pass'} that kept them ended farther off the data (${num(far)} against ${num(again.far_before)}), so the first is shown. Try a finer grid (Detail) or the other start surface.`;
+    const later = laterGenera(again);
+    const why = later.some((g) => g < (again.genus_before ?? -1))
+      ? `closed a hole the first had opened (genus ${again.genus_before}, theirs ${later.join(' and ')})`
+      : `ended farther off the data (${num(far)} against ${num(again.far_before)})`;
+    return `Closed, manifold, no intersecting faces, but ${c.target_points_outside} of ${c.target_points_checked} target points checked lie outside the wrap, up to ${num(again.miss_before)} out (an open rim's edge or a thin part cut off); ${again.third ? 'the later passes' : 'a second pass'} that kept them ${why}, so the first is shown. Try a finer grid (Detail) or the other start surface.`;
   }
   if (c.valid && partLeftOut(c) && again) {
     return `Closed, manifold, no intersecting faces, but ${c.target_points_outside} of ${c.target_points_checked} target points checked lie outside the wrap, also after a second pass without full-wrap's push (${again.outside_before} → ${again.outside_after}): a thin part or an open rim was cut off. Try a finer grid (Detail) or the other start surface.`;

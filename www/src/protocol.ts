@@ -5,7 +5,7 @@
  * `flow::StartedOver`): checked points outside after each pass, and whether the second is shown;
  * the farthest vertex's distance after each (null: the pass stopped); and a third pass, where
  * the second ended far off the data. The first is shown when the later ones end much farther off
- * the data than its part outside lies. */
+ * the data than its part outside lies, or with fewer handles. */
 export interface StartedOver {
   outside_before: number;
   outside_after: number;
@@ -18,7 +18,10 @@ export interface StartedOver {
   /** How far out each pass's part left outside lies (0: none; null: the pass stopped). */
   miss_before?: number;
   miss_after?: number | null;
-  third?: { d2: number; outside: number; miss?: number; far: number; kept: boolean } | null;
+  /** Each pass's genus (null: not a closed manifold, or the pass stopped). */
+  genus_before?: number | null;
+  genus_after?: number | null;
+  third?: { d2: number; outside: number; miss?: number; far: number; genus?: number | null; kept: boolean } | null;
 }
 
 /** The certificate of a result (Rust `metrics::certificate::Certificate`, snake_case keys). */

@@ -68,6 +68,10 @@ pub struct StartedOver {
     /// 0 when no part is outside).
     pub miss_before: f64,
     pub miss_after: f64,
+    /// The genus after the first and the second pass (None: not a closed manifold, or the pass
+    /// stopped).
+    pub genus_before: Option<i64>,
+    pub genus_after: Option<i64>,
     /// The third pass, when the second ended far off the data (see the module's doc).
     pub third: Option<ThirdPass>,
 }
@@ -81,6 +85,7 @@ pub struct ThirdPass {
     pub outside: usize,
     pub miss: f64,
     pub far: f64,
+    pub genus: Option<i64>,
     /// Whether it is the result.
     pub kept: bool,
 }
@@ -101,6 +106,8 @@ struct Pass {
     outside: usize,
     /// How far out the part left outside lies ([`outside_miss`], target units; 0: none).
     miss: f64,
+    /// Its genus (None when it is not a closed manifold).
+    genus: Option<i64>,
     /// The farthest vertex's field distance (target units: its last step's `distance_max`).
     far: f64,
     /// Its last step's report (None for the first pass: the caller's).
@@ -198,6 +205,7 @@ impl Evolver {
             surgery_events: std::mem::take(&mut self.surgery_events),
             outside,
             miss: miss / self.phi,
+            genus: genus_of(&self.mesh),
             far: last.distance_max,
             report: None,
         };
@@ -229,11 +237,14 @@ impl Evolver {
             far_after: second.as_ref().map_or(f64::INFINITY, |s| s.far),
             miss_before: first.miss,
             miss_after: second.as_ref().map_or(f64::INFINITY, |s| s.miss),
+            genus_before: first.genus,
+            genus_after: second.as_ref().and_then(|s| s.genus),
             third: third.as_ref().map(|t| ThirdPass {
                 d2: t.d2,
                 outside: t.outside,
                 miss: t.miss,
                 far: t.far,
+                genus: t.genus,
                 kept: third_kept,
             }),
         });
@@ -298,6 +309,7 @@ impl Evolver {
             surgery_events: events,
             outside,
             miss: miss / self.phi,
+            genus: genus_of(&self.mesh),
             far: report.distance_max,
             report: Some(report),
         })
@@ -330,11 +342,20 @@ impl Evolver {
 /// target outside unless it ends more than [`FAR_GROWTH`] times farther off the data than the
 /// other misses it (its farthest vertex against the other's, or how far out the other's part
 /// outside lies, whichever is larger), then nearer the data; or, where both leave a part
-/// outside, fewer outside. (Scanned from above, a torus's shell lost the tips of its open rim
+/// outside, fewer outside. A pass with fewer handles than `b` is never better: a later pass's
+/// larger d₀ closes holes as narrow as itself (a plate scanned from above: the first pass
+/// opened its three holes and left its unseen underside's rim outside, the later ones kept the
+/// rim and closed the 0.03 hole), and the surgery's handles are checked ones.
+/// (Scanned from above, a torus's shell lost the tips of its open rim
 /// to the first pass, 1.7 % of the diagonal out; the third pass kept them but left its inner
 /// layer 3.9 % off the shell.)
 fn better(a: &Pass, b: &Pass, checked: usize) -> bool {
     let misses = |p: &Pass| p.far.max(p.miss);
+    if let (Some(ga), Some(gb)) = (a.genus, b.genus) {
+        if ga < gb {
+            return false;
+        }
+    }
     match (
         part_outside(a.outside, checked),
         part_outside(b.outside, checked),
@@ -344,6 +365,11 @@ fn better(a: &Pass, b: &Pass, checked: usize) -> bool {
         (false, false) => a.far < b.far,
         (true, true) => a.outside < b.outside,
     }
+}
+
+/// The genus of a closed manifold `mesh`, None otherwise.
+fn genus_of(mesh: &HalfedgeMesh) -> Option<i64> {
+    mesh.validate().ok().map(|r| r.genus)
 }
 
 /// `sum += add`, phase by phase (the fit's parts are the last fit's).
@@ -373,6 +399,7 @@ mod tests {
             surgery_events: Vec::new(),
             outside,
             miss,
+            genus: Some(0),
             far,
             report: None,
         }
@@ -399,5 +426,21 @@ mod tests {
             &pass(200, 0.01, 0.01),
             checked
         ));
+        // A pass with fewer handles never wins (the plate scanned from above: genus 3 with its
+        // underside's rim outside against genus 2 with nothing outside); with more, as above.
+        let plate = Pass {
+            genus: Some(3),
+            ..pass(351, 0.027, 0.018)
+        };
+        let closed_a_hole = Pass {
+            genus: Some(2),
+            ..pass(2, 0.0, 0.028)
+        };
+        assert!(!better(&closed_a_hole, &plate, checked));
+        let opened_one = Pass {
+            genus: Some(4),
+            ..pass(2, 0.0, 0.028)
+        };
+        assert!(better(&opened_one, &plate, checked));
     }
 }

@@ -58,4 +58,13 @@ describe('a part left outside, explained', () => {
     expect(explain(c, null, again)).toContain('up to 0.049 out (an open rim\'s edge or a thin part cut off); the later passes that kept them ended farther off the data (0.11 against 0.029), so the first is shown');
     expect(secondPass(again)).toBe('; a second pass left fewer points outside but ended far off the data, so the first is shown (a third pass did no better)');
   });
+
+  it('says so when the later passes closed a hole the first had opened', () => {
+    const again = {
+      outside_before: 358, outside_after: 4, checked: 16657, iso_level_before: 0.0037, iso_level_after: 0.0051, kept: false,
+      far_before: 0.018, far_after: 0.046, miss_before: 0.027, miss_after: 0, genus_before: 3, genus_after: 1,
+      third: { d2: 0.5, outside: 2, miss: 0, far: 0.028, genus: 2, kept: false },
+    };
+    expect(explain(c, null, again)).toContain('the later passes that kept them closed a hole the first had opened (genus 3, theirs 1 and 2), so the first is shown');
+  });
 });
