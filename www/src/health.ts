@@ -24,7 +24,7 @@ export function partLeftOut(c: Certificate): boolean {
 
 /** Whether the first pass is shown although a later one left fewer points outside: the later
  * ones ended far off the data, or with fewer handles (see the core's `flow::StartedOver`). */
-export function laterPassesFarOff(s: StartedOver): boolean {
+export function firstKeptOverFewerOutside(s: StartedOver): boolean {
   return !s.kept && !s.third?.kept && s.outside_after < s.outside_before;
 }
 
@@ -45,7 +45,7 @@ export function explain(c: Certificate, stopReason: string | null, again: Starte
   if (c.valid && topologyDiffers(c)) {
     return `Closed, manifold, no intersecting faces, but the target has genus ${c.target_genus} in ${c.target_components} part(s) and this wrap genus ${c.genus} in ${c.components}. Try the other start surface or a finer grid.`;
   }
-  if (c.valid && partLeftOut(c) && again && laterPassesFarOff(again)) {
+  if (c.valid && partLeftOut(c) && again && firstKeptOverFewerOutside(again)) {
     const far = Math.min(again.far_after ?? Infinity, again.third?.far ?? Infinity);
     const later = laterGenera(again);
     const why = later.some((g) => g < (again.genus_before ?? -1))

@@ -3,7 +3,7 @@
 // the worker's answers that belong to it (target, frames, volume, result, stop).
 import { byId } from './dom';
 import type { FieldControls } from './field-view';
-import { laterPassesFarOff, partLeftOut, showPending, topologyDiffers } from './health';
+import { firstKeptOverFewerOutside, partLeftOut, showPending, topologyDiffers } from './health';
 import { revealView } from './layout';
 import type { KeptResult, TargetMesh } from './kept';
 import type { ModeSwitch } from './mode';
@@ -314,7 +314,7 @@ export function secondPass(s: StartedOver | null): string {
   }
   const third = s.third ? ' (a third pass did no better)' : '';
   if (s.kept) return `; wrapped twice: ${first}, the second ${s.outside_after}${third}`;
-  return laterPassesFarOff(s)
+  return firstKeptOverFewerOutside(s)
     ? `; a second pass left fewer points outside but ended far off the data, so the first is shown${third}`
     : `; a second pass left more points outside, so the first is shown${third}`;
 }
