@@ -89,6 +89,29 @@ fn gltf_json(buffer_uri: &str, count: usize) -> Vec<u8> {
 const DATA_URI: &str =
     "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA";
 
+const PCD_HEAD: &str =
+    "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\n";
+
+/// A LAS 1.4 (or LAZ) file of 50 points.
+fn las_file(laz: bool) -> Vec<u8> {
+    let mut b = las::Builder::from((1, 4));
+    b.point_format.is_compressed = laz;
+    let header = b.into_header().unwrap();
+    let mut w = las::Writer::new(std::io::Cursor::new(Vec::new()), header).unwrap();
+    for i in 0..50 {
+        let t = i as f64 * 0.3;
+        let p = las::Point {
+            x: lsw::fmath::cos(t),
+            y: lsw::fmath::sin(t),
+            z: t,
+            ..Default::default()
+        };
+        w.write_point(p).unwrap();
+    }
+    w.close().unwrap();
+    w.into_inner().unwrap().into_inner()
+}
+
 fn corpus() -> Vec<Case> {
     let tri = ply_triangle();
     let glb = glb_triangle();
@@ -187,11 +210,47 @@ fn corpus() -> Vec<Case> {
         case("VTK POINTS count exceeds the file", None, "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 5000000 float\n0 0 0\n", "io_count_too_large", &["vtk", "line 5", "5000000"]),
         case("VTK polygon index out of range", None, "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 9\n", "io_index_out_of_range", &["vtk", "line 8", "vertex 9"]),
         case("VTK with a second POINTS section (fuzzing find)", None, "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 1 float\n0 0 0\nPOINTS 1 float\n1 1 1\n", "io_syntax", &["vtk", "line 7", "single POINTS"]),
+        // --- PCD ---
+        case("PCD without a DATA line", Some("a.pcd"), PCD_HEAD, "io_truncated", &["pcd", "DATA"]),
+        case("binary PCD whose count exceeds the file", None, format!("{PCD_HEAD}DATA binary\n\0\0\0\0").replace("POINTS 2", "POINTS 9000000000"), "io_count_too_large", &["pcd", "9000000000 points"]),
+        case("PCD without a z field", None, format!("{PCD_HEAD}DATA ascii\n1 2 3\n4 5 6\n").replace("x y z", "x y w"), "io_syntax", &["pcd", "fields x, y and z"]),
+        case("PCD with x as a 16-bit float", None, format!("{PCD_HEAD}DATA ascii\n1 2 3\n4 5 6\n").replace("SIZE 4", "SIZE 2"), "io_syntax", &["pcd", "line 4", "TYPE F SIZE 2"]),
+        case("ASCII PCD with a missing point", None, format!("{PCD_HEAD}DATA ascii\n1 2 3\n"), "io_truncated", &["pcd", "2 points", "found 1"]),
+        case("ASCII PCD with a word for a number", None, format!("{PCD_HEAD}DATA ascii\n1 2 3\n4 five 6\n"), "io_syntax", &["pcd", "line 11", "\"five\""]),
+        case("PCD whose points are all NaN", None, format!("{PCD_HEAD}DATA ascii\nnan nan nan\nnan nan nan\n"), "io_syntax", &["pcd", "all with nan"]),
+        case("compressed PCD with a corrupt back-reference", None, {
+            let mut b = format!("{PCD_HEAD}DATA binary_compressed\n").into_bytes();
+            b.extend(3u32.to_le_bytes());
+            b.extend(24u32.to_le_bytes());
+            b.extend([0x3f, 0xff, 0xff]); // a reference before the start of the output
+            b
+        }, "io_decompress", &["pcd", "lzf"]),
+        // --- LAS / LAZ ---
+        case("LAS cut inside its header", Some("a.las"), las_file(false)[..150].to_vec(), "io_truncated", &["las", "header"]),
+        case("LAS cut inside its points", None, { let b = las_file(false); b[..b.len() - 10].to_vec() }, "io_truncated", &["las", "point records"]),
+        case("LAZ cut inside its points", None, { let b = las_file(true); b[..b.len() - 40].to_vec() }, "io_truncated", &["las", "chunk table"]),
+        case("LAS whose count exceeds the file", None, {
+            let mut b = las_file(false);
+            b[107..111].copy_from_slice(&u32::MAX.to_le_bytes()); // legacy count
+            b[247..255].copy_from_slice(&(1u64 << 40).to_le_bytes()); // LAS 1.4 count
+            b
+        }, "io_count_too_large", &["las", "points"]),
+        case("binary garbage named .laz", Some("a.laz"), garbage(400), "io_syntax", &["las", "LASF"]),
         // --- unknown ---
         case("plain prose", None, "hello world\nthis is not geometry\n", "io_unknown_format", &["unrecognised", "hello"]),
     ];
     // The GLB sanity: the untruncated file reads.
     assert!(read_bytes(&glb, None).is_ok());
+    for laz in [false, true] {
+        assert_eq!(
+            read_bytes(&las_file(laz), None)
+                .unwrap()
+                .target
+                .points
+                .len(),
+            50
+        );
+    }
     cases.retain(|c| !c.what.is_empty());
     cases
 }
@@ -317,6 +376,26 @@ fn write_fuzz_seeds() {
     ));
     seeds.push(("xyz".into(), b"x,y,z\n1,2,3,4\n5 6 7\n".to_vec(), "xyz"));
     seeds.push(("gltf".into(), gltf_json(DATA_URI, 3), "gltf"));
+    seeds.push(("las".into(), las_file(false), "las"));
+    seeds.push(("laz".into(), las_file(true), "las"));
+    seeds.push((
+        "pcd_ascii".into(),
+        format!("{PCD_HEAD}DATA ascii\n1 2 3\nnan 0 0\n").into_bytes(),
+        "pcd",
+    ));
+    let mut compressed = format!("{PCD_HEAD}DATA binary_compressed\n").into_bytes();
+    // x = [1, 4], y = [2, 5], z = [3, 6] as f32 in one LZF literal run of 24 bytes.
+    let packed = [
+        23u8, 0, 0, 128, 63, 0, 0, 128, 64, 0, 0, 0, 64, 0, 0, 160, 64, 0, 0, 64, 64, 0, 0, 192, 64,
+    ];
+    compressed.extend((packed.len() as u32).to_le_bytes());
+    compressed.extend(24u32.to_le_bytes());
+    compressed.extend(packed);
+    assert_eq!(
+        read_bytes(&compressed, None).unwrap().target.points.len(),
+        2
+    );
+    seeds.push(("pcd_compressed".into(), compressed, "pcd"));
     for (name, bytes, t) in seeds {
         let t = if t == "glb" { "gltf" } else { t };
         for sub in [t, "read_bytes"] {

@@ -2,7 +2,7 @@
 //! ambiguous (users rename files, browsers drop files with odd names, and some formats — binary
 //! STL — have no magic number at all).
 //!
-//! Order: unmistakable signatures first (GLB magic, `ply` line, a binary STL whose size matches its
+//! Order: unmistakable signatures first (GLB magic, LAS's `LASF`, a PCD header, `ply` line, a binary STL whose size matches its
 //! triangle count exactly), then the extension for formats that may be binary, then a text check
 //! (binary garbage under a text extension is rejected here with the offending byte), then text
 //! signatures, then the extension, then a look at the first lines (OBJ keywords vs. number rows).
@@ -55,6 +55,13 @@ pub fn detect(bytes: &[u8], file_name: Option<&str>) -> Result<Format, IoError> 
     if super::metaimage::sniff(bytes) {
         return Ok(Format::MetaImage);
     }
+    if super::las::sniff(bytes) {
+        return Ok(Format::Las);
+    }
+    // Before the text check: a binary PCD's points follow a text header.
+    if super::pcd::sniff(bytes) {
+        return Ok(Format::Pcd);
+    }
     if bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r") {
         return Ok(Format::Ply);
     }
@@ -62,7 +69,8 @@ pub fn detect(bytes: &[u8], file_name: Option<&str>) -> Result<Format, IoError> 
         return Ok(Format::Stl);
     }
     // Formats that may be binary: let their own reader explain what is wrong.
-    if let Some(f @ (Format::Glb | Format::Ply | Format::Stl)) = by_ext {
+    if let Some(f @ (Format::Glb | Format::Ply | Format::Stl | Format::Pcd | Format::Las)) = by_ext
+    {
         return Ok(f);
     }
     if let Some(f) = by_ext.filter(|f| f.is_volume()) {
@@ -142,6 +150,9 @@ mod tests {
         assert_eq!(detect(b"  {\"asset\":{}}", None), Ok(Format::Gltf));
         assert_eq!(detect(b"# comment\nv 1 2 3\n", None), Ok(Format::Obj));
         assert_eq!(detect(b"x,y,z\n1,2,3\n", None), Ok(Format::Xyz));
+        assert_eq!(detect(b"LASF\0\0", None), Ok(Format::Las));
+        assert_eq!(detect(b"# .PCD v.7\nVERSION .7\n", None), Ok(Format::Pcd));
+        assert_eq!(detect(b"FIELDS x y z\nSIZE 4 4 4\n", None), Ok(Format::Pcd));
         assert_eq!(detect(b"1 2 3\n", Some("a.obj")), Ok(Format::Obj));
         assert!(matches!(
             detect(b"", Some("a.glb")),

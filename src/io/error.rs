@@ -24,6 +24,10 @@ pub enum Format {
     Glb,
     /// Legacy VTK polydata (ASCII).
     Vtk,
+    /// Point Cloud Library PCD (ASCII, binary, binary_compressed).
+    Pcd,
+    /// ASPRS LAS lidar points, or LASzip-compressed LAZ.
+    Las,
     /// NIfTI-1 or NIfTI-2 volume (`.nii`, `.nii.gz`, `.hdr`/`.img`).
     Nifti,
     /// NRRD volume (`.nrrd` attached, `.nhdr` detached).

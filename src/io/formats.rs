@@ -84,6 +84,8 @@ pub const FORMATS: &[FormatInfo] = {
         entry(Format::Gltf, "gltf", "glTF", &["gltf"], MeshOrCloud, false),
         entry(Format::Glb, "glb", "GLB", &["glb"], MeshOrCloud, true),
         entry(Format::Vtk, "vtk", "VTK", &["vtk"], MeshOrCloud, true),
+        entry(Format::Pcd, "pcd", "PCD", &["pcd"], Cloud, false),
+        entry(Format::Las, "las", "LAS/LAZ", &["las", "laz"], Cloud, false),
         entry(
             Format::Nifti,
             "nifti",
@@ -301,7 +303,7 @@ mod tests {
         assert_eq!(writable_extensions(), ".ply, .obj, .stl, .glb or .vtk");
         assert_eq!(
             supported_formats(),
-            "PLY, OBJ, STL, OFF, XYZ, glTF, GLB, VTK; volumes NIfTI, NRRD, VTI, MetaImage"
+            "PLY, OBJ, STL, OFF, XYZ, glTF, GLB, VTK, PCD, LAS/LAZ; volumes NIfTI, NRRD, VTI, MetaImage"
         );
         assert!(Format::Nrrd.is_volume() && !Format::Xyz.is_volume());
         assert_eq!(join_list(&["a"], "or"), "a");

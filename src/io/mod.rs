@@ -1,5 +1,5 @@
-//! Reading and writing geometry files. Readers: PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF/GLB
-//! and legacy VTK polydata; voxel volumes NIfTI-1/2, NRRD, VTI and MetaImage ([`volume`]).
+//! Reading and writing geometry files. Readers: PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF/GLB,
+//! legacy VTK polydata, PCD and LAS/LAZ; voxel volumes NIfTI-1/2, NRRD, VTI and MetaImage ([`volume`]).
 //! Writers ([`write_bytes`]): OBJ, PLY, STL, GLB and VTK.
 //!
 //! A volume becomes a target through its iso-surface (see [`Target::from_volume`]): the
@@ -19,11 +19,13 @@ pub mod detect;
 pub mod error;
 pub mod formats;
 pub mod gltf;
+pub mod las;
 pub mod metaimage;
 pub mod nifti;
 pub mod nrrd;
 pub mod obj;
 pub mod off;
+pub mod pcd;
 pub mod ply;
 pub mod stl;
 pub(crate) mod text;
@@ -224,6 +226,8 @@ pub fn read_as_with(
         Format::Stl => stl::read(bytes)?,
         Format::Off => off::read(bytes)?,
         Format::Xyz => xyz::read(bytes)?,
+        Format::Pcd => pcd::read(bytes)?,
+        Format::Las => las::read(bytes)?,
         Format::Gltf | Format::Glb => gltf::read(bytes)?,
         Format::Vtk => {
             let ((p, t), _) = vtk::read(bytes)?;

@@ -1,0 +1,92 @@
+#!/usr/bin/env python3
+"""Writes a point list (x y z per line, or an ASCII PLY's vertices) as PCD and LAS/LAZ files the
+way other tools write them: PCD in ascii, binary and binary_compressed (LZF from liblzf through
+`python-lzf`, as PCL does), also as an organized cloud with NaN pixels; LAS 1.4 and LAZ through
+`laspy` + `lazrs`. The wraps of these files must equal the wrap of the same float32 points.
+
+usage: convert.py INPUT OUT_DIR     (pip install numpy python-lzf laspy lazrs)
+"""
+import os
+import struct
+import sys
+
+import lzf
+import laspy
+import numpy as np
+
+
+def read_points(path):
+    with open(path, "rb") as f:
+        data = f.read().decode("ascii", "replace").splitlines()
+    if data and data[0].strip() == "ply":
+        end = next(i for i, l in enumerate(data) if l.strip() == "end_header")
+        data = data[end + 1 :]
+    rows = [l.split()[:3] for l in data if l.strip() and not l.startswith("#")]
+    return np.array(rows, dtype=np.float64).astype(np.float32)
+
+
+def pcd_header(n, data, width=None, height=1):
+    width = n if width is None else width
+    return (
+        "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z rgb\n"
+        "SIZE 4 4 4 4\nTYPE F F F U\nCOUNT 1 1 1 1\n"
+        f"WIDTH {width}\nHEIGHT {height}\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {n}\nDATA {data}\n"
+    ).encode()
+
+
+def write_pcd(p, path, data):
+    n = len(p)
+    rgb = np.full(n, 0x00FF8040, dtype=np.uint32)
+    if data == "ascii":
+        body = "".join(f"{x!r} {y!r} {z!r} {c}\n" for (x, y, z), c in zip(p.tolist(), rgb.tolist()))
+        body = body.encode()
+    else:
+        rec = np.zeros(n, dtype=[("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("rgb", "<u4")])
+        rec["x"], rec["y"], rec["z"], rec["rgb"] = p[:, 0], p[:, 1], p[:, 2], rgb
+        if data == "binary":
+            body = rec.tobytes()
+        else:
+            raw = b"".join(rec[f].tobytes() for f in ("x", "y", "z", "rgb"))
+            packed = lzf.compress(raw)
+            body = struct.pack("<II", len(packed), len(raw)) + packed
+    with open(path, "wb") as f:
+        f.write(pcd_header(n, data) + body)
+
+
+def write_organized(p, path):
+    """A 2-row image of every point and a NaN pixel after each: HEIGHT 2, dense false."""
+    n = len(p)
+    img = np.full((2 * n, 3), np.nan, dtype=np.float32)
+    img[0::2] = p
+    rec = np.zeros(2 * n, dtype=[("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("rgb", "<u4")])
+    rec["x"], rec["y"], rec["z"] = img[:, 0], img[:, 1], img[:, 2]
+    with open(path, "wb") as f:
+        f.write(pcd_header(2 * n, "binary", width=n, height=2) + rec.tobytes())
+
+
+def write_las(p, path):
+    header = laspy.LasHeader(point_format=3, version="1.4")
+    lo = p.min(axis=0).astype(np.float64)
+    header.offsets = lo
+    header.scales = np.array([1e-7, 1e-7, 1e-7])
+    las = laspy.LasData(header)
+    las.x, las.y, las.z = p[:, 0], p[:, 1], p[:, 2]
+    las.write(path)
+
+
+def main():
+    src, out = sys.argv[1], sys.argv[2]
+    os.makedirs(out, exist_ok=True)
+    p = read_points(src)
+    stem = os.path.splitext(os.path.basename(src))[0]
+    with open(os.path.join(out, f"{stem}-f32.xyz"), "w") as f:
+        f.writelines(f"{x!r} {y!r} {z!r}\n" for x, y, z in p.tolist())
+    for data in ("ascii", "binary", "binary_compressed"):
+        write_pcd(p, os.path.join(out, f"{stem}-{data}.pcd"), data)
+    write_organized(p, os.path.join(out, f"{stem}-organized.pcd"))
+    write_las(p, os.path.join(out, f"{stem}.las"))
+    write_las(p, os.path.join(out, f"{stem}.laz"))
+
+
+if __name__ == "__main__":
+    main()

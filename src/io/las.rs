@@ -1,0 +1,197 @@
+//! LAS 1.0–1.4 and LAZ (LASzip-compressed LAS): the ASPRS lidar format, also what many
+//! terrestrial and handheld scanners export. Only the points' x, y, z are read (scaled and offset
+//! as the header says); classification, intensity, colour and returns are ignored, so ground or
+//! noise points classified as such are wrapped too.
+//!
+//! Read through the `las` crate (with `laz` for LAZ, both pure Rust): LAZ is an arithmetic-coded
+//! format with a dozen point layouts and versions, which is no place for a hand-written decoder.
+//! The crate reads from an owned cursor, so the file's bytes are copied once (LAS is ≈ 30 bytes
+//! a point, LAZ ≈ 7); the points are decoded in chunks, so a header that overstates its count
+//! costs no more memory than the points that are there.
+
+use super::error::{Format, IoError, Location};
+use super::{Encoding, RawGeometry};
+use glam::DVec3;
+use std::io::Cursor;
+
+const F: Format = Format::Las;
+
+/// Points decoded at a time.
+const CHUNK: u64 = 1 << 16;
+
+/// True when `bytes` start with LAS's file signature (LAZ files have it too).
+pub fn sniff(bytes: &[u8]) -> bool {
+    bytes.starts_with(b"LASF")
+}
+
+/// The crate's error as ours: a file cut short is truncated, LASzip's own errors are corrupt
+/// compressed data, the rest (signature, version, header fields) is the file's syntax.
+fn error(e: las::Error, bytes: &[u8], what: &str) -> IoError {
+    match e {
+        las::Error::Io(io) | las::Error::LasZipError(laz::LasZipError::IoError(io))
+            if io.kind() == std::io::ErrorKind::UnexpectedEof =>
+        {
+            IoError::truncated(F, Location::Byte(bytes.len()), what)
+        }
+        las::Error::LasZipError(z) => IoError::Decompress {
+            format: F,
+            at: Location::Byte(0),
+            message: z.to_string(),
+        },
+        e => IoError::syntax(F, Location::Byte(0), what, e.to_string()),
+    }
+}
+
+/// Reads a LAS or LAZ file.
+pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
+    let mut reader = las::Reader::new(Cursor::new(bytes.to_vec())).map_err(|e| {
+        error(
+            e,
+            bytes,
+            "a LAS 1.0–1.4 header (for LAZ also its LASzip record and chunk table)",
+        )
+    })?;
+    let header = reader.header();
+    let count = header.number_of_points();
+    let compressed = header.point_format().is_compressed;
+    if !compressed {
+        // Uncompressed records have a fixed size: refuse an impossible count before reading.
+        let needed = count as u128 * header.point_format().len() as u128;
+        if needed > bytes.len() as u128 {
+            return Err(IoError::CountTooLarge {
+                format: F,
+                at: Location::Byte(107),
+                element: "points".into(),
+                count,
+                available: bytes.len(),
+                needed,
+            });
+        }
+    }
+    let mut points = Vec::with_capacity(count.min(bytes.len() as u64 / 8) as usize);
+    let mut data = las::PointDataBuilder::new()
+        .for_header(reader.header())
+        .build();
+    while (points.len() as u64) < count {
+        let want = CHUNK.min(count - points.len() as u64);
+        let got = reader.fill_points(want, &mut data).map_err(|e| {
+            error(
+                e,
+                bytes,
+                &format!(
+                    "{count} point records (the header's count), read {}",
+                    points.len()
+                ),
+            )
+        })?;
+        if got == 0 {
+            return Err(IoError::truncated(
+                F,
+                Location::Byte(bytes.len()),
+                format!(
+                    "{count} point records (the header's count), found {}",
+                    points.len()
+                ),
+            ));
+        }
+        for ((x, y), z) in data.x().zip(data.y()).zip(data.z()) {
+            let p = DVec3::new(x, y, z);
+            if !p.is_finite() {
+                return Err(IoError::NonFinite {
+                    format: F,
+                    at: Location::Byte(0),
+                    index: points.len(),
+                    x,
+                    y,
+                    z,
+                });
+            }
+            points.push(p);
+        }
+    }
+    Ok((points, Vec::new(), Encoding::BinaryLe))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use las::{Builder, Point, Writer};
+
+    fn file(points: &[DVec3], laz: bool) -> Vec<u8> {
+        let mut b = Builder::from((1, 4));
+        b.point_format.is_compressed = laz;
+        b.transforms = las::Vector {
+            x: las::Transform {
+                scale: 0.001,
+                offset: 500_000.0,
+            },
+            y: las::Transform {
+                scale: 0.001,
+                offset: 4_000_000.0,
+            },
+            z: las::Transform {
+                scale: 0.001,
+                offset: 0.0,
+            },
+        };
+        let mut w = Writer::new(Cursor::new(Vec::new()), b.into_header().unwrap()).unwrap();
+        for p in points {
+            w.write_point(Point {
+                x: p.x,
+                y: p.y,
+                z: p.z,
+                ..Default::default()
+            })
+            .unwrap();
+        }
+        w.close().unwrap();
+        w.into_inner().unwrap().into_inner()
+    }
+
+    fn cloud(n: usize) -> Vec<DVec3> {
+        (0..n)
+            .map(|i| {
+                let t = i as f64 * 0.37;
+                DVec3::new(
+                    500_000.0 + crate::fmath::cos(t),
+                    4_000_000.0 + crate::fmath::sin(t),
+                    i as f64 * 0.001,
+                )
+            })
+            .collect()
+    }
+
+    /// Georeferenced coordinates (5 × 10⁵, 4 × 10⁶) come back to the file's millimetre.
+    #[test]
+    fn las_and_laz_give_the_points_back() {
+        let c = cloud(70_000); // more than one chunk
+        for laz in [false, true] {
+            let bytes = file(&c, laz);
+            assert!(sniff(&bytes));
+            let (p, t, e) = read(&bytes).unwrap();
+            assert_eq!((p.len(), t.len(), e), (c.len(), 0, Encoding::BinaryLe));
+            let worst = p.iter().zip(&c).map(|(a, b)| (*a - *b).abs().max_element());
+            assert!(worst.fold(0.0, f64::max) <= 0.0005 + 1e-9, "laz {laz}");
+        }
+    }
+
+    #[test]
+    fn damaged_files_are_errors_not_panics() {
+        for laz in [false, true] {
+            let bytes = file(&cloud(300), laz);
+            for cut in (0..bytes.len()).step_by(7) {
+                assert!(read(&bytes[..cut]).is_err(), "laz {laz}, cut at {cut}");
+            }
+            // Flipped bytes in the point data: an error or some points, never a panic.
+            for at in (400..bytes.len()).step_by(13) {
+                let mut b = bytes.clone();
+                b[at] ^= 0x5a;
+                let _ = read(&b);
+            }
+        }
+        let mut big = file(&cloud(3), false);
+        big[107..111].copy_from_slice(&u32::MAX.to_le_bytes()); // legacy point count
+        big[247..255].copy_from_slice(&u64::MAX.to_le_bytes()); // 1.4 point count
+        assert!(matches!(read(&big), Err(IoError::CountTooLarge { .. })));
+    }
+}
