@@ -112,6 +112,28 @@ fn las_file(laz: bool) -> Vec<u8> {
     w.into_inner().unwrap().into_inner()
 }
 
+/// An E57 file of one scan of 20 Cartesian points.
+fn e57_file() -> Vec<u8> {
+    use e57::{Record, RecordValue};
+    let mut out = std::io::Cursor::new(Vec::new());
+    let mut w = e57::E57Writer::new(&mut out, "corpus").unwrap();
+    let xyz = vec![
+        Record::CARTESIAN_X_F64,
+        Record::CARTESIAN_Y_F64,
+        Record::CARTESIAN_Z_F64,
+    ];
+    let mut scan = w.add_pointcloud("scan", xyz).unwrap();
+    for i in 0..20 {
+        let t = i as f64 * 0.3;
+        let v = [lsw::fmath::cos(t), lsw::fmath::sin(t), t].map(RecordValue::Double);
+        scan.add_point(v.to_vec()).unwrap();
+    }
+    scan.finalize().unwrap();
+    w.finalize().unwrap();
+    drop(w);
+    out.into_inner()
+}
+
 fn corpus() -> Vec<Case> {
     let tri = ply_triangle();
     let glb = glb_triangle();
@@ -236,6 +258,10 @@ fn corpus() -> Vec<Case> {
             b
         }, "io_count_too_large", &["las", "points"]),
         case("binary garbage named .laz", Some("a.laz"), garbage(400), "io_syntax", &["las", "LASF"]),
+        // --- E57 ---
+        case("E57 cut inside a page", Some("a.e57"), e57_file()[..1500].to_vec(), "io_truncated", &["e57", "whole number of pages"]),
+        case("E57 with a flipped byte (checksum)", None, { let mut b = e57_file(); b[100] ^= 1; b }, "io_syntax", &["e57", "byte 0"]),
+        case("binary garbage named .e57", Some("a.e57"), garbage(2048), "io_syntax", &["e57", "header"]),
         // --- unknown ---
         case("plain prose", None, "hello world\nthis is not geometry\n", "io_unknown_format", &["unrecognised", "hello"]),
     ];
@@ -378,6 +404,7 @@ fn write_fuzz_seeds() {
     seeds.push(("gltf".into(), gltf_json(DATA_URI, 3), "gltf"));
     seeds.push(("las".into(), las_file(false), "las"));
     seeds.push(("laz".into(), las_file(true), "las"));
+    seeds.push(("e57".into(), e57_file(), "e57"));
     seeds.push((
         "pcd_ascii".into(),
         format!("{PCD_HEAD}DATA ascii\n1 2 3\nnan 0 0\n").into_bytes(),

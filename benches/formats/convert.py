@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
-"""Writes a point list (x y z per line, or an ASCII PLY's vertices) as PCD and LAS/LAZ files the
-way other tools write them: PCD in ascii, binary and binary_compressed (LZF from liblzf through
-`python-lzf`, as PCL does), also as an organized cloud with NaN pixels; LAS 1.4 and LAZ through
-`laspy` + `lazrs`. The wraps of these files must equal the wrap of the same float32 points.
+"""Writes a point list (x y z per line, or an ASCII PLY's vertices) as PCD, LAS/LAZ and E57 files
+the way other tools write them: PCD in ascii, binary and binary_compressed (LZF from liblzf
+through `python-lzf`, as PCL does), also as an organized cloud with NaN pixels; LAS 1.4 and LAZ
+through `laspy` + `lazrs`; E57 through `pye57` (libE57Format), once as one scan and once as two
+scans with poses (each half stored in its scanner's frame) and invalid points. The wraps of the
+PCD files must equal the wrap of the same float32 points, the one-scan E57 the wrap of the points.
 
-usage: convert.py INPUT OUT_DIR     (pip install numpy python-lzf laspy lazrs)
+usage: convert.py INPUT OUT_DIR     (pip install numpy python-lzf laspy lazrs pye57)
 """
 import os
 import struct
@@ -74,6 +76,41 @@ def write_las(p, path):
     las.write(path)
 
 
+def quat_matrix(w, x, y, z):
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def write_e57(p, path, posed):
+    import pye57
+
+    p = p.astype(np.float64)
+    e = pye57.E57(path, mode="w")
+    if not posed:
+        e.write_scan_raw({"cartesianX": p[:, 0], "cartesianY": p[:, 1], "cartesianZ": p[:, 2]})
+    else:
+        half = len(p) // 2
+        poses = [((0.9238795325112867, 0.0, 0.0, 0.3826834323650898), (1.0, -2.0, 0.5)),
+                 ((0.7071067811865476, 0.7071067811865476, 0.0, 0.0), (-3.0, 0.0, 4.0))]
+        for part, (q, t) in zip((p[:half], p[half:]), poses):
+            r = quat_matrix(*q)
+            local = (part - np.array(t)) @ r  # the inverse pose: R^T (p - t)
+            # One invalid point per scan (state 2) far away, which must be left out.
+            local = np.vstack([local, [[1e3, 1e3, 1e3]]])
+            state = np.zeros(len(local), dtype=np.int8)
+            state[-1] = 2
+            e.write_scan_raw(
+                {"cartesianX": local[:, 0], "cartesianY": local[:, 1], "cartesianZ": local[:, 2],
+                 "cartesianInvalidState": state},
+                rotation=np.array(q), translation=np.array(t))
+    e.close()
+
+
 def main():
     src, out = sys.argv[1], sys.argv[2]
     os.makedirs(out, exist_ok=True)
@@ -86,6 +123,8 @@ def main():
     write_organized(p, os.path.join(out, f"{stem}-organized.pcd"))
     write_las(p, os.path.join(out, f"{stem}.las"))
     write_las(p, os.path.join(out, f"{stem}.laz"))
+    write_e57(p, os.path.join(out, f"{stem}.e57"), posed=False)
+    write_e57(p, os.path.join(out, f"{stem}-posed.e57"), posed=True)
 
 
 if __name__ == "__main__":

@@ -2,7 +2,7 @@
 //! ambiguous (users rename files, browsers drop files with odd names, and some formats — binary
 //! STL — have no magic number at all).
 //!
-//! Order: unmistakable signatures first (GLB magic, LAS's `LASF`, a PCD header, `ply` line, a binary STL whose size matches its
+//! Order: unmistakable signatures first (GLB magic, LAS's `LASF`, E57's `ASTM-E57`, a PCD header, `ply` line, a binary STL whose size matches its
 //! triangle count exactly), then the extension for formats that may be binary, then a text check
 //! (binary garbage under a text extension is rejected here with the offending byte), then text
 //! signatures, then the extension, then a look at the first lines (OBJ keywords vs. number rows).
@@ -58,6 +58,9 @@ pub fn detect(bytes: &[u8], file_name: Option<&str>) -> Result<Format, IoError> 
     if super::las::sniff(bytes) {
         return Ok(Format::Las);
     }
+    if super::e57::sniff(bytes) {
+        return Ok(Format::E57);
+    }
     // Before the text check: a binary PCD's points follow a text header.
     if super::pcd::sniff(bytes) {
         return Ok(Format::Pcd);
@@ -69,7 +72,9 @@ pub fn detect(bytes: &[u8], file_name: Option<&str>) -> Result<Format, IoError> 
         return Ok(Format::Stl);
     }
     // Formats that may be binary: let their own reader explain what is wrong.
-    if let Some(f @ (Format::Glb | Format::Ply | Format::Stl | Format::Pcd | Format::Las)) = by_ext
+    if let Some(
+        f @ (Format::Glb | Format::Ply | Format::Stl | Format::Pcd | Format::Las | Format::E57),
+    ) = by_ext
     {
         return Ok(f);
     }
@@ -151,6 +156,7 @@ mod tests {
         assert_eq!(detect(b"# comment\nv 1 2 3\n", None), Ok(Format::Obj));
         assert_eq!(detect(b"x,y,z\n1,2,3\n", None), Ok(Format::Xyz));
         assert_eq!(detect(b"LASF\0\0", None), Ok(Format::Las));
+        assert_eq!(detect(b"ASTM-E57\0\0", None), Ok(Format::E57));
         assert_eq!(detect(b"# .PCD v.7\nVERSION .7\n", None), Ok(Format::Pcd));
         assert_eq!(detect(b"FIELDS x y z\nSIZE 4 4 4\n", None), Ok(Format::Pcd));
         assert_eq!(detect(b"1 2 3\n", Some("a.obj")), Ok(Format::Obj));

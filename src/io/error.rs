@@ -28,6 +28,8 @@ pub enum Format {
     Pcd,
     /// ASPRS LAS lidar points, or LASzip-compressed LAZ.
     Las,
+    /// ASTM E57 laser-scan exchange file (every scan, in the common frame).
+    E57,
     /// NIfTI-1 or NIfTI-2 volume (`.nii`, `.nii.gz`, `.hdr`/`.img`).
     Nifti,
     /// NRRD volume (`.nrrd` attached, `.nhdr` detached).

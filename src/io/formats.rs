@@ -86,6 +86,7 @@ pub const FORMATS: &[FormatInfo] = {
         entry(Format::Vtk, "vtk", "VTK", &["vtk"], MeshOrCloud, true),
         entry(Format::Pcd, "pcd", "PCD", &["pcd"], Cloud, false),
         entry(Format::Las, "las", "LAS/LAZ", &["las", "laz"], Cloud, false),
+        entry(Format::E57, "e57", "E57", &["e57"], Cloud, false),
         entry(
             Format::Nifti,
             "nifti",
@@ -303,7 +304,7 @@ mod tests {
         assert_eq!(writable_extensions(), ".ply, .obj, .stl, .glb or .vtk");
         assert_eq!(
             supported_formats(),
-            "PLY, OBJ, STL, OFF, XYZ, glTF, GLB, VTK, PCD, LAS/LAZ; volumes NIfTI, NRRD, VTI, MetaImage"
+            "PLY, OBJ, STL, OFF, XYZ, glTF, GLB, VTK, PCD, LAS/LAZ, E57; volumes NIfTI, NRRD, VTI, MetaImage"
         );
         assert!(Format::Nrrd.is_volume() && !Format::Xyz.is_volume());
         assert_eq!(join_list(&["a"], "or"), "a");

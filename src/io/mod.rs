@@ -1,5 +1,5 @@
 //! Reading and writing geometry files. Readers: PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF/GLB,
-//! legacy VTK polydata, PCD and LAS/LAZ; voxel volumes NIfTI-1/2, NRRD, VTI and MetaImage ([`volume`]).
+//! legacy VTK polydata, PCD, LAS/LAZ and E57; voxel volumes NIfTI-1/2, NRRD, VTI and MetaImage ([`volume`]).
 //! Writers ([`write_bytes`]): OBJ, PLY, STL, GLB and VTK.
 //!
 //! A volume becomes a target through its iso-surface (see [`Target::from_volume`]): the
@@ -16,6 +16,7 @@
 //! intermediate copy; [`read_path`] (native only) reads a file and calls [`read_bytes`].
 
 pub mod detect;
+pub mod e57;
 pub mod error;
 pub mod formats;
 pub mod gltf;
@@ -228,6 +229,7 @@ pub fn read_as_with(
         Format::Xyz => xyz::read(bytes)?,
         Format::Pcd => pcd::read(bytes)?,
         Format::Las => las::read(bytes)?,
+        Format::E57 => e57::read(bytes)?,
         Format::Gltf | Format::Glb => gltf::read(bytes)?,
         Format::Vtk => {
             let ((p, t), _) = vtk::read(bytes)?;
