@@ -339,6 +339,48 @@ test('exported binary PLY, STL, OBJ and GLB drop back in and load as meshes', as
   await page.close();
 });
 
+/** A depth camera's organized binary PCD: a torus (R 1, r 0.4) sampled on a 96 × 48 (u, v) grid,
+ * laid out as a 2-row image with every fifth pixel NaN (no measurement), plus an rgb field. */
+function organizedTorusPcd() {
+  const [nu, nv] = [96, 48];
+  const n = nu * nv;
+  const rec = Buffer.alloc(16 * n);
+  let nan = 0;
+  for (let i = 0; i < n; i++) {
+    const [u, v] = [((i % nu) / nu) * 2 * Math.PI, (Math.floor(i / nu) / nv) * 2 * Math.PI];
+    let p = [(1 + 0.4 * Math.cos(v)) * Math.cos(u), (1 + 0.4 * Math.cos(v)) * Math.sin(u), 0.4 * Math.sin(v)];
+    if (i % 5 === 4) {
+      p = [NaN, NaN, NaN];
+      nan++;
+    }
+    p.forEach((c, k) => rec.writeFloatLE(c, 16 * i + 4 * k));
+    rec.writeUInt32LE(0x00ff8040, 16 * i + 12);
+  }
+  const header = '# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F U\n' +
+    `COUNT 1 1 1 1\nWIDTH ${n / 2}\nHEIGHT 2\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS ${n}\nDATA binary\n`;
+  return { bytes: Buffer.concat([Buffer.from(header), rec]), points: n - nan };
+}
+
+test('a depth camera\'s organized PCD (NaN pixels) drops in and wraps to the native CLI\'s mesh, genus 1', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  const pcd = organizedTorusPcd();
+  const file = join(out, 'torus-organized.pcd');
+  await writeFile(file, pcd.bytes);
+  await dropFile(page, 'torus-organized.pcd', pcd.bytes);
+  await page.waitForSelector('[data-testid=status][data-state=done], [data-testid=status][data-state=invalid], [data-testid=status][data-state=error]', { timeout: 300000 });
+  const info = await page.textContent('#target-info');
+  assert(new RegExp(`^torus-organized\\.pcd: pcd, ${pcd.points} points`).test(info), `target info: "${info}"`);
+  const h = await health(page);
+  await page.screenshot({ path: join(out, 'pcd-organized-torus.png') });
+  assert(h.valid === 'true' && h.genus === '1', `health badge: ${JSON.stringify(h)}`);
+  const browserHash = await resultHash(page);
+  const native = lswWrap(file, join(out, 'torus-organized-native.ply'));
+  assert(browserHash === native.result_hash, `browser hash ${browserHash}, native ${native.result_hash}`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+  console.log(`   ${info.slice(0, 60)}; ${h.text}; hash ${browserHash} = native`);
+  await page.close();
+});
+
 test('a messy mesh (split corners, flipped faces, boxes on one edge) is mended on reading and wraps valid', async (browser, url) => {
   const { page, errors } = await openApp(browser, url);
   // Two unit boxes touching along the edge x = y = 1, every face with its own corners, every
