@@ -257,6 +257,13 @@ fn corpus() -> Vec<Case> {
             b[247..255].copy_from_slice(&(1u64 << 40).to_le_bytes()); // LAS 1.4 count
             b
         }, "io_count_too_large", &["las", "points"]),
+        case("LAZ whose chunk table claims 4 × 10⁹ chunks (fuzzing find)", None, {
+            let mut b = las_file(true);
+            let start = u32::from_le_bytes(b[96..100].try_into().unwrap()) as usize;
+            let table = i64::from_le_bytes(b[start..start + 8].try_into().unwrap()) as usize;
+            b[table + 4..table + 8].copy_from_slice(&u32::MAX.to_le_bytes());
+            b
+        }, "io_count_too_large", &["las", "4294967295 LASzip chunks"]),
         case("binary garbage named .laz", Some("a.laz"), garbage(400), "io_syntax", &["las", "LASF"]),
         // --- E57 ---
         case("E57 cut inside a page", Some("a.e57"), e57_file()[..1500].to_vec(), "io_truncated", &["e57", "whole number of pages"]),

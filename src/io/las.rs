@@ -42,8 +42,59 @@ fn error(e: las::Error, bytes: &[u8], what: &str) -> IoError {
     }
 }
 
+/// Refuses a LAZ chunk table that claims more chunks than the file has bytes. The laz crate
+/// reserves memory for the count before reading the table, so a corrupt count (up to 4 × 10⁹
+/// entries of 16 bytes: a fuzzing find) would abort on the allocation; each chunk takes at least
+/// a byte. Offsets as LASzip stores them: the table's offset at the start of the point data, or,
+/// where the writer could not seek back, in the file's last 8 bytes.
+fn check_chunk_table(bytes: &[u8]) -> Result<(), IoError> {
+    let at = |o: usize, n: usize| bytes.get(o..o.checked_add(n)?);
+    let u32_at = |o| {
+        at(o, 4)
+            .and_then(|b| <[u8; 4]>::try_from(b).ok())
+            .map(u32::from_le_bytes)
+    };
+    let i64_at = |o| {
+        at(o, 8)
+            .and_then(|b| <[u8; 8]>::try_from(b).ok())
+            .map(i64::from_le_bytes)
+    };
+    // Bit 7 of the point data format byte marks LASzip data (as the las crate reads it).
+    let compressed = bytes.get(104).is_some_and(|f| f & 0x80 != 0);
+    let Some(start) = u32_at(96).filter(|_| compressed) else {
+        return Ok(()); // an uncompressed file, or a header the crate will refuse
+    };
+    let start = start as i64;
+    let table = match i64_at(start as usize) {
+        Some(t) if t > start => t,
+        Some(_) => match i64_at(bytes.len().saturating_sub(8)) {
+            Some(t) if t > start => t,
+            _ => return Ok(()),
+        },
+        None => return Ok(()),
+    };
+    let Some(chunks) = usize::try_from(table)
+        .ok()
+        .and_then(|t| u32_at(t.saturating_add(4)))
+    else {
+        return Ok(());
+    };
+    if chunks as usize > bytes.len() {
+        return Err(IoError::CountTooLarge {
+            format: F,
+            at: Location::Byte(table as usize + 4),
+            element: "LASzip chunks".into(),
+            count: chunks as u64,
+            available: bytes.len(),
+            needed: chunks as u128,
+        });
+    }
+    Ok(())
+}
+
 /// Reads a LAS or LAZ file.
 pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
+    check_chunk_table(bytes)?;
     let mut reader = las::Reader::new(Cursor::new(bytes.to_vec())).map_err(|e| {
         error(
             e,
@@ -189,6 +240,16 @@ mod tests {
                 let _ = read(&b);
             }
         }
+        // A chunk table that claims 4 × 10⁹ chunks (the fuzzer's find asked for 14 GB).
+        let mut chunks = file(&cloud(300), true);
+        let start = u32::from_le_bytes(chunks[96..100].try_into().unwrap()) as usize;
+        let table = i64::from_le_bytes(chunks[start..start + 8].try_into().unwrap()) as usize;
+        chunks[table + 4..table + 8].copy_from_slice(&u32::MAX.to_le_bytes());
+        let err = read(&chunks).unwrap_err();
+        assert!(
+            err.to_string().contains("4294967295 LASzip chunks"),
+            "{err}"
+        );
         let mut big = file(&cloud(3), false);
         big[107..111].copy_from_slice(&u32::MAX.to_le_bytes()); // legacy point count
         big[247..255].copy_from_slice(&u64::MAX.to_le_bytes()); // 1.4 point count
