@@ -1,7 +1,9 @@
 //! LAS 1.0–1.4 and LAZ (LASzip-compressed LAS): the ASPRS lidar format, also what many
-//! terrestrial and handheld scanners export. Only the points' x, y, z are read (scaled and offset
-//! as the header says); classification, intensity, colour and returns are ignored, so ground or
-//! noise points classified as such are wrapped too.
+//! terrestrial and handheld scanners export. The points' x, y, z are read (scaled and offset as
+//! the header says), except those the file itself rules out: points flagged withheld (the format
+//! says to treat them as deleted) and points classified as noise (class 7, "low point (noise)",
+//! and 18, "high noise"), which a scanner's or an operator's cleaning marked. Every other class
+//! (ground included) is wrapped; intensity, colour and returns are ignored.
 //!
 //! Read through the `las` crate (with `laz` for LAZ, both pure Rust): LAZ is an arithmetic-coded
 //! format with a dozen point layouts and versions, which is no place for a hand-written decoder.
@@ -92,6 +94,19 @@ fn check_chunk_table(bytes: &[u8]) -> Result<(), IoError> {
     Ok(())
 }
 
+/// True for a point the file rules out: flagged withheld, or classified as noise (7 or 18).
+/// The withheld flag is bit 7 of byte 15 in the legacy formats 0–5 and bit 2 of byte 15 in the
+/// extended formats 6–10.
+#[inline]
+fn ruled_out(class: u8, record: &[u8], extended: bool) -> bool {
+    let withheld = match record.get(15) {
+        Some(f) if extended => f & 0b100 != 0,
+        Some(f) => f & 0x80 != 0,
+        None => false,
+    };
+    withheld || class == 7 || class == 18
+}
+
 /// Reads a LAS or LAZ file.
 pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
     check_chunk_table(bytes)?;
@@ -123,8 +138,10 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
     let mut data = las::PointDataBuilder::new()
         .for_header(reader.header())
         .build();
-    while (points.len() as u64) < count {
-        let want = CHUNK.min(count - points.len() as u64);
+    let extended = header.point_format().is_extended;
+    let mut read = 0u64;
+    while read < count {
+        let want = CHUNK.min(count - read);
         let got = reader.fill_points(want, &mut data).map_err(|e| {
             error(
                 e,
@@ -145,13 +162,23 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
                 ),
             ));
         }
-        for ((x, y), z) in data.x().zip(data.y()).zip(data.z()) {
+        let flags = data.raw_bytes().chunks_exact(data.record_len().max(1));
+        for (((x, y), z), (class, rec)) in data
+            .x()
+            .zip(data.y())
+            .zip(data.z())
+            .zip(data.classification().zip(flags))
+        {
+            read += 1;
+            if ruled_out(class, rec, extended) {
+                continue;
+            }
             let p = DVec3::new(x, y, z);
             if !p.is_finite() {
                 return Err(IoError::NonFinite {
                     format: F,
                     at: Location::Byte(0),
-                    index: points.len(),
+                    index: read as usize - 1,
                     x,
                     y,
                     z,
@@ -159,6 +186,14 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
             }
             points.push(p);
         }
+    }
+    if points.is_empty() && count > 0 {
+        return Err(IoError::syntax(
+            F,
+            Location::Byte(0),
+            "at least one point that is not withheld or classified as noise",
+            format!("{count} points, all withheld or noise (class 7 or 18)"),
+        ));
     }
     Ok((points, Vec::new(), Encoding::BinaryLe))
 }
@@ -169,7 +204,18 @@ mod tests {
     use las::{Builder, Point, Writer};
 
     fn file(points: &[DVec3], laz: bool) -> Vec<u8> {
+        file_with(points, laz, 0, |_| Point::default())
+    }
+
+    /// A LAS 1.4 file of point format `format`; `point(i)` gives each point's other fields.
+    fn file_with(
+        points: &[DVec3],
+        laz: bool,
+        format: u8,
+        point: impl Fn(usize) -> Point,
+    ) -> Vec<u8> {
         let mut b = Builder::from((1, 4));
+        b.point_format = las::point::Format::new(format).unwrap();
         b.point_format.is_compressed = laz;
         b.transforms = las::Vector {
             x: las::Transform {
@@ -186,14 +232,17 @@ mod tests {
             },
         };
         let mut w = Writer::new(Cursor::new(Vec::new()), b.into_header().unwrap()).unwrap();
-        for p in points {
-            w.write_point(Point {
+        let f = las::point::Format::new(format).unwrap();
+        for (i, p) in points.iter().enumerate() {
+            let mut q = Point {
                 x: p.x,
                 y: p.y,
                 z: p.z,
-                ..Default::default()
-            })
-            .unwrap();
+                ..point(i)
+            };
+            q.gps_time = f.has_gps_time.then_some(i as f64);
+            q.color = f.has_color.then(|| las::Color::new(1, 2, 3));
+            w.write_point(q).unwrap();
         }
         w.close().unwrap();
         w.into_inner().unwrap().into_inner()
@@ -224,6 +273,40 @@ mod tests {
             let worst = p.iter().zip(&c).map(|(a, b)| (*a - *b).abs().max_element());
             assert!(worst.fold(0.0, f64::max) <= 0.0005 + 1e-9, "laz {laz}");
         }
+    }
+
+    /// Withheld and noise points are left out, in the legacy and the extended layouts.
+    #[test]
+    fn withheld_and_noise_points_are_left_out() {
+        use las::point::Classification as C;
+        let c = cloud(40);
+        let point = |i: usize| Point {
+            classification: [C::Ground, C::LowPoint, C::HighNoise, C::Building][i % 4],
+            is_withheld: i % 5 == 0,
+            ..Default::default()
+        };
+        let kept: Vec<DVec3> = (0..40)
+            .filter(|i| i % 4 != 1 && i % 4 != 2 && i % 5 != 0)
+            .map(|i| c[i])
+            .collect();
+        for (format, laz) in [(0, false), (1, true), (6, false), (7, true)] {
+            let (p, _, _) = read(&file_with(&c, laz, format, point)).unwrap();
+            assert_eq!(p.len(), kept.len(), "format {format}");
+            let worst = p
+                .iter()
+                .zip(&kept)
+                .map(|(a, b)| (*a - *b).abs().max_element());
+            assert!(
+                worst.fold(0.0, f64::max) <= 0.0005 + 1e-9,
+                "format {format}"
+            );
+        }
+        let noise = |_| Point {
+            classification: C::LowPoint,
+            ..Default::default()
+        };
+        let err = read(&file_with(&c, false, 0, noise)).unwrap_err();
+        assert!(err.to_string().contains("all withheld or noise"), "{err}");
     }
 
     #[test]
