@@ -81,7 +81,8 @@ pub fn apply_overrides(
 /// surgery [{step, kind, position, genus_before, genus_after}], isolated_points_left_out (a
 /// cloud's stray points, see `field.outlier_spacings`), specks_left_out (a mesh's small closed
 /// parts floating apart, see `geometry::specks`), repairs (what reading mended in a mesh's
-/// indices, or null; see `lsw info`), vertices, faces, steps, stopped_early,
+/// indices, or null; see `lsw info`), points_left_out ({points, why}: points the file marks
+/// unusable that were not read, or null; see `io::LeftOut`), vertices, faces, steps, stopped_early,
 /// scale, result_hash, iso_level, started_over (null, or how a target that the first pass left
 /// partly outside was wrapped a second time: see `flow::StartedOver`), times_ms {read, field, start, evolve, write, total}, evolve_ms {normals,
 /// assembly, solve, remesh, guard, fit, surgery, redone (steps undone and redone after a
@@ -195,6 +196,7 @@ pub fn run(a: &WrapArgs) -> Result<String, super::Failure> {
         "isolated_points_left_out": ev.isolated_points(),
         "specks_left_out": ev.specks(),
         "repairs": read.repairs,
+        "points_left_out": read.left_out,
         "vertices": positions.len(),
         "faces": triangles.len(),
         "steps": ev.steps_done(),

@@ -9,7 +9,7 @@
 //! hand-written reader. It reads from the input slice, so no copy is made.
 
 use super::error::{Format, IoError, Location};
-use super::{Encoding, RawGeometry};
+use super::{Encoding, LeftOut, RawGeometry};
 use glam::DVec3;
 use std::io::Cursor;
 
@@ -67,6 +67,11 @@ fn layout(cloud: &e57::PointCloud) -> Option<(Layout, Option<usize>)> {
 /// [`crate::fmath`] (its simple reader calls the platform's `sin`, whose last bit differs between
 /// the CLI and the browser, and it can stop on a point whose values are not all decoded yet).
 pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
+    read_counting(bytes, &mut None)
+}
+
+/// [`read`], setting `left_out` to the invalid points it skipped.
+pub fn read_counting(bytes: &[u8], left_out: &mut Option<LeftOut>) -> Result<RawGeometry, IoError> {
     let mut reader = e57::E57Reader::new(Cursor::new(bytes))
         .map_err(|e| error(e, bytes, "an E57 header and XML section"))?;
     let clouds = reader.pointclouds();
@@ -81,7 +86,7 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
     // The XML's counts bound nothing: reserve no more than the bytes could hold.
     let total: u64 = clouds.iter().map(|c| c.records).sum();
     let mut points = Vec::with_capacity(total.min(bytes.len() as u64 / 4) as usize);
-    let mut left_out = 0u64;
+    let mut left = 0u64;
     for (k, cloud) in clouds.iter().enumerate() {
         let what = format!("the points of scan {k} ({} records)", cloud.records);
         let (coords, state) = layout(cloud).ok_or_else(|| {
@@ -108,7 +113,7 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
             let v = v.map_err(|e| error(e, bytes, &what))?;
             if let Some(s) = state {
                 if value(&v, s)? != 0.0 {
-                    left_out += 1;
+                    left += 1;
                     continue;
                 }
             }
@@ -129,7 +134,7 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
             if p.is_finite() {
                 points.push(p);
             } else {
-                left_out += 1;
+                left += 1;
             }
         }
     }
@@ -138,9 +143,10 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
             F,
             Location::Byte(0),
             "at least one valid point",
-            format!("{left_out} points, all marked invalid or not finite"),
+            format!("{left} points, all marked invalid or not finite"),
         ));
     }
+    *left_out = LeftOut::of(left as usize, "points marked invalid (no return)");
     Ok((points, Vec::new(), Encoding::BinaryLe))
 }
 
@@ -211,8 +217,10 @@ mod tests {
     fn scans_in_the_common_frame_without_invalid_points() {
         let bytes = file();
         assert!(sniff(&bytes));
-        let (p, t, _) = read(&bytes).unwrap();
+        let mut left_out = None;
+        let (p, t, _) = read_counting(&bytes, &mut left_out).unwrap();
         assert!(t.is_empty());
+        assert_eq!(left_out.map(|l| l.points), Some(2));
         // Scan b's point: 2 along its x axis, turned to its frame's y, moved by (10, 0, 0).
         let want = [
             DVec3::new(1.0, 2.0, 3.0),

@@ -12,7 +12,7 @@
 //! costs no more memory than the points that are there.
 
 use super::error::{Format, IoError, Location};
-use super::{Encoding, RawGeometry};
+use super::{Encoding, LeftOut, RawGeometry};
 use glam::DVec3;
 use std::io::Cursor;
 
@@ -109,6 +109,11 @@ fn ruled_out(class: u8, record: &[u8], extended: bool) -> bool {
 
 /// Reads a LAS or LAZ file.
 pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
+    read_counting(bytes, &mut None)
+}
+
+/// [`read`], setting `left_out` to the withheld and noise points it skipped.
+pub fn read_counting(bytes: &[u8], left_out: &mut Option<LeftOut>) -> Result<RawGeometry, IoError> {
     check_chunk_table(bytes)?;
     let mut reader = las::Reader::new(Cursor::new(bytes.to_vec())).map_err(|e| {
         error(
@@ -195,6 +200,10 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
             format!("{count} points, all withheld or noise (class 7 or 18)"),
         ));
     }
+    *left_out = LeftOut::of(
+        (read as usize).saturating_sub(points.len()),
+        "points flagged withheld or classified as noise",
+    );
     Ok((points, Vec::new(), Encoding::BinaryLe))
 }
 
@@ -290,7 +299,10 @@ mod tests {
             .map(|i| c[i])
             .collect();
         for (format, laz) in [(0, false), (1, true), (6, false), (7, true)] {
-            let (p, _, _) = read(&file_with(&c, laz, format, point)).unwrap();
+            let mut left_out = None;
+            let (p, _, _) =
+                read_counting(&file_with(&c, laz, format, point), &mut left_out).unwrap();
+            assert_eq!(left_out.map(|l| l.points), Some(40 - kept.len()));
             assert_eq!(p.len(), kept.len(), "format {format}");
             let worst = p
                 .iter()

@@ -75,6 +75,26 @@ pub struct ReadResult {
     pub volume: Option<Box<VolumeRead>>,
     /// For meshes whose indices were mended on reading (see [`Target::repaired`]): what changed.
     pub repairs: Option<crate::mesh::Repairs>,
+    /// Points the file itself marks as not measured or not to be used, which were not read.
+    pub left_out: Option<LeftOut>,
+}
+
+/// Points a cloud file marks as unusable and the reader left out: a depth image's pixels without
+/// a measurement (PCD), points flagged withheld or classified as noise (LAS), points marked
+/// invalid (E57). Reported so that a cloud smaller than its file's count is not a surprise.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct LeftOut {
+    /// How many.
+    pub points: usize,
+    /// Why, as a phrase after the count ("points without a measurement (NaN pixels)").
+    pub why: &'static str,
+}
+
+impl LeftOut {
+    /// `None` for none left out.
+    pub(crate) fn of(points: usize, why: &'static str) -> Option<LeftOut> {
+        (points > 0).then_some(LeftOut { points, why })
+    }
 }
 
 /// A volume as read, and the level set of it that became the target.
@@ -169,6 +189,7 @@ pub fn volume_target(
             inside: opts.inside,
         })),
         repairs: None,
+        left_out: None,
     })
 }
 
@@ -221,15 +242,16 @@ pub fn read_as_with(
         let (v, e) = read_volume_as(bytes, format, opts, &|_| None)?;
         return volume_target(format, v, e, opts);
     }
+    let mut left_out = None;
     let (points, triangles, encoding) = match format {
         Format::Ply => ply::read(bytes)?,
         Format::Obj => obj::read(bytes)?,
         Format::Stl => stl::read(bytes)?,
         Format::Off => off::read(bytes)?,
         Format::Xyz => xyz::read(bytes)?,
-        Format::Pcd => pcd::read(bytes)?,
-        Format::Las => las::read(bytes)?,
-        Format::E57 => e57::read(bytes)?,
+        Format::Pcd => pcd::read_counting(bytes, &mut left_out)?,
+        Format::Las => las::read_counting(bytes, &mut left_out)?,
+        Format::E57 => e57::read_counting(bytes, &mut left_out)?,
         Format::Gltf | Format::Glb => gltf::read(bytes)?,
         Format::Vtk => {
             let ((p, t), _) = vtk::read(bytes)?;
@@ -239,7 +261,7 @@ pub fn read_as_with(
             unreachable!("volumes returned above")
         }
     };
-    finish(format, points, triangles, encoding)
+    finish(format, points, triangles, encoding, left_out)
 }
 
 /// Checks a reader's output into a [`Target`].
@@ -248,6 +270,7 @@ fn finish(
     points: Vec<DVec3>,
     triangles: Vec<[u32; 3]>,
     encoding: Encoding,
+    left_out: Option<LeftOut>,
 ) -> Result<ReadResult, IoError> {
     let format = match (format, encoding) {
         (Format::Gltf | Format::Glb, Encoding::Ascii) => Format::Gltf,
@@ -272,6 +295,7 @@ fn finish(
         encoding,
         volume: None,
         repairs,
+        left_out,
     })
 }
 
@@ -367,7 +391,7 @@ pub fn read_path_with(
             std::fs::read(dir.join(uri.replace("%20", " "))).ok()
         };
         let (points, triangles, encoding) = gltf::read_with(&bytes, &resolve)?;
-        return finish(format, points, triangles, encoding);
+        return finish(format, points, triangles, encoding, None);
     }
     read_as(&bytes, format)
 }

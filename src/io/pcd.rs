@@ -15,7 +15,7 @@
 
 use super::error::{Format, IoError, Location};
 use super::text::{parse_f64, parse_i64, show, words, Lines};
-use super::{Encoding, RawGeometry};
+use super::{Encoding, LeftOut, RawGeometry};
 use glam::DVec3;
 
 const F: Format = Format::Pcd;
@@ -300,6 +300,11 @@ fn layout(
 
 /// Reads a PCD file.
 pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
+    read_counting(bytes, &mut None)
+}
+
+/// [`read`], setting `left_out` to the points without a measurement it skipped.
+pub fn read_counting(bytes: &[u8], left_out: &mut Option<LeftOut>) -> Result<RawGeometry, IoError> {
     let h = header(bytes)?;
     let (points, encoding) = match h.data {
         Data::Ascii => (ascii(bytes, &h)?, Encoding::Ascii),
@@ -314,6 +319,10 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
             format!("{} points, all with NaN or infinite coordinates", h.points),
         ));
     }
+    *left_out = LeftOut::of(
+        h.points - points.len(),
+        "points without a measurement (NaN pixels)",
+    );
     Ok((points, Vec::new(), encoding))
 }
 
@@ -548,7 +557,9 @@ mod tests {
             .replace("POINTS 3", "POINTS 4");
         let mut bytes = format!("{file}DATA binary\n").into_bytes();
         bytes.extend(&binary_file(&c)[HEAD.len() + 12..]);
-        assert_eq!(read(&bytes).unwrap().0, cloud());
+        let mut left_out = None;
+        assert_eq!(read_counting(&bytes, &mut left_out).unwrap().0, cloud());
+        assert_eq!(left_out.map(|l| l.points), Some(1));
         let all_nan = format!("{HEAD}DATA ascii\nnan nan nan 0\nnan nan nan 0\nnan nan nan 0\n");
         let err = read(all_nan.as_bytes()).unwrap_err().to_string();
         assert!(err.contains("all with NaN"), "{err}");

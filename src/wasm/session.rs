@@ -19,6 +19,8 @@ pub struct WrapSession {
     format: Format,
     /// What reading mended in a mesh's indices (see [`crate::target::Target::repaired`]).
     repairs: Option<crate::mesh::Repairs>,
+    /// Points the file marked unusable, not read (see [`crate::io::LeftOut`]).
+    left_out: Option<crate::io::LeftOut>,
     /// The settings in force, as JSON (recorded in exported files).
     pub(super) settings_json: String,
     /// Called as `progress(phase, fraction)` during the long phases (the final fit).
@@ -43,6 +45,7 @@ impl WrapSession {
             format,
             repairs,
             volume,
+            left_out,
             ..
         } = read;
         drop(volume);
@@ -58,6 +61,7 @@ impl WrapSession {
             target,
             format,
             repairs,
+            left_out,
             settings_json: serde_json::to_string(&settings).unwrap_or_default(),
             progress,
             last: None,
@@ -157,6 +161,7 @@ impl WrapSession {
             "bboxMax": t.bbox.max.to_array(),
             "diagonal": t.bbox.diagonal(),
             "repairs": self.repairs,
+            "leftOut": self.left_out,
         }))
     }
 

@@ -138,6 +138,7 @@ impl WrapSession {
             encoding: view.encoding,
             volume: None,
             repairs: None,
+            left_out: None,
         };
         WrapSession::prepare(read, settings_json, progress)
     }

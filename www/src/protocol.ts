@@ -275,6 +275,20 @@ export interface TargetInfo {
   diagonal: number;
   /** What reading mended in a mesh's indices (null: nothing). */
   repairs: Repairs | null;
+  /** Points the file marks unusable, which were not read (mirrors `io::LeftOut`; null: none). */
+  leftOut: LeftOut | null;
+}
+
+/** Points a cloud file marks as unusable and the reader left out. */
+export interface LeftOut {
+  points: number;
+  /** A phrase after the count: "points without a measurement (NaN pixels)". */
+  why: string;
+}
+
+/** Points left out on reading, as a clause of the input's description ('' when none). */
+export function leftOutNote(l: LeftOut | null | undefined): string {
+  return l ? `; ${l.points} ${l.why} left out` : '';
 }
 
 /** Index repairs of a mesh (mirrors `mesh::Repairs`). */

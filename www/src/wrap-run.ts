@@ -9,7 +9,7 @@ import type { KeptResult, TargetMesh } from './kept';
 import type { ModeSwitch } from './mode';
 import type { RunSettings } from './panel';
 import type { Draw, Frame, FromWorker, Send, Source, StartedOver, StopReason, TargetInfo } from './protocol';
-import { repairsNote } from './protocol';
+import { leftOutNote, repairsNote } from './protocol';
 import { describeFile, sameFile, validDataset, type FileStamp } from './share';
 import { stampFile } from './share-link';
 import type { StatusLine } from './status';
@@ -242,7 +242,7 @@ export class WrapRun {
     this.d.draw({ type: 'target', positions: msg.positions, indices: msg.indices.length ? msg.indices : null }, [msg.positions.buffer, msg.indices.buffer]);
     const i: TargetInfo = msg.info;
     this.d.field.reveal();
-    byId('target-info').textContent = `${msg.name}: ${i.format}, ${i.kind === 'points' ? `${i.points} points` : `${i.points} vertices, ${i.triangles} triangles`}, diagonal ${i.diagonal.toPrecision(4)}${repairsNote(i.repairs)}`;
+    byId('target-info').textContent = `${msg.name}: ${i.format}, ${i.kind === 'points' ? `${i.points} points` : `${i.points} vertices, ${i.triangles} triangles`}, diagonal ${i.diagonal.toPrecision(4)}${repairsNote(i.repairs)}${leftOutNote(i.leftOut)}`;
   }
 
   /** A frame of the current run (already drawn): progress, plots, status. */
