@@ -264,6 +264,12 @@ fn corpus() -> Vec<Case> {
             b[table + 4..table + 8].copy_from_slice(&u32::MAX.to_le_bytes());
             b
         }, "io_count_too_large", &["las", "4294967295 LASzip chunks"]),
+        case("LAZ whose point count overflows 64 bits of bytes (fuzzing find)", None, {
+            let mut b = las_file(true);
+            b[107..111].copy_from_slice(&0u32.to_le_bytes()); // legacy count 0: the 1.4 one counts
+            b[247..255].copy_from_slice(&(1u64 << 62).to_le_bytes());
+            b
+        }, "io_count_too_large", &["las", "4611686018427387904 points"]),
         case("binary garbage named .laz", Some("a.laz"), garbage(400), "io_syntax", &["las", "LASF"]),
         // --- E57 ---
         case("E57 cut inside a page", Some("a.e57"), e57_file()[..1500].to_vec(), "io_truncated", &["e57", "whole number of pages"]),

@@ -44,54 +44,81 @@ fn error(e: las::Error, bytes: &[u8], what: &str) -> IoError {
     }
 }
 
-/// Refuses a LAZ chunk table that claims more chunks than the file has bytes. The laz crate
-/// reserves memory for the count before reading the table, so a corrupt count (up to 4 × 10⁹
-/// entries of 16 bytes: a fuzzing find) would abort on the allocation; each chunk takes at least
-/// a byte. Offsets as LASzip stores them: the table's offset at the start of the point data, or,
-/// where the writer could not seek back, in the file's last 8 bytes.
-fn check_chunk_table(bytes: &[u8]) -> Result<(), IoError> {
-    let at = |o: usize, n: usize| bytes.get(o..o.checked_add(n)?);
-    let u32_at = |o| {
-        at(o, 4)
-            .and_then(|b| <[u8; 4]>::try_from(b).ok())
-            .map(u32::from_le_bytes)
+/// Little-endian reads at byte offsets of the file, `None` past its end.
+fn u32_at(bytes: &[u8], o: usize) -> Option<u32> {
+    let b = bytes.get(o..o.checked_add(4)?)?;
+    <[u8; 4]>::try_from(b).ok().map(u32::from_le_bytes)
+}
+
+fn u64_at(bytes: &[u8], o: usize) -> Option<u64> {
+    let b = bytes.get(o..o.checked_add(8)?)?;
+    <[u8; 8]>::try_from(b).ok().map(u64::from_le_bytes)
+}
+
+/// Refuses counts the file cannot hold before the crate sees them: the crate multiplies the
+/// point count by the record length (a corrupt count overflows: a panic with debug assertions,
+/// a wrapped offset without) and reserves memory for a LAZ chunk table's count before reading
+/// the table (a corrupt count asked for 14 GB). Both were fuzzing finds. Fields as the public
+/// header stores them: offset to the point data at byte 96, point format at 104, record length
+/// at 105, legacy point count at 107; LAS 1.4's 64-bit count at 247 (used when the legacy one is
+/// 0, as the crate does). A file cut before its points is left for the crate to refuse.
+fn check_counts(bytes: &[u8]) -> Result<(), IoError> {
+    let too_large = |at: usize, element: &str, count: u64, needed: u128| IoError::CountTooLarge {
+        format: F,
+        at: Location::Byte(at),
+        element: element.into(),
+        count,
+        available: bytes.len(),
+        needed,
     };
-    let i64_at = |o| {
-        at(o, 8)
-            .and_then(|b| <[u8; 8]>::try_from(b).ok())
-            .map(i64::from_le_bytes)
+    let (Some(&format), Some(&[lo, hi]), Some(legacy), Some(start)) = (
+        bytes.get(104),
+        bytes.get(105..107),
+        u32_at(bytes, 107),
+        u32_at(bytes, 96).map(u64::from),
+    ) else {
+        return Ok(());
     };
-    // Bit 7 of the point data format byte marks LASzip data (as the las crate reads it).
-    let compressed = bytes.get(104).is_some_and(|f| f & 0x80 != 0);
-    let Some(start) = u32_at(96).filter(|_| compressed) else {
-        return Ok(()); // an uncompressed file, or a header the crate will refuse
+    let record = u16::from_le_bytes([lo, hi]) as u128;
+    let minor = bytes.get(25).copied().unwrap_or(0);
+    let count = match u64_at(bytes, 247) {
+        Some(n) if minor >= 4 && legacy == 0 => n,
+        _ => legacy as u64,
     };
-    let start = start as i64;
-    let table = match i64_at(start as usize) {
-        Some(t) if t > start => t,
-        Some(_) => match i64_at(bytes.len().saturating_sub(8)) {
-            Some(t) if t > start => t,
+    // Bit 7 of the point format marks LASzip data (as the las crate reads it).
+    let compressed = format & 0x80 != 0;
+    let needed = count as u128 * record;
+    if needed > u64::MAX as u128 {
+        return Err(too_large(107, "points", count, needed));
+    }
+    if start > bytes.len() as u64 {
+        return Ok(()); // cut before its points: the crate says where
+    }
+    if !compressed {
+        return match needed > bytes.len() as u128 {
+            true => Err(too_large(107, "points", count, needed)),
+            false => Ok(()),
+        };
+    }
+    // The chunk table's offset is at the start of the point data, or, where the writer could
+    // not seek back, in the file's last 8 bytes; each chunk takes at least a byte of the file.
+    let table = match u64_at(bytes, start as usize) {
+        Some(t) if t > start && t < i64::MAX as u64 => t,
+        Some(_) => match u64_at(bytes, bytes.len().saturating_sub(8)) {
+            Some(t) if t > start && t < i64::MAX as u64 => t,
             _ => return Ok(()),
         },
         None => return Ok(()),
     };
-    let Some(chunks) = usize::try_from(table)
-        .ok()
-        .and_then(|t| u32_at(t.saturating_add(4)))
-    else {
-        return Ok(());
-    };
-    if chunks as usize > bytes.len() {
-        return Err(IoError::CountTooLarge {
-            format: F,
-            at: Location::Byte(table as usize + 4),
-            element: "LASzip chunks".into(),
-            count: chunks as u64,
-            available: bytes.len(),
-            needed: chunks as u128,
-        });
+    match u32_at(bytes, (table as usize).saturating_add(4)) {
+        Some(chunks) if chunks as usize > bytes.len() => Err(too_large(
+            table as usize + 4,
+            "LASzip chunks",
+            chunks as u64,
+            chunks as u128,
+        )),
+        _ => Ok(()),
     }
-    Ok(())
 }
 
 /// True for a point the file rules out: flagged withheld, or classified as noise (7 or 18).
@@ -114,7 +141,7 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
 
 /// [`read`], setting `left_out` to the withheld and noise points it skipped.
 pub fn read_counting(bytes: &[u8], left_out: &mut Option<LeftOut>) -> Result<RawGeometry, IoError> {
-    check_chunk_table(bytes)?;
+    check_counts(bytes)?;
     let mut reader = las::Reader::new(Cursor::new(bytes.to_vec())).map_err(|e| {
         error(
             e,
@@ -124,21 +151,6 @@ pub fn read_counting(bytes: &[u8], left_out: &mut Option<LeftOut>) -> Result<Raw
     })?;
     let header = reader.header();
     let count = header.number_of_points();
-    let compressed = header.point_format().is_compressed;
-    if !compressed {
-        // Uncompressed records have a fixed size: refuse an impossible count before reading.
-        let needed = count as u128 * header.point_format().len() as u128;
-        if needed > bytes.len() as u128 {
-            return Err(IoError::CountTooLarge {
-                format: F,
-                at: Location::Byte(107),
-                element: "points".into(),
-                count,
-                available: bytes.len(),
-                needed,
-            });
-        }
-    }
     let mut points = Vec::with_capacity(count.min(bytes.len() as u64 / 8) as usize);
     let mut data = las::PointDataBuilder::new()
         .for_header(reader.header())
@@ -345,6 +357,12 @@ mod tests {
             err.to_string().contains("4294967295 LASzip chunks"),
             "{err}"
         );
+        // A LAZ point count whose byte size overflows 64 bits (the crate multiplies them: a
+        // panic with debug assertions; a fuzzing find).
+        let mut huge = file(&cloud(3), true);
+        huge[107..111].copy_from_slice(&0u32.to_le_bytes());
+        huge[247..255].copy_from_slice(&(1u64 << 62).to_le_bytes());
+        assert!(matches!(read(&huge), Err(IoError::CountTooLarge { .. })));
         let mut big = file(&cloud(3), false);
         big[107..111].copy_from_slice(&u32::MAX.to_le_bytes()); // legacy point count
         big[247..255].copy_from_slice(&u64::MAX.to_le_bytes()); // 1.4 point count
