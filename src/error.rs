@@ -704,7 +704,7 @@ mod tests {
         assert_eq!(EvolveError::Remesh(RemeshError::Empty).code(), "internal");
         assert_eq!(
             Explain::hint(&IoError::UnknownFormat { reason: "?".into() }),
-            "Use PLY, OBJ, STL, OFF, XYZ, glTF, GLB, VTK, PCD, LAS/LAZ or E57, or a NIfTI, NRRD, VTI or MetaImage volume."
+            "Use PLY, OBJ, STL, OFF, XYZ, glTF, GLB, VTK, PCD, LAS/LAZ, E57 or PTX, or a NIfTI, NRRD, VTI or MetaImage volume."
         );
         assert_eq!(Explain::code(&IoError::Empty { format: None }), "bad-file");
         assert_eq!(

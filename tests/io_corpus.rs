@@ -89,6 +89,9 @@ fn gltf_json(buffer_uri: &str, count: usize) -> Vec<u8> {
 const DATA_URI: &str =
     "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA";
 
+/// A PTX scan header for a grid of 2 × 1 points (identity pose).
+const PTX_HEAD: &str = "2\n1\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n";
+
 const PCD_HEAD: &str =
     "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\n";
 
@@ -275,6 +278,10 @@ fn corpus() -> Vec<Case> {
         case("E57 cut inside a page", Some("a.e57"), e57_file()[..1500].to_vec(), "io_truncated", &["e57", "whole number of pages"]),
         case("E57 with a flipped byte (checksum)", None, { let mut b = e57_file(); b[100] ^= 1; b }, "io_syntax", &["e57", "byte 0"]),
         case("binary garbage named .e57", Some("a.e57"), garbage(2048), "io_syntax", &["e57", "header"]),
+        // --- PTX ---
+        case("PTX cut inside its points", Some("a.ptx"), PTX_HEAD.to_string() + "1 2 3 0\n", "io_truncated", &["ptx", "2 points of scan 0", "found 1"]),
+        case("PTX with a matrix row of three numbers", None, PTX_HEAD.replace("0 0 1 0\n", "0 0 1\n"), "io_syntax", &["ptx", "line 9", "4 × 4"]),
+        case("PTX with a word for a coordinate", None, PTX_HEAD.to_string() + "1 2 3 0\n1 x 3 0\n", "io_syntax", &["ptx", "line 12", "\"1 x 3 0\""]),
         // --- unknown ---
         case("plain prose", None, "hello world\nthis is not geometry\n", "io_unknown_format", &["unrecognised", "hello"]),
     ];
@@ -418,6 +425,8 @@ fn write_fuzz_seeds() {
     seeds.push(("las".into(), las_file(false), "las"));
     seeds.push(("laz".into(), las_file(true), "las"));
     seeds.push(("e57".into(), e57_file(), "e57"));
+    let ptx = PTX_HEAD.to_string() + "1 2 3 0.5 10 20 30\n0 0 0 0 0 0 0\n";
+    seeds.push(("ptx".into(), ptx.into_bytes(), "ptx"));
     seeds.push((
         "pcd_ascii".into(),
         format!("{PCD_HEAD}DATA ascii\n1 2 3\nnan 0 0\n").into_bytes(),

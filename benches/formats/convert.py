@@ -3,8 +3,10 @@
 the way other tools write them: PCD in ascii, binary and binary_compressed (LZF from liblzf
 through `python-lzf`, as PCL does), also as an organized cloud with NaN pixels; LAS 1.4 and LAZ
 through `laspy` + `lazrs`; E57 through `pye57` (libE57Format), once as one scan and once as two
-scans with poses (each half stored in its scanner's frame) and invalid points. The wraps of the
-PCD files must equal the wrap of the same float32 points, the one-scan E57 the wrap of the points.
+scans with poses (each half stored in its scanner's frame) and invalid points; PTX as two scans
+with empty grid cells, once with identity matrices and once with the second scan posed. The wraps
+of the PCD files, the one-scan E57 and the identity PTX must equal the wrap of the same float32
+points.
 
 usage: convert.py INPUT OUT_DIR     (pip install numpy python-lzf laspy lazrs pye57)
 """
@@ -111,6 +113,25 @@ def write_e57(p, path, posed):
     e.close()
 
 
+def write_ptx(p, path, posed):
+    """Leica PTX: each half of the points as a scan of a 2-row grid with an empty cell (0 0 0 0)
+    after every point; the row-vector matrix [x y z 1]·M takes the scan to the common frame."""
+    p = p.astype(np.float64)
+    half = len(p) // 2
+    lines = []
+    for k, part in enumerate((p[:half], p[half:])):
+        q, t = ((0.9238795325112867, 0.0, 0.0, 0.3826834323650898), (1.0, -2.0, 0.5)) if posed and k == 1 else ((1.0, 0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+        r = quat_matrix(*q)  # column vectors: p = r @ local + t, so M's rows are r's columns
+        local = (part - np.array(t)) @ r if posed and k == 1 else part
+        lines += [str(len(part)), "2", "0 0 0", "1 0 0", "0 1 0", "0 0 1"]
+        lines += [" ".join(repr(float(c)) for c in r[:, i]) + " 0" for i in range(3)]
+        lines += [" ".join(repr(float(c)) for c in t) + " 1"]
+        for x, y, z in local.tolist():
+            lines += [f"{x!r} {y!r} {z!r} 0.5 10 20 30", "0 0 0 0 0 0 0"]
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
 def main():
     src, out = sys.argv[1], sys.argv[2]
     os.makedirs(out, exist_ok=True)
@@ -125,6 +146,8 @@ def main():
     write_las(p, os.path.join(out, f"{stem}.laz"))
     write_e57(p, os.path.join(out, f"{stem}.e57"), posed=False)
     write_e57(p, os.path.join(out, f"{stem}-posed.e57"), posed=True)
+    write_ptx(p, os.path.join(out, f"{stem}.ptx"), posed=False)
+    write_ptx(p, os.path.join(out, f"{stem}-posed.ptx"), posed=True)
 
 
 if __name__ == "__main__":

@@ -108,6 +108,11 @@ pub fn detect(bytes: &[u8], file_name: Option<&str>) -> Result<Format, IoError> 
     if first_word == b"solid" {
         return Ok(Format::Stl);
     }
+    // Before the extension: a PTX export renamed .txt or .xyz would read as a point list whose
+    // header lines are points.
+    if super::ptx::sniff(bytes) {
+        return Ok(Format::Ptx);
+    }
     if let Some(f) = by_ext {
         return Ok(f);
     }
@@ -157,6 +162,9 @@ mod tests {
         assert_eq!(detect(b"x,y,z\n1,2,3\n", None), Ok(Format::Xyz));
         assert_eq!(detect(b"LASF\0\0", None), Ok(Format::Las));
         assert_eq!(detect(b"ASTM-E57\0\0", None), Ok(Format::E57));
+        let ptx =
+            b"2\n1\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n1 2 3 0\n";
+        assert_eq!(detect(ptx, Some("scan.txt")), Ok(Format::Ptx));
         assert_eq!(detect(b"# .PCD v.7\nVERSION .7\n", None), Ok(Format::Pcd));
         assert_eq!(detect(b"FIELDS x y z\nSIZE 4 4 4\n", None), Ok(Format::Pcd));
         assert_eq!(detect(b"1 2 3\n", Some("a.obj")), Ok(Format::Obj));

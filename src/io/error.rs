@@ -30,6 +30,8 @@ pub enum Format {
     Las,
     /// ASTM E57 laser-scan exchange file (every scan, in the common frame).
     E57,
+    /// Leica PTX text export of terrestrial scans (every scan, in the common frame).
+    Ptx,
     /// NIfTI-1 or NIfTI-2 volume (`.nii`, `.nii.gz`, `.hdr`/`.img`).
     Nifti,
     /// NRRD volume (`.nrrd` attached, `.nhdr` detached).

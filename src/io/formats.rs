@@ -87,6 +87,7 @@ pub const FORMATS: &[FormatInfo] = {
         entry(Format::Pcd, "pcd", "PCD", &["pcd"], Cloud, false),
         entry(Format::Las, "las", "LAS/LAZ", &["las", "laz"], Cloud, false),
         entry(Format::E57, "e57", "E57", &["e57"], Cloud, false),
+        entry(Format::Ptx, "ptx", "PTX", &["ptx"], Cloud, false),
         entry(
             Format::Nifti,
             "nifti",
@@ -304,7 +305,7 @@ mod tests {
         assert_eq!(writable_extensions(), ".ply, .obj, .stl, .glb or .vtk");
         assert_eq!(
             supported_formats(),
-            "PLY, OBJ, STL, OFF, XYZ, glTF, GLB, VTK, PCD, LAS/LAZ, E57; volumes NIfTI, NRRD, VTI, MetaImage"
+            "PLY, OBJ, STL, OFF, XYZ, glTF, GLB, VTK, PCD, LAS/LAZ, E57, PTX; volumes NIfTI, NRRD, VTI, MetaImage"
         );
         assert!(Format::Nrrd.is_volume() && !Format::Xyz.is_volume());
         assert_eq!(join_list(&["a"], "or"), "a");

@@ -1,5 +1,5 @@
 //! Reading and writing geometry files. Readers: PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF/GLB,
-//! legacy VTK polydata, PCD, LAS/LAZ and E57; voxel volumes NIfTI-1/2, NRRD, VTI and MetaImage ([`volume`]).
+//! legacy VTK polydata, PCD, LAS/LAZ, E57 and PTX; voxel volumes NIfTI-1/2, NRRD, VTI and MetaImage ([`volume`]).
 //! Writers ([`write_bytes`]): OBJ, PLY, STL, GLB and VTK.
 //!
 //! A volume becomes a target through its iso-surface (see [`Target::from_volume`]): the
@@ -28,6 +28,7 @@ pub mod obj;
 pub mod off;
 pub mod pcd;
 pub mod ply;
+pub mod ptx;
 pub mod stl;
 pub(crate) mod text;
 pub mod volume;
@@ -252,6 +253,7 @@ pub fn read_as_with(
         Format::Pcd => pcd::read_counting(bytes, &mut left_out)?,
         Format::Las => las::read_counting(bytes, &mut left_out)?,
         Format::E57 => e57::read_counting(bytes, &mut left_out)?,
+        Format::Ptx => ptx::read_counting(bytes, &mut left_out)?,
         Format::Gltf | Format::Glb => gltf::read(bytes)?,
         Format::Vtk => {
             let ((p, t), _) = vtk::read(bytes)?;
