@@ -61,7 +61,8 @@ fn u64_at(bytes: &[u8], o: usize) -> Option<u64> {
 /// the table (a corrupt count asked for 14 GB). Both were fuzzing finds. Fields as the public
 /// header stores them: offset to the point data at byte 96, point format at 104, record length
 /// at 105, legacy point count at 107; LAS 1.4's 64-bit count at 247 (used when the legacy one is
-/// 0, as the crate does). A file cut before its points is left for the crate to refuse.
+/// 0, as the crate does). A file cut before its points is left for the crate to refuse. A third
+/// find was the first extended VLR's 64-bit length (a 17 GB reservation).
 fn check_counts(bytes: &[u8]) -> Result<(), IoError> {
     let too_large = |at: usize, element: &str, count: u64, needed: u128| IoError::CountTooLarge {
         format: F,
@@ -90,6 +91,24 @@ fn check_counts(bytes: &[u8]) -> Result<(), IoError> {
     let needed = count as u128 * record;
     if needed > u64::MAX as u128 {
         return Err(too_large(107, "points", count, needed));
+    }
+    // LAS 1.4's first extended VLR (the one the crate reads): it reserves the record's length,
+    // a 64-bit field, before reading it. Its header is 60 bytes, the length at byte 20 of it.
+    if let (true, Some(first), Some(n)) = (minor >= 4, u64_at(bytes, 235), u32_at(bytes, 243)) {
+        let length = usize::try_from(first)
+            .ok()
+            .and_then(|f| u64_at(bytes, f.checked_add(20)?).map(|l| (f, l)));
+        if let (true, Some((at, length))) = (first > 0 && n > 0, length) {
+            let needed = at as u128 + 60 + length as u128;
+            if needed > bytes.len() as u128 {
+                return Err(too_large(
+                    at + 20,
+                    "bytes of an extended VLR",
+                    length,
+                    needed,
+                ));
+            }
+        }
     }
     if start > bytes.len() as u64 {
         return Ok(()); // cut before its points: the crate says where
@@ -363,6 +382,19 @@ mod tests {
         huge[107..111].copy_from_slice(&0u32.to_le_bytes());
         huge[247..255].copy_from_slice(&(1u64 << 62).to_le_bytes());
         assert!(matches!(read(&huge), Err(IoError::CountTooLarge { .. })));
+        // An extended VLR that claims 2⁴⁰ bytes (the third fuzzing find asked for 17 GB).
+        let mut evlr = file(&cloud(3), false);
+        let at = evlr.len() as u64;
+        evlr[235..243].copy_from_slice(&at.to_le_bytes());
+        evlr[243..247].copy_from_slice(&1u32.to_le_bytes());
+        evlr.extend([0u8; 20]);
+        evlr.extend((1u64 << 40).to_le_bytes());
+        evlr.extend([0u8; 32]);
+        let err = read(&evlr).unwrap_err();
+        assert!(
+            err.to_string().contains("bytes of an extended VLR"),
+            "{err}"
+        );
         let mut big = file(&cloud(3), false);
         big[107..111].copy_from_slice(&u32::MAX.to_le_bytes()); // legacy point count
         big[247..255].copy_from_slice(&u64::MAX.to_le_bytes()); // 1.4 point count
