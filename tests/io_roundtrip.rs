@@ -114,6 +114,29 @@ fn point_clouds_round_trip() {
     }
 }
 
+/// A whole-file gzip of any mesh or cloud (`scan.ply.gz`) reads as what it holds, named by the
+/// inner extension; a damaged one is an error naming that format, not a NIfTI's.
+#[wasm_bindgen_test(unsupported = test)]
+fn gzip_compressed_files_read_as_what_they_hold() {
+    use std::io::Write;
+    let (p, t) = sphere();
+    for f in Format::WRITABLE {
+        let bytes = write_bytes(f, &WriteInput::new(&p, &t)).unwrap();
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        gz.write_all(&bytes).unwrap();
+        let gz = gz.finish().unwrap();
+        let name = format!("scan.{}.gz", ext(f));
+        for hint in [Some(name.as_str()), None] {
+            let r = read_bytes(&gz, hint).unwrap_or_else(|e| panic!("{f} {hint:?}: {e}"));
+            assert_eq!(r.format, f);
+            same_mesh(f, (&p, &t), (&r.target.points, &r.target.triangles));
+        }
+        let cut = &gz[..gz.len() / 2];
+        let e = read_bytes(cut, Some(&name)).unwrap_err();
+        assert!(e.to_string().starts_with(f.name()), "{f}: {e}");
+    }
+}
+
 #[wasm_bindgen_test(unsupported = test)]
 fn glb_has_normals_and_settings_in_asset_extras() {
     let (p, t) = sphere();

@@ -124,8 +124,54 @@ pub fn read_bytes_with(
     file_name: Option<&str>,
     opts: &VolumeOptions,
 ) -> Result<ReadResult, IoError> {
+    if let Some((inner, name)) = gunzipped(bytes, file_name)? {
+        return read_bytes_with(&inner, name.as_deref(), opts);
+    }
     let format = detect(bytes, file_name)?;
     read_as_with(bytes, format, opts)
+}
+
+/// Inflated bytes and the file name they came under, without `.gz`.
+type Inflated = (Vec<u8>, Option<String>);
+
+/// A gzip-compressed mesh or cloud (`scan.ply.gz`, `points.xyz.gz`, …): its inflated bytes and
+/// the file name without `.gz`. `None` when `bytes` are not gzip, or are a NIfTI volume (which
+/// is stored that way and inflated by its reader as far as the frame it needs). Before, any gzip
+/// was taken for a NIfTI and a compressed PLY was refused as "a NIfTI without its header".
+/// Inflation stops at deflate's worst-case ratio; gzip inside gzip is refused.
+fn gunzipped(bytes: &[u8], file_name: Option<&str>) -> Result<Option<Inflated>, IoError> {
+    use volume::{inflate_prefix, is_gzip, Packing, MAX_INFLATE_RATIO};
+    let lower = file_name.map(str::to_ascii_lowercase);
+    let nifti_name = lower.as_deref().is_some_and(|n| {
+        n.ends_with(".nii.gz") || n.ends_with(".img.gz") || n.ends_with(".hdr.gz")
+    });
+    if !is_gzip(bytes) || nifti_name {
+        return Ok(None);
+    }
+    let inner_name = file_name.map(|n| match n.len().checked_sub(3) {
+        Some(k) if n.is_char_boundary(k) && n[k..].eq_ignore_ascii_case(".gz") => {
+            n[..k].to_string()
+        }
+        _ => n.to_string(),
+    });
+    // Errors name the format the inner name says (else the one the content turns out to be).
+    let format = inner_name
+        .as_deref()
+        .and_then(Format::from_file_name)
+        .unwrap_or(Format::Nifti);
+    let head = inflate_prefix(bytes, Packing::Gzip, 540, false, format, 0)?;
+    if nifti::sniff(&head) {
+        return Ok(None);
+    }
+    let most = (bytes.len() as u128 * MAX_INFLATE_RATIO).min(isize::MAX as u128) as usize;
+    let inner = inflate_prefix(bytes, Packing::Gzip, most, false, format, 0)?;
+    if is_gzip(&inner) {
+        return Err(IoError::Unsupported {
+            format,
+            what: "gzip inside gzip".into(),
+        });
+    }
+    Ok(Some((inner, inner_name)))
 }
 
 /// Reads a volume file from memory (NIfTI, NRRD, VTI, MetaImage) without building a target:
@@ -378,6 +424,9 @@ pub fn read_path_with(
 ) -> Result<ReadResult, IoError> {
     let path = path.as_ref();
     let bytes = read_file(path)?;
+    if let Some((inner, name)) = gunzipped(&bytes, path.to_str())? {
+        return read_bytes_with(&inner, name.as_deref(), opts);
+    }
     let format = detect(&bytes, path.to_str())?;
     if format.is_volume() {
         let (v, e) = read_volume_file(path, &bytes, format, opts)?;
