@@ -57,3 +57,62 @@ fn phases_report_in_order_and_each_reaches_the_end() {
         );
     }
 }
+
+/// Reading reports its share of the file as it goes ("reading", non-decreasing, ending at 1) in
+/// every format that holds big clouds; with no sink it reports nothing.
+#[wasm_bindgen_test(unsupported = test)]
+fn reading_reports_its_share_of_the_file() {
+    use lsw::io::{read_bytes_progress, write_bytes, Format, VolumeOptions, WriteInput};
+    let points: Vec<lsw::DVec3> = (0..20_000)
+        .map(|i| {
+            let t = i as f64 * 0.001;
+            lsw::DVec3::new(lsw::fmath::cos(t * 7.0), lsw::fmath::sin(t * 5.0), t)
+        })
+        .collect();
+    let xyz: String = points
+        .iter()
+        .map(|p| format!("{} {} {}\n", p.x, p.y, p.z))
+        .collect();
+    let ptx = "20000\n1\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n"
+        .to_string()
+        + &points
+            .iter()
+            .map(|p| format!("{} {} {} 0.5\n", p.x, p.y, p.z))
+            .collect::<String>();
+    let pcd = format!(
+        "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH {n}\nPOINTS {n}\nDATA ascii\n{xyz}",
+        n = points.len()
+    );
+    let files = [
+        (
+            "cloud.ply",
+            write_bytes(Format::Ply, &WriteInput::new(&points, &[])).unwrap(),
+        ),
+        (
+            "cloud.obj",
+            write_bytes(Format::Obj, &WriteInput::new(&points, &[])).unwrap(),
+        ),
+        ("cloud.xyz", xyz.into_bytes()),
+        ("cloud.ptx", ptx.into_bytes()),
+        ("cloud.pcd", pcd.into_bytes()),
+    ];
+    for (name, bytes) in files {
+        let mut seen: Vec<(String, f64)> = Vec::new();
+        let mut sink = |phase: &str, f: f64| seen.push((phase.to_string(), f));
+        let read = read_bytes_progress(
+            &bytes,
+            Some(name),
+            &VolumeOptions::default(),
+            &mut Progress::to(&mut sink),
+        )
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(read.target.points.len(), points.len(), "{name}");
+        assert!(seen.iter().all(|(p, _)| p == "reading"), "{name}: {seen:?}");
+        assert!(
+            seen.windows(2).all(|w| w[0].1 <= w[1].1),
+            "{name}: {seen:?}"
+        );
+        assert!(seen.len() >= 2 && seen[0].1 < 1.0, "{name}: {seen:?}");
+        assert_eq!(seen.last().map(|s| s.1), Some(1.0), "{name}");
+    }
+}

@@ -9,7 +9,8 @@
 //! hand-written reader. It reads from the input slice, so no copy is made.
 
 use super::error::{Format, IoError, Location};
-use super::{Encoding, LeftOut, RawGeometry};
+use super::{Encoding, LeftOut, RawGeometry, READING, REPORT_EVERY};
+use crate::progress::Progress;
 use glam::DVec3;
 use std::io::Cursor;
 
@@ -67,11 +68,16 @@ fn layout(cloud: &e57::PointCloud) -> Option<(Layout, Option<usize>)> {
 /// [`crate::fmath`] (its simple reader calls the platform's `sin`, whose last bit differs between
 /// the CLI and the browser, and it can stop on a point whose values are not all decoded yet).
 pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
-    read_counting(bytes, &mut None)
+    read_counting(bytes, &mut None, &mut Progress::none())
 }
 
-/// [`read`], setting `left_out` to the invalid points it skipped.
-pub fn read_counting(bytes: &[u8], left_out: &mut Option<LeftOut>) -> Result<RawGeometry, IoError> {
+/// [`read`], setting `left_out` to the invalid points it skipped and reporting the share of
+/// records read to `progress`.
+pub fn read_counting(
+    bytes: &[u8],
+    left_out: &mut Option<LeftOut>,
+    progress: &mut Progress,
+) -> Result<RawGeometry, IoError> {
     let mut reader = e57::E57Reader::new(Cursor::new(bytes))
         .map_err(|e| error(e, bytes, "an E57 header and XML section"))?;
     let clouds = reader.pointclouds();
@@ -86,7 +92,7 @@ pub fn read_counting(bytes: &[u8], left_out: &mut Option<LeftOut>) -> Result<Raw
     // The XML's counts bound nothing: reserve no more than the bytes could hold.
     let total: u64 = clouds.iter().map(|c| c.records).sum();
     let mut points = Vec::with_capacity(total.min(bytes.len() as u64 / 4) as usize);
-    let mut left = 0u64;
+    let (mut left, mut done) = (0u64, 0u64);
     for (k, cloud) in clouds.iter().enumerate() {
         let what = format!("the points of scan {k} ({} records)", cloud.records);
         let (coords, state) = layout(cloud).ok_or_else(|| {
@@ -111,6 +117,10 @@ pub fn read_counting(bytes: &[u8], left_out: &mut Option<LeftOut>) -> Result<Raw
             .map_err(|e| error(e, bytes, &what))?;
         for v in scan {
             let v = v.map_err(|e| error(e, bytes, &what))?;
+            done += 1;
+            if done % REPORT_EVERY as u64 == 0 {
+                progress.report(READING, done as f64 / total.max(1) as f64);
+            }
             if let Some(s) = state {
                 if value(&v, s)? != 0.0 {
                     left += 1;
@@ -218,7 +228,7 @@ mod tests {
         let bytes = file();
         assert!(sniff(&bytes));
         let mut left_out = None;
-        let (p, t, _) = read_counting(&bytes, &mut left_out).unwrap();
+        let (p, t, _) = read_counting(&bytes, &mut left_out, &mut Progress::none()).unwrap();
         assert!(t.is_empty());
         assert_eq!(left_out.map(|l| l.points), Some(2));
         // Scan b's point: 2 along its x axis, turned to its frame's y, moved by (10, 0, 0).

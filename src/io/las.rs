@@ -12,7 +12,8 @@
 //! costs no more memory than the points that are there.
 
 use super::error::{Format, IoError, Location};
-use super::{Encoding, LeftOut, RawGeometry};
+use super::{Encoding, LeftOut, RawGeometry, READING};
+use crate::progress::Progress;
 use glam::DVec3;
 use std::io::Cursor;
 
@@ -157,11 +158,16 @@ fn ruled_out(class: u8, record: &[u8], extended: bool) -> bool {
 
 /// Reads a LAS or LAZ file.
 pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
-    read_counting(bytes, &mut None)
+    read_counting(bytes, &mut None, &mut Progress::none())
 }
 
-/// [`read`], setting `left_out` to the withheld and noise points it skipped.
-pub fn read_counting(bytes: &[u8], left_out: &mut Option<LeftOut>) -> Result<RawGeometry, IoError> {
+/// [`read`], setting `left_out` to the withheld and noise points it skipped and reporting the
+/// share of points read to `progress`.
+pub fn read_counting(
+    bytes: &[u8],
+    left_out: &mut Option<LeftOut>,
+    progress: &mut Progress,
+) -> Result<RawGeometry, IoError> {
     check_counts(bytes)?;
     let mut reader = las::Reader::new(Cursor::new(bytes.to_vec())).map_err(|e| {
         error(
@@ -180,6 +186,7 @@ pub fn read_counting(bytes: &[u8], left_out: &mut Option<LeftOut>) -> Result<Raw
     let record = u64::from(header.point_format().len());
     let mut read = 0u64;
     while read < count {
+        progress.report(READING, read as f64 / count as f64);
         let want = (CHUNK_BYTES / record.max(1)).clamp(1, count - read);
         let got = reader.fill_points(want, &mut data).map_err(|e| {
             error(
@@ -334,8 +341,12 @@ mod tests {
             .collect();
         for (format, laz) in [(0, false), (1, true), (6, false), (7, true)] {
             let mut left_out = None;
-            let (p, _, _) =
-                read_counting(&file_with(&c, laz, format, point), &mut left_out).unwrap();
+            let (p, _, _) = read_counting(
+                &file_with(&c, laz, format, point),
+                &mut left_out,
+                &mut Progress::none(),
+            )
+            .unwrap();
             assert_eq!(left_out.map(|l| l.points), Some(40 - kept.len()));
             assert_eq!(p.len(), kept.len(), "format {format}");
             let worst = p

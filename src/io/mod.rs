@@ -41,9 +41,18 @@ pub use error::{Format, IoError, Location};
 pub use formats::{FormatInfo, FormatKind, FORMATS};
 pub use volume::{Inside, VolumeOptions, VoxelVolume};
 
+use crate::progress::Progress;
 use crate::target::{Target, TargetError};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
+
+/// The progress phase of reading a file: the readers of big clouds and meshes (PLY, XYZ, OBJ,
+/// STL, PCD, LAS/LAZ, E57, PTX) report the share of their input read, so a file that takes
+/// seconds to read (16 M points of LAZ: ≈ 6 s in the browser) shows a percentage too.
+pub const READING: &str = "reading";
+
+/// How often, in records, a reader reports its position (reports are thinned further in time).
+pub(crate) const REPORT_EVERY: usize = 4096;
 
 /// How the data of a file was encoded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -124,11 +133,21 @@ pub fn read_bytes_with(
     file_name: Option<&str>,
     opts: &VolumeOptions,
 ) -> Result<ReadResult, IoError> {
+    read_bytes_progress(bytes, file_name, opts, &mut Progress::none())
+}
+
+/// [`read_bytes_with`], reporting [`READING`] to `progress`.
+pub fn read_bytes_progress(
+    bytes: &[u8],
+    file_name: Option<&str>,
+    opts: &VolumeOptions,
+    progress: &mut Progress,
+) -> Result<ReadResult, IoError> {
     if let Some((inner, name)) = gunzipped(bytes, file_name)? {
-        return read_bytes_with(&inner, name.as_deref(), opts);
+        return read_bytes_progress(&inner, name.as_deref(), opts, progress);
     }
     let format = detect(bytes, file_name)?;
-    read_as_with(bytes, format, opts)
+    read_as_progress(bytes, format, opts, progress)
 }
 
 /// Inflated bytes and the file name they came under, without `.gz`.
@@ -280,6 +299,16 @@ pub fn read_as_with(
     format: Format,
     opts: &VolumeOptions,
 ) -> Result<ReadResult, IoError> {
+    read_as_progress(bytes, format, opts, &mut Progress::none())
+}
+
+/// [`read_as_with`], reporting [`READING`] to `progress`.
+fn read_as_progress(
+    bytes: &[u8],
+    format: Format,
+    opts: &VolumeOptions,
+    progress: &mut Progress,
+) -> Result<ReadResult, IoError> {
     if bytes.is_empty() {
         return Err(IoError::Empty {
             format: Some(format),
@@ -291,15 +320,15 @@ pub fn read_as_with(
     }
     let mut left_out = None;
     let (points, triangles, encoding) = match format {
-        Format::Ply => ply::read(bytes)?,
-        Format::Obj => obj::read(bytes)?,
-        Format::Stl => stl::read(bytes)?,
+        Format::Ply => ply::read_progress(bytes, progress)?,
+        Format::Obj => obj::read_progress(bytes, progress)?,
+        Format::Stl => stl::read_progress(bytes, progress)?,
         Format::Off => off::read(bytes)?,
-        Format::Xyz => xyz::read(bytes)?,
-        Format::Pcd => pcd::read_counting(bytes, &mut left_out)?,
-        Format::Las => las::read_counting(bytes, &mut left_out)?,
-        Format::E57 => e57::read_counting(bytes, &mut left_out)?,
-        Format::Ptx => ptx::read_counting(bytes, &mut left_out)?,
+        Format::Xyz => xyz::read_progress(bytes, progress)?,
+        Format::Pcd => pcd::read_counting(bytes, &mut left_out, progress)?,
+        Format::Las => las::read_counting(bytes, &mut left_out, progress)?,
+        Format::E57 => e57::read_counting(bytes, &mut left_out, progress)?,
+        Format::Ptx => ptx::read_counting(bytes, &mut left_out, progress)?,
         Format::Gltf | Format::Glb => gltf::read(bytes)?,
         Format::Vtk => {
             let ((p, t), _) = vtk::read(bytes)?;
@@ -309,6 +338,7 @@ pub fn read_as_with(
             unreachable!("volumes returned above")
         }
     };
+    progress.report(READING, 1.0);
     finish(format, points, triangles, encoding, left_out)
 }
 

@@ -9,7 +9,8 @@
 
 use super::error::{Format, IoError, Location};
 use super::text::{parse_f64, parse_i64, show, trim, words, Lines};
-use super::{Encoding, RawGeometry, WriteInput};
+use super::{Encoding, RawGeometry, WriteInput, READING, REPORT_EVERY};
+use crate::progress::Progress;
 use glam::DVec3;
 use std::fmt::Write as _;
 
@@ -17,6 +18,11 @@ const F: Format = Format::Obj;
 
 /// Reads an OBJ file into points and (fan-triangulated) triangles.
 pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
+    read_progress(bytes, &mut Progress::none())
+}
+
+/// [`read`], reporting the share of lines read to `progress`.
+pub fn read_progress(bytes: &[u8], progress: &mut Progress) -> Result<RawGeometry, IoError> {
     let mut points: Vec<DVec3> = Vec::new();
     let mut tris: Vec<[u32; 3]> = Vec::new();
     // Positive indices may point forward (past the vertices read so far); they are checked once
@@ -24,7 +30,11 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
     let mut forward: Vec<(usize, usize, i64)> = Vec::new();
     let mut corners: Vec<u32> = Vec::new();
     let mut faces = 0usize;
-    for (n, line) in Lines::new(bytes, 0, 1) {
+    let mut lines = Lines::new(bytes, 0, 1);
+    while let Some((n, line)) = lines.next() {
+        if n % REPORT_EVERY == 0 {
+            progress.report(READING, lines.pos() as f64 / bytes.len() as f64);
+        }
         let line = trim(line);
         let at = Location::Line(n);
         let mut w = words(line);

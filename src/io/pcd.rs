@@ -15,7 +15,8 @@
 
 use super::error::{Format, IoError, Location};
 use super::text::{parse_f64, parse_i64, show, words, Lines};
-use super::{Encoding, LeftOut, RawGeometry};
+use super::{Encoding, LeftOut, RawGeometry, READING};
+use crate::progress::Progress;
 use glam::DVec3;
 
 const F: Format = Format::Pcd;
@@ -300,16 +301,21 @@ fn layout(
 
 /// Reads a PCD file.
 pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
-    read_counting(bytes, &mut None)
+    read_counting(bytes, &mut None, &mut Progress::none())
 }
 
-/// [`read`], setting `left_out` to the points without a measurement it skipped.
-pub fn read_counting(bytes: &[u8], left_out: &mut Option<LeftOut>) -> Result<RawGeometry, IoError> {
+/// [`read`], setting `left_out` to the points without a measurement it skipped and reporting
+/// the share of points read to `progress`.
+pub fn read_counting(
+    bytes: &[u8],
+    left_out: &mut Option<LeftOut>,
+    progress: &mut Progress,
+) -> Result<RawGeometry, IoError> {
     let h = header(bytes)?;
     let (points, encoding) = match h.data {
-        Data::Ascii => (ascii(bytes, &h)?, Encoding::Ascii),
-        Data::Binary => (binary(bytes, &h)?, Encoding::BinaryLe),
-        Data::BinaryCompressed => (compressed(bytes, &h)?, Encoding::BinaryLe),
+        Data::Ascii => (ascii(bytes, &h, progress)?, Encoding::Ascii),
+        Data::Binary => (binary(bytes, &h, progress)?, Encoding::BinaryLe),
+        Data::BinaryCompressed => (compressed(bytes, &h, progress)?, Encoding::BinaryLe),
     };
     if points.is_empty() && h.points > 0 {
         return Err(IoError::syntax(
@@ -334,7 +340,7 @@ fn keep(points: &mut Vec<DVec3>, p: DVec3) {
     }
 }
 
-fn ascii(bytes: &[u8], h: &Header) -> Result<Vec<DVec3>, IoError> {
+fn ascii(bytes: &[u8], h: &Header, progress: &mut Progress) -> Result<Vec<DVec3>, IoError> {
     let cols = h.xyz.map(|(f, _)| h.column(f));
     let mut points = Vec::with_capacity(h.points.min(bytes.len() / 6));
     let mut read = 0;
@@ -344,6 +350,7 @@ fn ascii(bytes: &[u8], h: &Header) -> Result<Vec<DVec3>, IoError> {
         if read == h.points {
             break;
         }
+        progress.items(READING, read, h.points);
         if line.trim_ascii().is_empty() {
             continue;
         }
@@ -388,13 +395,17 @@ fn check_count(h: &Header, available: usize, at: usize) -> Result<usize, IoError
     Ok(needed as usize)
 }
 
-fn binary(bytes: &[u8], h: &Header) -> Result<Vec<DVec3>, IoError> {
+fn binary(bytes: &[u8], h: &Header, progress: &mut Progress) -> Result<Vec<DVec3>, IoError> {
     let len = check_count(h, bytes.len() - h.start, h.start)?;
     let stride = h.record();
     let offs = h.xyz.map(|(f, ty)| (h.offset(f), ty));
     let mut points = Vec::with_capacity(h.points);
     if stride > 0 {
-        for rec in bytes[h.start..h.start + len].chunks_exact(stride) {
+        for (i, rec) in bytes[h.start..h.start + len]
+            .chunks_exact(stride)
+            .enumerate()
+        {
+            progress.items(READING, i, h.points);
             let [x, y, z] = offs.map(|(o, ty)| ty.get(&rec[o..]));
             keep(&mut points, DVec3::new(x, y, z));
         }
@@ -402,7 +413,7 @@ fn binary(bytes: &[u8], h: &Header) -> Result<Vec<DVec3>, IoError> {
     Ok(points)
 }
 
-fn compressed(bytes: &[u8], h: &Header) -> Result<Vec<DVec3>, IoError> {
+fn compressed(bytes: &[u8], h: &Header, progress: &mut Progress) -> Result<Vec<DVec3>, IoError> {
     let body = &bytes[h.start..];
     if body.len() < 8 {
         return Err(IoError::truncated(
@@ -459,6 +470,7 @@ fn compressed(bytes: &[u8], h: &Header) -> Result<Vec<DVec3>, IoError> {
     });
     let mut points = Vec::with_capacity(h.points);
     for i in 0..h.points {
+        progress.items(READING, i, h.points);
         let [x, y, z] = cols.map(|(start, step, ty)| ty.get(&data[start + i * step..]));
         keep(&mut points, DVec3::new(x, y, z));
     }
@@ -558,7 +570,12 @@ mod tests {
         let mut bytes = format!("{file}DATA binary\n").into_bytes();
         bytes.extend(&binary_file(&c)[HEAD.len() + 12..]);
         let mut left_out = None;
-        assert_eq!(read_counting(&bytes, &mut left_out).unwrap().0, cloud());
+        assert_eq!(
+            read_counting(&bytes, &mut left_out, &mut Progress::none())
+                .unwrap()
+                .0,
+            cloud()
+        );
         assert_eq!(left_out.map(|l| l.points), Some(1));
         let all_nan = format!("{HEAD}DATA ascii\nnan nan nan 0\nnan nan nan 0\nnan nan nan 0\n");
         let err = read(all_nan.as_bytes()).unwrap_err().to_string();

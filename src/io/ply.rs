@@ -13,7 +13,8 @@
 
 use super::error::{Format, IoError, Location};
 use super::text::{parse_f64, parse_i64, show, words, Lines};
-use super::{Encoding, RawGeometry, WriteInput};
+use super::{Encoding, RawGeometry, WriteInput, READING, REPORT_EVERY};
+use crate::progress::Progress;
 use glam::DVec3;
 
 const F: Format = Format::Ply;
@@ -296,15 +297,20 @@ struct Parsed {
 
 /// Reads a PLY file into points and (fan-triangulated) triangles.
 pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
+    read_progress(bytes, &mut Progress::none())
+}
+
+/// [`read`], reporting the share of the file read to `progress`.
+pub fn read_progress(bytes: &[u8], progress: &mut Progress) -> Result<RawGeometry, IoError> {
     let h = parse_header(bytes)?;
-    let p = parse_body(bytes, &h, None)?;
+    let p = parse_body(bytes, &h, None, progress)?;
     Ok((p.points, p.triangles, h.encoding))
 }
 
 /// Reads the named per-vertex scalar property (e.g. one written by [`write()`]) as `f64`s.
 pub fn read_vertex_property(bytes: &[u8], name: &str) -> Result<Vec<f64>, IoError> {
     let h = parse_header(bytes)?;
-    let p = parse_body(bytes, &h, Some(name.as_bytes()))?;
+    let p = parse_body(bytes, &h, Some(name.as_bytes()), &mut Progress::none())?;
     Ok(p.extra.unwrap_or_default())
 }
 
@@ -358,7 +364,12 @@ fn check_counts(bytes: &[u8], h: &Header) -> Result<(), IoError> {
     Ok(())
 }
 
-fn parse_body(bytes: &[u8], h: &Header, extra: Option<&[u8]>) -> Result<Parsed, IoError> {
+fn parse_body(
+    bytes: &[u8],
+    h: &Header,
+    extra: Option<&[u8]>,
+    progress: &mut Progress,
+) -> Result<Parsed, IoError> {
     check_counts(bytes, h)?;
     let Some(vi) = h.elements.iter().position(|e| e.name == b"vertex") else {
         return Err(IoError::syntax(
@@ -383,8 +394,11 @@ fn parse_body(bytes: &[u8], h: &Header, extra: Option<&[u8]>) -> Result<Parsed, 
         extra: extra.map(|_| Vec::with_capacity(nv as usize)),
     };
     match h.encoding {
-        Encoding::Ascii => parse_ascii(bytes, h, vi, &layout, &mut out)?,
-        enc => parse_binary(bytes, h, vi, &layout, enc == Encoding::BinaryBe, &mut out)?,
+        Encoding::Ascii => parse_ascii(bytes, h, vi, &layout, &mut out, progress)?,
+        enc => {
+            let be = enc == Encoding::BinaryBe;
+            parse_binary(bytes, h, vi, &layout, be, &mut out, progress)?
+        }
     }
     Ok(out)
 }
@@ -482,7 +496,9 @@ fn parse_binary(
     layout: &VertexLayout,
     be: bool,
     out: &mut Parsed,
+    progress: &mut Progress,
 ) -> Result<(), IoError> {
+    let share = |pos: usize| pos as f64 / bytes.len() as f64;
     let mut pos = h.body;
     let mut idx: Vec<i64> = Vec::new();
     for (ei, el) in h.elements.iter().enumerate() {
@@ -514,6 +530,9 @@ fn parse_binary(
                 }
                 let [(ox, tx), (oy, ty), (oz, tz)] = layout.xyz.map(|i| offs[i]);
                 for (i, rec) in bytes[pos..pos + len].chunks_exact(stride).enumerate() {
+                    if i % REPORT_EVERY == 0 {
+                        progress.report(READING, share(pos + i * stride));
+                    }
                     let p = DVec3::new(
                         tx.get(&rec[ox..], be),
                         ty.get(&rec[oy..], be),
@@ -549,6 +568,9 @@ fn parse_binary(
         }
         let mut vals = [0f64; 3];
         for r in 0..el.count as usize {
+            if r % REPORT_EVERY == 0 {
+                progress.report(READING, share(pos));
+            }
             let rec_start = pos;
             let mut extra_val = 0.0;
             for (pi, p) in el.props.iter().enumerate() {
@@ -639,6 +661,7 @@ fn parse_ascii(
     vi: usize,
     layout: &VertexLayout,
     out: &mut Parsed,
+    progress: &mut Progress,
 ) -> Result<(), IoError> {
     let mut lines = Lines::new(bytes, h.body, h.body_line);
     let mut idx: Vec<i64> = Vec::new();
@@ -647,6 +670,9 @@ fn parse_ascii(
         let flist = if ei == vi { None } else { face_list(el)? };
         let nprops = el.props.len();
         for r in 0..el.count as usize {
+            if r % REPORT_EVERY == 0 {
+                progress.report(READING, lines.pos() as f64 / bytes.len() as f64);
+            }
             let (n, line) = loop {
                 match lines.next() {
                     Some((_, l)) if l.trim_ascii().is_empty() => continue,

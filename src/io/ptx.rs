@@ -11,7 +11,8 @@
 
 use super::error::{Format, IoError, Location};
 use super::text::{parse_f64, show, words, Lines};
-use super::{Encoding, LeftOut, RawGeometry};
+use super::{Encoding, LeftOut, RawGeometry, READING, REPORT_EVERY};
+use crate::progress::Progress;
 use glam::DVec3;
 
 const F: Format = Format::Ptx;
@@ -40,19 +41,27 @@ pub fn sniff(bytes: &[u8]) -> bool {
 
 /// Reads a PTX file.
 pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
-    read_counting(bytes, &mut None)
+    read_counting(bytes, &mut None, &mut Progress::none())
 }
 
-/// [`read`], setting `left_out` to the grid cells without a return it skipped.
-pub fn read_counting(bytes: &[u8], left_out: &mut Option<LeftOut>) -> Result<RawGeometry, IoError> {
-    let mut lines = Lines::new(bytes, 0, 1).filter(|(_, l)| !l.trim_ascii().is_empty());
+/// [`read`], setting `left_out` to the grid cells without a return it skipped and reporting
+/// the share of the file read to `progress`.
+pub fn read_counting(
+    bytes: &[u8],
+    left_out: &mut Option<LeftOut>,
+    progress: &mut Progress,
+) -> Result<RawGeometry, IoError> {
+    let mut lines = Lines::new(bytes, 0, 1);
     let mut points = Vec::with_capacity(bytes.len() / 32);
     let (mut empty, mut scans) = (0usize, 0usize);
     // The next line's numbers, `n` of them (or at least `n` for a point line).
     let mut next = |what: &str, n: usize, exact: bool| -> Result<Option<Vec<f64>>, IoError> {
-        let Some((at, line)) = lines.next() else {
+        let Some((at, line)) = lines.find(|(_, l)| !l.trim_ascii().is_empty()) else {
             return Ok(None);
         };
+        if at % REPORT_EVERY == 0 {
+            progress.report(READING, lines.pos() as f64 / bytes.len() as f64);
+        }
         match numbers(line) {
             Some(v) if v.len() == n || (!exact && v.len() >= n) => Ok(Some(v)),
             _ => Err(IoError::syntax(F, Location::Line(at), what, show(line))),
@@ -156,7 +165,8 @@ mod tests {
         assert!(sniff(SAMPLE.as_bytes()));
         assert!(!sniff(b"3\n1 2 3\n4 5 6\n"));
         let mut left_out = None;
-        let (p, t, _) = read_counting(SAMPLE.as_bytes(), &mut left_out).unwrap();
+        let (p, t, _) =
+            read_counting(SAMPLE.as_bytes(), &mut left_out, &mut Progress::none()).unwrap();
         let want = [
             [2.156, 10.553, 2.685],
             [2.017, 10.480, 2.796],

@@ -10,7 +10,8 @@
 use super::detect::is_exact_binary_stl;
 use super::error::{Format, IoError, Location};
 use super::text::{first_binary_byte, parse_f64, show, trim, words, Lines};
-use super::{Encoding, RawGeometry, WriteInput};
+use super::{Encoding, RawGeometry, RawMesh, WriteInput, READING, REPORT_EVERY};
+use crate::progress::Progress;
 use glam::DVec3;
 use std::collections::HashMap;
 
@@ -56,16 +57,21 @@ impl Welder {
 
 /// Reads an STL file (ASCII or binary), welding duplicate vertices.
 pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
+    read_progress(bytes, &mut Progress::none())
+}
+
+/// [`read`], reporting the share of the file read to `progress`.
+pub fn read_progress(bytes: &[u8], progress: &mut Progress) -> Result<RawGeometry, IoError> {
     let starts_solid = words(&bytes[..bytes.len().min(256)]).next() == Some(b"solid");
     if !is_exact_binary_stl(bytes) && starts_solid && first_binary_byte(bytes, 4096).is_none() {
-        let (p, t) = read_ascii(bytes)?;
+        let (p, t) = read_ascii(bytes, progress)?;
         return Ok((p, t, Encoding::Ascii));
     }
-    let (p, t) = read_binary(bytes)?;
+    let (p, t) = read_binary(bytes, progress)?;
     Ok((p, t, Encoding::BinaryLe))
 }
 
-fn read_binary(bytes: &[u8]) -> Result<(Vec<DVec3>, Vec<[u32; 3]>), IoError> {
+fn read_binary(bytes: &[u8], progress: &mut Progress) -> Result<RawMesh, IoError> {
     if bytes.len() < 84 {
         return Err(IoError::truncated(
             F,
@@ -89,6 +95,9 @@ fn read_binary(bytes: &[u8]) -> Result<(Vec<DVec3>, Vec<[u32; 3]>), IoError> {
     let mut tris = Vec::with_capacity(n);
     let f = |b: &[u8], o: usize| f32::from_le_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]]) as f64;
     for (t, rec) in bytes[84..84 + 50 * n].chunks_exact(50).enumerate() {
+        if t % REPORT_EVERY == 0 {
+            progress.report(READING, t as f64 / n as f64);
+        }
         let mut tri = [0u32; 3];
         for (k, slot) in tri.iter_mut().enumerate() {
             let o = 12 + 12 * k;
@@ -100,13 +109,17 @@ fn read_binary(bytes: &[u8]) -> Result<(Vec<DVec3>, Vec<[u32; 3]>), IoError> {
     Ok((w.points, tris))
 }
 
-fn read_ascii(bytes: &[u8]) -> Result<(Vec<DVec3>, Vec<[u32; 3]>), IoError> {
+fn read_ascii(bytes: &[u8], progress: &mut Progress) -> Result<RawMesh, IoError> {
     let mut w = Welder::with_capacity(0);
     let mut tris = Vec::new();
     let mut corners: Vec<u32> = Vec::new();
     let mut in_facet = false;
     let mut last = 0;
-    for (n, line) in Lines::new(bytes, 0, 1) {
+    let mut lines = Lines::new(bytes, 0, 1);
+    while let Some((n, line)) = lines.next() {
+        if n % REPORT_EVERY == 0 {
+            progress.report(READING, lines.pos() as f64 / bytes.len() as f64);
+        }
         last = n;
         let at = Location::Line(n);
         let mut ws = words(trim(line));

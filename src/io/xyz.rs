@@ -6,7 +6,8 @@
 
 use super::error::{Format, IoError, Location};
 use super::text::{parse_f64, show, Lines};
-use super::{Encoding, RawGeometry};
+use super::{Encoding, RawGeometry, READING, REPORT_EVERY};
+use crate::progress::Progress;
 use glam::DVec3;
 
 const F: Format = Format::Xyz;
@@ -30,10 +31,19 @@ fn three(line: &[u8]) -> Result<DVec3, (usize, &[u8])> {
 
 /// Reads a point list.
 pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
+    read_progress(bytes, &mut Progress::none())
+}
+
+/// [`read`], reporting the share of lines read to `progress`.
+pub fn read_progress(bytes: &[u8], progress: &mut Progress) -> Result<RawGeometry, IoError> {
     // A typical line has ≥ 18 bytes; the estimate only avoids re-allocations and is bounded by
     // the input size.
     let mut points = Vec::with_capacity(bytes.len() / 24);
-    for (n, line) in Lines::new(bytes, 0, 1) {
+    let mut lines = Lines::new(bytes, 0, 1);
+    while let Some((n, line)) = lines.next() {
+        if n % REPORT_EVERY == 0 {
+            progress.report(READING, lines.pos() as f64 / bytes.len() as f64);
+        }
         let line = match line.iter().position(|&b| b == b'#') {
             Some(i) => &line[..i],
             None => line,

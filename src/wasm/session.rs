@@ -110,8 +110,8 @@ fn with_progress<T>(js: Option<&js_sys::Function>, f: impl FnOnce(&mut Progress)
 impl WrapSession {
     /// Reads `bytes` (format sniffed from content, `file_name` breaks ties) and prepares the
     /// wrap with `settings_json` (a `WrapSettings` JSON object; missing keys default).
-    /// `progress(phase, fraction)`, if given, hears the long phases: the distance field and the
-    /// start surface during construction, the final fit during `step`.
+    /// `progress(phase, fraction)`, if given, hears the long phases: reading the file, the
+    /// distance field and the start surface during construction, the final fit during `step`.
     #[wasm_bindgen(constructor)]
     pub fn new(
         bytes: &[u8],
@@ -119,7 +119,11 @@ impl WrapSession {
         settings_json: &str,
         progress: Option<js_sys::Function>,
     ) -> Result<WrapSession, JsValue> {
-        let read = crate::io::read_bytes(bytes, file_name.as_deref()).map_err(ui_error)?;
+        let opts = crate::io::VolumeOptions::default();
+        let read = with_progress(progress.as_ref(), |p| {
+            crate::io::read_bytes_progress(bytes, file_name.as_deref(), &opts, p)
+        })
+        .map_err(ui_error)?;
         WrapSession::prepare(read, settings_json, progress)
     }
 
