@@ -454,3 +454,52 @@ fn write_fuzz_seeds() {
         }
     }
 }
+
+/// Inputs the fuzzers found (fuzz/README.md), kept as they were found: each is a clear error now,
+/// where the las and laz crates panicked or asked for gigabytes, and PTX's grid size overflowed.
+#[wasm_bindgen_test(unsupported = test)]
+fn fuzzing_finds_are_clear_errors() {
+    let finds: [(&str, &[u8], &str, &str); 6] = [
+        (
+            "las-chunk-count.laz",
+            include_bytes!("fuzz-finds/las-chunk-count.laz"),
+            "io_count_too_large",
+            "LASzip chunks",
+        ),
+        (
+            "las-chunk-table-short.laz",
+            include_bytes!("fuzz-finds/las-chunk-table-short.laz"),
+            "io_syntax",
+            "chunk table for the header's 50 points",
+        ),
+        (
+            "las-count-overflow.las",
+            include_bytes!("fuzz-finds/las-count-overflow.las"),
+            "io_count_too_large",
+            "points",
+        ),
+        (
+            "las-evlr-length.las",
+            include_bytes!("fuzz-finds/las-evlr-length.las"),
+            "io_count_too_large",
+            "extended VLR",
+        ),
+        (
+            "las-record-length.laz",
+            include_bytes!("fuzz-finds/las-record-length.laz"),
+            "io_truncated",
+            "point records",
+        ),
+        (
+            "ptx-grid-overflow.ptx",
+            include_bytes!("fuzz-finds/ptx-grid-overflow.ptx"),
+            "io_count_too_large",
+            "grid cells",
+        ),
+    ];
+    for (name, bytes, code, says) in finds {
+        let e = read_bytes(bytes, Some(name)).map(|r| r.format).unwrap_err();
+        assert_eq!(e.code(), code, "{name}: {e}");
+        assert!(e.to_string().contains(says), "{name}: {e}");
+    }
+}

@@ -85,6 +85,20 @@ pub fn read_counting(
         let rows = next("the number of rows", 1, true)?
             .ok_or_else(|| truncated(format!("scan {at}'s header (rows)")))?;
         let rows = count("rows", rows)?;
+        // Every grid cell takes a line of at least 7 bytes ("0 0 0 0"): a larger grid is a
+        // corrupt header (and columns × rows may not even fit 64 bits: a fuzzing find).
+        let cells = columns as u128 * rows as u128;
+        if cells * 8 > bytes.len() as u128 + 8 {
+            return Err(IoError::CountTooLarge {
+                format: F,
+                at: Location::Byte(0),
+                element: format!("grid cells in scan {at} ({columns} × {rows})"),
+                count: cells.min(u64::MAX as u128) as u64,
+                available: bytes.len(),
+                needed: cells * 8,
+            });
+        }
+        let cells = cells as u64;
         for k in 0..4 {
             next("the scanner's position and axes: three numbers", 3, true)?
                 .ok_or_else(|| truncated(format!("scan {at}'s header (line {})", k + 3)))?;
@@ -99,11 +113,10 @@ pub fn read_counting(
             [0, 1, 2].map(|i| DVec3::new(m[i][0], m[i][1], m[i][2])),
             DVec3::new(m[3][0], m[3][1], m[3][2]),
         );
-        for i in 0..columns * rows {
+        for i in 0..cells {
             let v = next("a point: x y z intensity [r g b]", 3, false)?.ok_or_else(|| {
                 truncated(format!(
-                    "{} points of scan {at} ({columns} × {rows}), found {i}",
-                    columns * rows
+                    "{cells} points of scan {at} ({columns} × {rows}), found {i}"
                 ))
             })?;
             let p = DVec3::new(v[0], v[1], v[2]);
@@ -204,5 +217,10 @@ mod tests {
         let empty = header + &"0 0 0 0\n".repeat(9);
         let err = read(empty.as_bytes()).unwrap_err().to_string();
         assert!(err.contains("all without a return"), "{err}");
+        let huge = SAMPLE.replacen("3\n3\n", "9999999962\n3333333331\n", 1);
+        assert!(matches!(
+            read(huge.as_bytes()),
+            Err(IoError::CountTooLarge { .. })
+        ));
     }
 }
