@@ -242,7 +242,7 @@ fn corpus() -> Vec<Case> {
         case("PCD with x as a 16-bit float", None, format!("{PCD_HEAD}DATA ascii\n1 2 3\n4 5 6\n").replace("SIZE 4", "SIZE 2"), "io_syntax", &["pcd", "line 4", "TYPE F SIZE 2"]),
         case("ASCII PCD with a missing point", None, format!("{PCD_HEAD}DATA ascii\n1 2 3\n"), "io_truncated", &["pcd", "2 points", "found 1"]),
         case("ASCII PCD with a word for a number", None, format!("{PCD_HEAD}DATA ascii\n1 2 3\n4 five 6\n"), "io_syntax", &["pcd", "line 11", "\"five\""]),
-        case("PCD whose points are all NaN", None, format!("{PCD_HEAD}DATA ascii\nnan nan nan\nnan nan nan\n"), "io_syntax", &["pcd", "all with nan"]),
+        case("PCD whose points are all NaN", None, format!("{PCD_HEAD}DATA ascii\nnan nan nan\nnan nan nan\n"), "io_syntax", &["pcd", "2 points without a measurement (nan pixels) and no other point"]),
         case("compressed PCD with a corrupt back-reference", None, {
             let mut b = format!("{PCD_HEAD}DATA binary_compressed\n").into_bytes();
             b.extend(3u32.to_le_bytes());

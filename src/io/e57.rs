@@ -148,15 +148,8 @@ pub fn read_counting(
             }
         }
     }
-    if points.is_empty() {
-        return Err(IoError::syntax(
-            F,
-            Location::Byte(0),
-            "at least one valid point",
-            format!("{left} points, all marked invalid or not finite"),
-        ));
-    }
-    *left_out = LeftOut::of(left as usize, "points marked invalid (no return)");
+    let left = (left as usize, "points marked invalid or not finite");
+    let points = LeftOut::kept(F, Location::Byte(0), points, left, left_out)?;
     Ok((points, Vec::new(), Encoding::BinaryLe))
 }
 

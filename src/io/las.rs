@@ -274,18 +274,12 @@ pub fn read_counting(
             points.push(p);
         }
     }
-    if points.is_empty() && count > 0 {
-        return Err(IoError::syntax(
-            F,
-            Location::Byte(0),
-            "at least one point that is not withheld or classified as noise",
-            format!("{count} points, all withheld or noise (class 7 or 18)"),
-        ));
-    }
-    *left_out = LeftOut::of(
-        (read as usize).saturating_sub(points.len()),
-        "points flagged withheld or classified as noise",
+    let left = (read as usize).saturating_sub(points.len());
+    let left = (
+        left,
+        "points flagged withheld or classified as noise (7, 18)",
     );
+    let points = LeftOut::kept(F, Location::Byte(0), points, left, left_out)?;
     Ok((points, Vec::new(), Encoding::BinaryLe))
 }
 
@@ -404,7 +398,10 @@ mod tests {
             ..Default::default()
         };
         let err = read(&file_with(&c, false, 0, noise)).unwrap_err();
-        assert!(err.to_string().contains("all withheld or noise"), "{err}");
+        assert!(
+            err.to_string().contains("noise (7, 18) and no other point"),
+            "{err}"
+        );
     }
 
     #[test]

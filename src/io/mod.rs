@@ -105,6 +105,27 @@ impl LeftOut {
     pub(crate) fn of(points: usize, why: &'static str) -> Option<LeftOut> {
         (points > 0).then_some(LeftOut { points, why })
     }
+
+    /// A cloud reader's result: the points it kept, with `left` more left out for `why` (set in
+    /// `left_out`), or the error that it left out every point of the file (nothing to wrap).
+    pub(crate) fn kept(
+        format: Format,
+        at: Location,
+        points: Vec<DVec3>,
+        (left, why): (usize, &'static str),
+        left_out: &mut Option<LeftOut>,
+    ) -> Result<Vec<DVec3>, IoError> {
+        if points.is_empty() && left > 0 {
+            return Err(IoError::syntax(
+                format,
+                at,
+                "at least one point to wrap",
+                format!("{left} {why} and no other point"),
+            ));
+        }
+        *left_out = LeftOut::of(left, why);
+        Ok(points)
+    }
 }
 
 /// A volume as read, and the level set of it that became the target.

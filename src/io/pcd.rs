@@ -317,18 +317,11 @@ pub fn read_counting(
         Data::Binary => (binary(bytes, &h, progress)?, Encoding::BinaryLe),
         Data::BinaryCompressed => (compressed(bytes, &h, progress)?, Encoding::BinaryLe),
     };
-    if points.is_empty() && h.points > 0 {
-        return Err(IoError::syntax(
-            F,
-            Location::Byte(h.start),
-            "at least one point with finite x, y, z",
-            format!("{} points, all with NaN or infinite coordinates", h.points),
-        ));
-    }
-    *left_out = LeftOut::of(
+    let left = (
         h.points - points.len(),
         "points without a measurement (NaN pixels)",
     );
+    let points = LeftOut::kept(F, Location::Byte(h.start), points, left, left_out)?;
     Ok((points, Vec::new(), encoding))
 }
 
@@ -579,7 +572,10 @@ mod tests {
         assert_eq!(left_out.map(|l| l.points), Some(1));
         let all_nan = format!("{HEAD}DATA ascii\nnan nan nan 0\nnan nan nan 0\nnan nan nan 0\n");
         let err = read(all_nan.as_bytes()).unwrap_err().to_string();
-        assert!(err.contains("all with NaN"), "{err}");
+        assert!(
+            err.contains("3 points without a measurement (NaN pixels) and no"),
+            "{err}"
+        );
     }
 
     /// PCL compresses with liblzf; `packed` is its output for the field-major records of

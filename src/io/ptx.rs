@@ -147,15 +147,8 @@ pub fn read_counting(
             "none",
         ));
     }
-    if points.is_empty() {
-        return Err(IoError::syntax(
-            F,
-            Location::Line(1),
-            "at least one point with a return",
-            format!("{empty} grid cells, all without a return (0 0 0)"),
-        ));
-    }
-    *left_out = LeftOut::of(empty, "grid cells without a return (0 0 0)");
+    let left = (empty, "grid cells without a return (0 0 0)");
+    let points = LeftOut::kept(F, Location::Line(1), points, left, left_out)?;
     Ok((points, Vec::new(), Encoding::Ascii))
 }
 
@@ -216,7 +209,10 @@ mod tests {
         let header: String = SAMPLE.lines().take(10).map(|l| format!("{l}\n")).collect();
         let empty = header + &"0 0 0 0\n".repeat(9);
         let err = read(empty.as_bytes()).unwrap_err().to_string();
-        assert!(err.contains("all without a return"), "{err}");
+        assert!(
+            err.contains("without a return (0 0 0) and no other"),
+            "{err}"
+        );
         let huge = SAMPLE.replacen("3\n3\n", "9999999962\n3333333331\n", 1);
         assert!(matches!(
             read(huge.as_bytes()),
