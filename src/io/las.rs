@@ -124,17 +124,23 @@ fn check_counts(bytes: &[u8]) -> Result<(), IoError> {
     }
     // The chunk table's offset is at the start of the point data, or, where the writer could
     // not seek back, in the file's last 8 bytes; each chunk takes at least a byte of the file.
+    // (An offset past what `usize` holds, in wasm's 32 bits, is past the file: the crate says so.)
+    let offset = |t: u64| {
+        usize::try_from(t)
+            .ok()
+            .filter(|_| t > start && t < i64::MAX as u64)
+    };
     let table = match u64_at(bytes, start as usize) {
-        Some(t) if t > start && t < i64::MAX as u64 => t,
-        Some(_) => match u64_at(bytes, bytes.len().saturating_sub(8)) {
-            Some(t) if t > start && t < i64::MAX as u64 => t,
-            _ => return Ok(()),
+        Some(t) if offset(t).is_some() => t as usize,
+        Some(_) => match u64_at(bytes, bytes.len().saturating_sub(8)).and_then(offset) {
+            Some(t) => t,
+            None => return Ok(()),
         },
         None => return Ok(()),
     };
-    match u32_at(bytes, (table as usize).saturating_add(4)) {
+    match u32_at(bytes, table.saturating_add(4)) {
         Some(chunks) if chunks as usize > bytes.len() => Err(too_large(
-            table as usize + 4,
+            table + 4,
             "LASzip chunks",
             chunks as u64,
             chunks as u128,

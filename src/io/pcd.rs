@@ -110,7 +110,9 @@ struct Header {
     size_count: Vec<(usize, usize)>,
     /// Index of the `x`, `y`, `z` fields and their types.
     xyz: [(usize, Scalar); 3],
+    /// The point count, and as the header states it (in messages: `usize` is 32 bits in wasm).
     points: usize,
+    declared: u64,
     data: Data,
     /// Byte offset of the first point and the line it starts on.
     start: usize,
@@ -293,6 +295,7 @@ fn layout(
         size_count,
         xyz,
         points: usize::try_from(points).unwrap_or(usize::MAX),
+        declared: points,
         data,
         start,
         line,
@@ -366,7 +369,7 @@ fn ascii(bytes: &[u8], h: &Header, progress: &mut Progress) -> Result<Vec<DVec3>
         return Err(IoError::truncated(
             F,
             Location::Line(last),
-            format!("{} points (POINTS), found {read}", h.points),
+            format!("{} points (POINTS), found {read}", h.declared),
         ));
     }
     Ok(points)
@@ -374,13 +377,13 @@ fn ascii(bytes: &[u8], h: &Header, progress: &mut Progress) -> Result<Vec<DVec3>
 
 /// The header's point count against the bytes that hold them, before allocating.
 fn check_count(h: &Header, available: usize, at: usize) -> Result<usize, IoError> {
-    let needed = h.points as u128 * h.record() as u128;
+    let needed = h.declared as u128 * h.record() as u128;
     if needed > available as u128 {
         return Err(IoError::CountTooLarge {
             format: F,
             at: Location::Byte(at),
             element: "points".into(),
-            count: h.points as u64,
+            count: h.declared,
             available,
             needed,
         });
