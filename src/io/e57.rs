@@ -90,7 +90,7 @@ pub fn read_counting(
         ));
     }
     // The XML's counts bound nothing: reserve no more than the bytes could hold.
-    let total: u64 = clouds.iter().map(|c| c.records).sum();
+    let total = clouds.iter().fold(0u64, |n, c| n.saturating_add(c.records));
     let mut points = Vec::with_capacity(total.min(bytes.len() as u64 / 4) as usize);
     let (mut left, mut done) = (0u64, 0u64);
     for (k, cloud) in clouds.iter().enumerate() {

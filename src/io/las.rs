@@ -58,14 +58,18 @@ fn u64_at(bytes: &[u8], o: usize) -> Option<u64> {
     <[u8; 8]>::try_from(b).ok().map(u64::from_le_bytes)
 }
 
-/// Refuses counts the file cannot hold before the crate sees them: the crate multiplies the
-/// point count by the record length (a corrupt count overflows: a panic with debug assertions,
-/// a wrapped offset without) and reserves memory for a LAZ chunk table's count before reading
-/// the table (a corrupt count asked for 14 GB). Both were fuzzing finds. Fields as the public
-/// header stores them: offset to the point data at byte 96, point format at 104, record length
-/// at 105, legacy point count at 107; LAS 1.4's 64-bit count at 247 (used when the legacy one is
-/// 0, as the crate does). A file cut before its points is left for the crate to refuse. A third
-/// find was the first extended VLR's 64-bit length (a 17 GB reservation).
+/// Refuses counts the file cannot hold before the crate sees them (fuzzing finds, each a panic
+/// or a reservation of gigabytes in the crate):
+/// - the point count times the record length, which the crate computes, must fit 64 bits, and
+///   an uncompressed file must hold that many bytes;
+/// - the first extended VLR's 64-bit length, reserved before reading it (17 GB), must fit;
+/// - a LAZ chunk table's count, reserved before reading the table (14 GB), must not exceed the
+///   file's bytes (each chunk takes at least one).
+///
+/// Fields as the public header stores them: offset to the point data at byte 96, point format
+/// at 104, record length at 105, legacy point count at 107; LAS 1.4's 64-bit count at 247 (used
+/// when the legacy one is 0, as the crate does). A file cut before its points is left for the
+/// crate to refuse: it says where.
 fn check_counts(bytes: &[u8]) -> Result<(), IoError> {
     let too_large = |at: usize, element: &str, count: u64, needed: u128| IoError::CountTooLarge {
         format: F,
@@ -114,13 +118,13 @@ fn check_counts(bytes: &[u8]) -> Result<(), IoError> {
         }
     }
     if start > bytes.len() as u64 {
-        return Ok(()); // cut before its points: the crate says where
+        return Ok(());
+    }
+    if !compressed && needed > bytes.len() as u128 {
+        return Err(too_large(107, "points", count, needed));
     }
     if !compressed {
-        return match needed > bytes.len() as u128 {
-            true => Err(too_large(107, "points", count, needed)),
-            false => Ok(()),
-        };
+        return Ok(());
     }
     // The chunk table's offset is at the start of the point data, or, where the writer could
     // not seek back, in the file's last 8 bytes; each chunk takes at least a byte of the file.

@@ -1,5 +1,6 @@
 //! Reading and writing geometry files. Readers: PLY, OBJ, STL, OFF, XYZ/PTS/TXT/CSV, glTF/GLB,
-//! legacy VTK polydata, PCD, LAS/LAZ, E57 and PTX; voxel volumes NIfTI-1/2, NRRD, VTI and MetaImage ([`volume`]).
+//! legacy VTK polydata, PCD, LAS/LAZ, E57 and PTX (any of them also gzip-compressed); voxel
+//! volumes NIfTI-1/2, NRRD, VTI and MetaImage ([`volume`]).
 //! Writers ([`write_bytes`]): OBJ, PLY, STL, GLB and VTK.
 //!
 //! A volume becomes a target through its iso-surface (see [`Target::from_volume`]): the
@@ -91,7 +92,8 @@ pub struct ReadResult {
 
 /// Points a cloud file marks as unusable and the reader left out: a depth image's pixels without
 /// a measurement (PCD), points flagged withheld or classified as noise (LAS), points marked
-/// invalid (E57). Reported so that a cloud smaller than its file's count is not a surprise.
+/// invalid (E57), grid cells without a return (PTX). Reported so that a cloud smaller than its
+/// file's count is not a surprise.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct LeftOut {
     /// How many.

@@ -107,7 +107,7 @@ enum Data {
 /// The header's layout of one point.
 struct Header {
     /// Per field: bytes per value and values per point (`SIZE`, `COUNT`).
-    size_count: Vec<(usize, usize)>,
+    size_count: Vec<(u64, u64)>,
     /// Index of the `x`, `y`, `z` fields and their types.
     xyz: [(usize, Scalar); 3],
     /// The point count, and as the header states it (in messages: `usize` is 32 bits in wasm).
@@ -120,20 +120,23 @@ struct Header {
 }
 
 impl Header {
-    /// Bytes of one binary record.
-    fn record(&self) -> usize {
-        self.size_count.iter().map(|(s, c)| s * c).sum()
+    /// Bytes of one binary record (64-bit and saturating: a header may claim anything, and
+    /// `usize` is 32 bits in wasm; the record is checked against the data before it is used).
+    fn record(&self) -> u64 {
+        self.offset(self.size_count.len())
     }
 
     /// Byte offset of field `f` within a binary record (and of its array, per point, in a
     /// compressed block).
-    fn offset(&self, f: usize) -> usize {
-        self.size_count[..f].iter().map(|(s, c)| s * c).sum()
+    fn offset(&self, f: usize) -> u64 {
+        let sizes = self.size_count[..f].iter().map(|(s, c)| s * c);
+        sizes.fold(0, u64::saturating_add)
     }
 
     /// Index of field `f`'s first value among a text line's values.
     fn column(&self, f: usize) -> usize {
-        self.size_count[..f].iter().map(|(_, c)| c).sum()
+        let counts = self.size_count[..f].iter().map(|&(_, c)| c as usize);
+        counts.fold(0, usize::saturating_add)
     }
 }
 
@@ -289,7 +292,7 @@ fn layout(
     let size_count = sizes
         .iter()
         .zip(&counts)
-        .map(|(&s, &c)| (s.min(1 << 20) as usize, c.min(1 << 20) as usize))
+        .map(|(&s, &c)| (s.min(1 << 20), c.min(1 << 20)))
         .collect();
     Ok(Header {
         size_count,
@@ -393,8 +396,9 @@ fn check_count(h: &Header, available: usize, at: usize) -> Result<usize, IoError
 
 fn binary(bytes: &[u8], h: &Header, progress: &mut Progress) -> Result<Vec<DVec3>, IoError> {
     let len = check_count(h, bytes.len() - h.start, h.start)?;
-    let stride = h.record();
-    let offs = h.xyz.map(|(f, ty)| (h.offset(f), ty));
+    // Within the data (checked above) when there is a point, so within `usize`.
+    let stride = h.record() as usize;
+    let offs = h.xyz.map(|(f, ty)| (h.offset(f) as usize, ty));
     let mut points = Vec::with_capacity(h.points);
     if stride > 0 {
         for (i, rec) in bytes[h.start..h.start + len]
@@ -462,7 +466,7 @@ fn compressed(bytes: &[u8], h: &Header, progress: &mut Progress) -> Result<Vec<D
     // Field-major: all points' values of field 0, then of field 1, …
     let cols = h.xyz.map(|(f, ty)| {
         let (s, c) = h.size_count[f];
-        (h.points * h.offset(f), s * c, ty)
+        (h.points * h.offset(f) as usize, (s * c) as usize, ty)
     });
     let mut points = Vec::with_capacity(h.points);
     for i in 0..h.points {
