@@ -459,7 +459,7 @@ fn write_fuzz_seeds() {
 /// where the las and laz crates panicked or asked for gigabytes, and PTX's grid size overflowed.
 #[wasm_bindgen_test(unsupported = test)]
 fn fuzzing_finds_are_clear_errors() {
-    let finds: [(&str, &[u8], &str, &str); 6] = [
+    let finds: [(&str, &[u8], &str, &str); 7] = [
         (
             "las-chunk-count.laz",
             include_bytes!("fuzz-finds/las-chunk-count.laz"),
@@ -483,6 +483,12 @@ fn fuzzing_finds_are_clear_errors() {
             include_bytes!("fuzz-finds/las-evlr-length.las"),
             "io_count_too_large",
             "extended VLR",
+        ),
+        (
+            "las-no-laszip-items.laz",
+            include_bytes!("fuzz-finds/las-no-laszip-items.laz"),
+            "io_syntax",
+            "lists none",
         ),
         (
             "las-record-length.laz",

@@ -138,9 +138,9 @@ fn check_counts(bytes: &[u8]) -> Result<(), IoError> {
         Some(t) if offset(t).is_some() => t as usize,
         Some(_) => match u64_at(bytes, bytes.len().saturating_sub(8)).and_then(offset) {
             Some(t) => t,
-            None => return Ok(()),
+            None => return check_laszip(bytes, start, count),
         },
-        None => return Ok(()),
+        None => return check_laszip(bytes, start, count),
     };
     match u32_at(bytes, table.saturating_add(4)) {
         Some(chunks) if chunks as usize > bytes.len() => Err(too_large(
@@ -149,30 +149,49 @@ fn check_counts(bytes: &[u8]) -> Result<(), IoError> {
             chunks as u64,
             chunks as u128,
         )),
-        _ => Ok(()),
+        _ => check_laszip(bytes, start, count),
     }
 }
 
-/// Refuses a LAZ file of variable-size chunks whose chunk table holds fewer points than the
-/// header counts: the laz crate indexes the table past its end then (a panic, so a crash of the
-/// CLI and a trap in the browser: the fifth fuzzing find). The table is read here as the crate
-/// reads it; a table it cannot read is left for the crate to report.
-fn check_chunk_points(bytes: &[u8], header: &las::Header, count: u64) -> Result<(), IoError> {
-    let Some(vlr) = header
-        .vlrs()
-        .iter()
-        .find(|v| v.user_id == "laszip encoded" && v.record_id == 22204)
-    else {
+/// The LASzip VLR's data (user "laszip encoded", record 22204), found as the crate finds it:
+/// VLRs follow the header (its size at byte 94, their number at byte 100), each a 54-byte header
+/// (its data length at byte 20) and its data.
+fn laszip_vlr(bytes: &[u8]) -> Option<&[u8]> {
+    let size = bytes.get(94..96)?;
+    let mut at = u16::from_le_bytes([size[0], size[1]]) as usize;
+    for _ in 0..u32_at(bytes, 100)? {
+        let head = bytes.get(at..at.checked_add(54)?)?;
+        let len = u16::from_le_bytes([head[20], head[21]]) as usize;
+        let data = bytes.get(at + 54..at + 54 + len)?;
+        if head[2..18].starts_with(b"laszip encoded") && head[18..20] == 22204u16.to_le_bytes() {
+            return Some(data);
+        }
+        at += 54 + len;
+    }
+    None
+}
+
+/// Refuses a LASzip description the laz crate would panic on (fuzzing finds: a panic is a crash
+/// of the CLI and a trap in the browser): one with no items (the crate `expect`s one), and, for
+/// variable-size chunks, a chunk table that holds fewer points than the header counts (the
+/// crate indexes the table past its end). What the crate cannot parse is left for it to report.
+fn check_laszip(bytes: &[u8], start: u64, count: u64) -> Result<(), IoError> {
+    let Some(laz_vlr) = laszip_vlr(bytes).and_then(|d| laz::LazVlr::from_buffer(d).ok()) else {
         return Ok(());
     };
-    let Ok(laz_vlr) = laz::LazVlr::from_buffer(&vlr.data) else {
+    if laz_vlr.items().is_empty() {
+        return Err(IoError::syntax(
+            F,
+            Location::Byte(0),
+            "a LASzip record that lists the point's fields",
+            "one that lists none",
+        ));
+    }
+    if !laz_vlr.uses_variable_size_chunks() {
         return Ok(());
-    };
-    let Some(start) = u32_at(bytes, 96).filter(|_| laz_vlr.uses_variable_size_chunks()) else {
-        return Ok(());
-    };
+    }
     let mut data = Cursor::new(bytes);
-    data.set_position(u64::from(start));
+    data.set_position(start);
     let Ok(table) = laz::laszip::ChunkTable::read_from(&mut data, &laz_vlr) else {
         return Ok(());
     };
@@ -226,9 +245,6 @@ pub fn read_counting(
     })?;
     let header = reader.header();
     let count = header.number_of_points();
-    if header.point_format().is_compressed {
-        check_chunk_points(bytes, header, count)?;
-    }
     let mut points = Vec::with_capacity(count.min(bytes.len() as u64 / 8) as usize);
     let mut data = las::PointDataBuilder::new()
         .for_header(reader.header())
