@@ -459,7 +459,7 @@ fn write_fuzz_seeds() {
 /// where the las and laz crates panicked or asked for gigabytes, and PTX's grid size overflowed.
 #[wasm_bindgen_test(unsupported = test)]
 fn fuzzing_finds_are_clear_errors() {
-    let finds: [(&str, &[u8], &str, &str); 7] = [
+    let finds: [(&str, &[u8], &str, &str); 8] = [
         (
             "las-chunk-count.laz",
             include_bytes!("fuzz-finds/las-chunk-count.laz"),
@@ -487,6 +487,12 @@ fn fuzzing_finds_are_clear_errors() {
         (
             "las-no-laszip-items.laz",
             include_bytes!("fuzz-finds/las-no-laszip-items.laz"),
+            "io_syntax",
+            "lists none",
+        ),
+        (
+            "las-no-laszip-items-2.laz",
+            include_bytes!("fuzz-finds/las-no-laszip-items-2.laz"),
             "io_syntax",
             "lists none",
         ),

@@ -154,11 +154,17 @@ fn check_counts(bytes: &[u8]) -> Result<(), IoError> {
 }
 
 /// The LASzip VLR's data (user "laszip encoded", record 22204), found as the crate finds it:
-/// VLRs follow the header (its size at byte 94, their number at byte 100), each a 54-byte header
-/// (its data length at byte 20) and its data.
+/// VLRs follow the header (its stated size at byte 94, but never before the end of the fields
+/// of its version: 227, 235 or 375 bytes; their number at byte 100), each a 54-byte header (its
+/// data length at byte 20) and its data.
 fn laszip_vlr(bytes: &[u8]) -> Option<&[u8]> {
     let size = bytes.get(94..96)?;
-    let mut at = u16::from_le_bytes([size[0], size[1]]) as usize;
+    let fields = match (*bytes.get(24)?, *bytes.get(25)?) {
+        v if v <= (1, 2) => 227,
+        (1, 3) => 235,
+        _ => 375,
+    };
+    let mut at = (u16::from_le_bytes([size[0], size[1]]) as usize).max(fields);
     for _ in 0..u32_at(bytes, 100)? {
         let head = bytes.get(at..at.checked_add(54)?)?;
         let len = u16::from_le_bytes([head[20], head[21]]) as usize;
