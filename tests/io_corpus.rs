@@ -515,3 +515,17 @@ fn fuzzing_finds_are_clear_errors() {
         assert!(e.to_string().contains(says), "{name}: {e}");
     }
 }
+
+/// Corrupt LAZ data that panics inside the laz crate's arithmetic decoder (a fuzzing find no
+/// header check can foresee): natively the reader catches it and says the data is corrupt. In
+/// wasm a panic cannot be caught (the app reports the worker's trap), so this runs natively only.
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+fn a_laz_decoder_panic_is_a_clear_error_natively() {
+    let bytes = include_bytes!("fuzz-finds/las-decoder-panic.laz");
+    let e = read_bytes(bytes, Some("las-decoder-panic.laz"))
+        .map(|r| r.format)
+        .unwrap_err();
+    assert_eq!(e.code(), "io_decompress", "{e}");
+    assert!(e.to_string().contains("LASzip decoder"), "{e}");
+}

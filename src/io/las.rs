@@ -242,6 +242,36 @@ pub fn read_counting(
     progress: &mut Progress,
 ) -> Result<RawGeometry, IoError> {
     check_counts(bytes)?;
+    guarded(|| decode(bytes, left_out, progress))
+}
+
+/// Runs the crates' decoding, natively turning a panic into an error. The laz crate's
+/// arithmetic decoder indexes its models with decoded symbols, so corrupt compressed data can
+/// panic it deep inside (an eighth fuzzing find, which no check of the header can foresee).
+/// Natively the CLI then says the data is corrupt instead of crashing (the panic's own message
+/// still goes to stderr: the process's panic hook is left alone). In wasm a panic cannot be
+/// caught: the worker traps and the app reports it and restarts the worker.
+fn guarded<T>(f: impl FnOnce() -> Result<T, IoError>) -> Result<T, IoError> {
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|_| {
+            Err(IoError::Decompress {
+                format: F,
+                at: Location::Byte(0),
+                message: "the LASzip decoder stopped on it (a panic in the laz crate)".into(),
+            })
+        })
+    }
+    #[cfg(target_arch = "wasm32")]
+    f()
+}
+
+/// Decodes the points of a LAS or LAZ file whose header counts passed [`check_counts`].
+fn decode(
+    bytes: &[u8],
+    left_out: &mut Option<LeftOut>,
+    progress: &mut Progress,
+) -> Result<RawGeometry, IoError> {
     let mut reader = las::Reader::new(Cursor::new(bytes.to_vec())).map_err(|e| {
         error(
             e,
