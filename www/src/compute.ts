@@ -51,7 +51,7 @@ export class Compute {
     this.hooks.message(msg);
     if (answered) this.release();
     // After a panic or an allocation failure the wasm instance may be unusable: start afresh.
-    if (msg.type === 'error' && (msg.error.code === 'internal' || msg.error.code === 'out-of-memory')) this.restart();
+    if (msg.type === 'error' && ['internal', 'out-of-memory', 'corrupt-data'].includes(msg.error.code)) this.restart();
   }
 
   /** Replaces the worker (what the page keeps, e.g. the kept result, lives on in this thread). */

@@ -484,9 +484,10 @@ const TRAP_NEAR_LIMIT = 0.5;
 
 /** What the worker reports for anything thrown while `wasmBytes` of linear memory were in use:
  * core errors as they are; a failed allocation (a RangeError, an allocation message, or a trap
- * with most of the memory in use) as `out-of-memory`; any other trap as an internal error. The
- * page restarts the worker for both of the last two. */
-export function failureError(e: unknown, wasmBytes: number): UiError {
+ * with most of the memory in use) as `out-of-memory`; a trap while reading a file (`phase`, the
+ * worker's current phase) as `corrupt-data`; any other trap as an internal error. The page
+ * restarts the worker for the last three. */
+export function failureError(e: unknown, wasmBytes: number, phase = ''): UiError {
   const error = toUiError(e);
   if (error.code !== 'internal') return error;
   const trapped = e instanceof WebAssembly.RuntimeError;
@@ -497,6 +498,10 @@ export function failureError(e: unknown, wasmBytes: number): UiError {
       message: `This input needs more memory than the browser gives the wrap (${(wasmBytes / GIB).toFixed(1)} GiB in use of at most ${WASM_MEMORY_LIMIT / GIB} GiB).`,
       hint: `${restarted} Use a smaller input (thin the cloud, or lower field.cells_per_min_dimension in the advanced settings), or wrap it with the native CLI (lsw wrap), which has no such limit.`,
     };
+  }
+  if (trapped && phase === 'reading') {
+    // A reader's crate stopped on the file's data (corrupt LAZ point data panics the decoder).
+    return { code: 'corrupt-data', message: `Reading the file stopped on its data (wasm: ${error.message}): it is probably corrupt.`, hint: `${restarted} Re-export or re-download the file; the native CLI (lsw info FILE) names what is wrong.` };
   }
   if (trapped) {
     return { code: 'internal', message: `The computation stopped on an internal error (wasm: ${error.message}).`, hint: `${restarted} If it happens again with this input, please report a bug.` };

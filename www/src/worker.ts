@@ -49,7 +49,7 @@ function post(msg: FromWorker, transfer: Transferable[] = []): void {
 
 function fail(e: unknown): void {
   playing = false;
-  post({ type: 'error', error: failureError(e, wasmMemory?.buffer.byteLength ?? 0) });
+  post({ type: 'error', error: failureError(e, wasmMemory?.buffer.byteLength ?? 0, clock.currentPhase) });
 }
 
 /** Colours for a scalar, or null for plain shading. */

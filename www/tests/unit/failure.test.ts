@@ -16,6 +16,13 @@ describe('what the worker says when the core fails', () => {
     expect(e.hint).toContain('report a bug');
   });
 
+  it('calls a trap while reading a file a damaged file, not a bug', () => {
+    const e = failureError(new WebAssembly.RuntimeError('unreachable'), 0.1 * WASM_MEMORY_LIMIT, 'reading');
+    expect(e.code).toBe('corrupt-data');
+    expect(e.message).toContain('probably corrupt');
+    expect(e.hint).toContain('the last result shown is kept');
+  });
+
   it('takes a RangeError for a failed allocation whatever the memory in use', () => {
     expect(failureError(new RangeError('Array buffer allocation failed'), 0).code).toBe('out-of-memory');
   });
