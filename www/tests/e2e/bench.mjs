@@ -1,8 +1,9 @@
 // A timed run in headless Chromium (issue 16's browser figures; not a test): drops FILE on the
 // built app with the default settings, waits for done, and prints one JSON line with drop → done
-// (the app's own clock), the worker's time by phase (reading, the core's long phases, steps,
-// frames, certificate), the certificate and the peak resident memory of the page's renderer
-// process (the tab: page, computation worker and render worker), sampled every 100 ms from /proc.
+// (the app's own clock), the result's hash (to compare with `lsw wrap`'s), the worker's time by
+// phase (reading, the core's long phases, steps, frames, certificate), the certificate and the
+// peak resident memory of the page's renderer process (the tab: page, computation worker and
+// render worker), sampled every 100 ms from /proc.
 // Usage: bash .ci/build && node tests/e2e/bench.mjs FILE [RUNS=1]
 // BENCH_SHOT=OUT.png also saves a screenshot of the page at done, or where a run ended otherwise
 // (the last run's).
@@ -36,12 +37,17 @@ function rendererRss() {
   return out;
 }
 
+// BENCH_V8_PROF=DIR: V8's sampling profiler, one log per isolate (the computation worker's is
+// the largest); read one with `node --prof-process DIR/isolate-…-v8.log`.
+const v8Prof = process.env.BENCH_V8_PROF
+  ? [`--js-flags=--prof --logfile=${process.env.BENCH_V8_PROF}/v8.log`, '--no-sandbox']
+  : [];
 const bytes = readFileSync(file);
 const server = await serve(dist, {});
 const browser = await chromium.launch({
   executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
   headless: true,
-  args: ['--disable-gpu', '--enable-unsafe-swiftshader', '--no-first-run'],
+  args: ['--disable-gpu', '--enable-unsafe-swiftshader', '--no-first-run', ...v8Prof],
 });
 for (let run = 1; run <= runs; run++) {
   const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
@@ -68,8 +74,9 @@ for (let run = 1; run <= runs; run++) {
   const ms = await page.evaluate(() => window.__lsw.dropToDoneMs());
   const phases = await page.evaluate(() => window.__lsw.phaseTimes());
   const status = await page.textContent('[data-testid=status]');
+  const hash = await page.evaluate(() => window.__lsw.resultHash());
   console.log(JSON.stringify({
-    file: basename(file), run, dropToDoneMs: Math.round(ms), peakRendererMB: Math.round(peak / 2 ** 20),
+    file: basename(file), run, dropToDoneMs: Math.round(ms), peakRendererMB: Math.round(peak / 2 ** 20), resultHash: hash,
     status: status.trim().slice(0, 400), date: new Date().toISOString(),
     phasesMs: Object.fromEntries(phases.map(([p, t]) => [p, Math.round(t)])),
   }));
