@@ -21,9 +21,10 @@ pub struct InfoArgs {
 /// The JSON `lsw info` prints for a read file. Keys: file, format, encoding, kind, vertices,
 /// faces, bbox {min, max, diagonal}; points_left_out {points, why} where the file marks points
 /// unusable and they were not read (see [`crate::io::LeftOut`]); for meshes also closed,
-/// manifold, manifold_problem, euler_characteristic, edges, boundary_edges, non_manifold_edges, isolated_vertices, repairs
-/// ({merged_vertices, dropped_faces, flipped_faces, split_vertices, filled_holes} where reading mended the mesh's indices,
-/// see [`crate::target::Target::repaired`]; the other keys describe the mended mesh, else null); for
+/// manifold, manifold_problem, euler_characteristic, edges, boundary_edges, non_manifold_edges,
+/// isolated_vertices, repairs ({merged_vertices, dropped_faces, flipped_faces, split_vertices,
+/// filled_holes} where reading mended the mesh's indices, see
+/// [`crate::target::Target::repaired`]; the other keys describe the mended mesh, else null); for
 /// volumes also `volume` (see [`super::volume::volume_json`]; the mesh keys then describe the
 /// iso-surface).
 pub fn info_json(file: &str, r: &ReadResult) -> serde_json::Value {

@@ -1,7 +1,7 @@
 // The computation worker's lifecycle. One worker owns the wasm module; the page replaces it when
 // it may be unusable (a panic, an allocation failure) or when it does not answer a cancel in
 // time (one long wasm call, e.g. the distance field, cannot be interrupted from inside).
-import type { FromWorker, ToWorker } from './protocol';
+import { RESTART_CODES, type FromWorker, type ToWorker } from './protocol';
 
 /** How long a cancel may go unanswered before the worker is terminated. */
 const CANCEL_MS = 120;
@@ -51,7 +51,7 @@ export class Compute {
     this.hooks.message(msg);
     if (answered) this.release();
     // After a panic or an allocation failure the wasm instance may be unusable: start afresh.
-    if (msg.type === 'error' && ['internal', 'out-of-memory', 'corrupt-data'].includes(msg.error.code)) this.restart();
+    if (msg.type === 'error' && RESTART_CODES.includes(msg.error.code)) this.restart();
   }
 
   /** Replaces the worker (what the page keeps, e.g. the kept result, lives on in this thread). */

@@ -482,11 +482,15 @@ export const WASM_MEMORY_LIMIT = 4 * GIB;
  * 20 M-point cloud stopped so with 2.6 GiB in use, and the page said only "unreachable"). */
 const TRAP_NEAR_LIMIT = 0.5;
 
+/** The error codes after which the wasm instance may be unusable (a trap or a failed allocation,
+ * see {@link failureError}): the page starts a fresh worker. */
+export const RESTART_CODES: readonly string[] = ['internal', 'out-of-memory', 'corrupt-data'];
+
 /** What the worker reports for anything thrown while `wasmBytes` of linear memory were in use:
  * core errors as they are; a failed allocation (a RangeError, an allocation message, or a trap
  * with most of the memory in use) as `out-of-memory`; a trap while reading a file (`phase`, the
- * worker's current phase) as `corrupt-data`; any other trap as an internal error. The page
- * restarts the worker for the last three. */
+ * worker's current phase) as `corrupt-data`; any other trap as an internal error (the
+ * {@link RESTART_CODES}). */
 export function failureError(e: unknown, wasmBytes: number, phase = ''): UiError {
   const error = toUiError(e);
   if (error.code !== 'internal') return error;
