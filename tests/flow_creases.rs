@@ -164,3 +164,38 @@ fn cube_keeps_its_creases_in_wasm() {
     assert_eq!(g, Some(0));
     assert!(h <= 0.5 && f.within_tolerance == f.edges, "{h} {f:?}");
 }
+
+/// A cloud's creases found in a helper worker (the browser's path: the session hands out the
+/// job, the fit takes the result) give the very mesh the fit gives when it finds them itself.
+/// Natively they are found beside the steps, and there is no job to hand out.
+#[wasm_bindgen_test]
+fn creases_found_elsewhere_give_the_same_wrap() {
+    let (p, t) = generate("cube").unwrap();
+    let cloud = lsw::demo::sample_mesh(&p, &t, 12_000, 3).unwrap();
+    let target = Target::new(cloud, vec![]).unwrap();
+    let mut settings = WrapSettings::default();
+    settings.field.cells_per_min_dimension = 24;
+    let mut by_fit = Evolver::new(&target, settings.clone()).unwrap();
+    let mut helped = Evolver::new(&target, settings).unwrap();
+    let job = helped.crease_job();
+    if !cfg!(target_arch = "wasm32") {
+        assert!(job.is_none());
+        return;
+    }
+    let job = job.expect("a cloud's creases are left to the fit in wasm");
+    assert_eq!(job.points.len(), target.points.len());
+    let creases = job.run(&mut |_| {}).expect("a cube cloud has creases");
+    assert!(creases.edges.len() > 20 && creases.corners.len() == 8);
+    let creases = lsw::geometry::creases::Creases::from_flat(&creases.to_flat());
+    assert!(helped.supply_creases(creases));
+    for ev in [&mut by_fit, &mut helped] {
+        ev.run(|_| {}).unwrap();
+        assert!(ev.crease_job().is_none());
+    }
+    // Too late now: the fit is over.
+    assert!(!by_fit.supply_creases(None));
+    assert_eq!(by_fit.triangles(), helped.triangles());
+    assert_eq!(by_fit.positions(), helped.positions());
+    let c = certify(&helped.positions(), &helped.triangles(), Some(&target));
+    assert!(c.valid && c.self_intersections == 0, "{c:?}");
+}

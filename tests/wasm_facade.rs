@@ -4,7 +4,9 @@
 
 #![cfg(target_arch = "wasm32")]
 
-use lsw::wasm::{catalog, export_mesh, preset_settings, McfSession, VolumeView, WrapSession};
+use lsw::wasm::{
+    catalog, cloud_creases, export_mesh, preset_settings, McfSession, VolumeView, WrapSession,
+};
 use wasm_bindgen::JsValue;
 use wasm_bindgen_test::*;
 
@@ -89,6 +91,42 @@ fn a_volume_wraps_the_same_from_its_view_as_from_its_bytes() {
     assert!(read.positions().length() > 0);
     assert_eq!(read.positions().to_vec(), held.positions().to_vec());
     assert_eq!(read.result_hash(), held.result_hash());
+}
+
+/// A cloud's crease job goes out as numbers and its result comes back once: the page's helper
+/// worker calls `cloudCreases` on what `creaseJob` gives, the session takes it with
+/// `setCreases`; anything else is refused with a `bad-parameter` error.
+#[wasm_bindgen_test]
+fn a_crease_job_goes_out_and_its_result_comes_back_once() {
+    let bytes = lsw::wasm::demo_shape("noisy-sphere").unwrap().to_vec();
+    let mut s = WrapSession::new(&bytes, None, r#"{"steps": 2}"#, None).unwrap();
+    let job = s
+        .crease_job()
+        .expect("a cloud's creases are left to the fit");
+    let creases = cloud_creases(&job).unwrap().to_vec();
+    // A sphere has none.
+    assert_eq!(creases, vec![0.0, 0.0]);
+    assert_eq!(
+        code_and_hint(s.set_creases(&[1.0]).unwrap_err()).0,
+        "bad-parameter"
+    );
+    assert!(s.set_creases(&creases).unwrap());
+    assert!(s.crease_job().is_none());
+    assert!(!s.set_creases(&creases).unwrap());
+    for bad in [
+        &[][..],
+        &[0.1, 0.5, 1.0, 2.0],
+        &[0.1, f64::NAN, 1.0, 2.0, 3.0],
+    ] {
+        assert_eq!(
+            code_and_hint(cloud_creases(&js_sys::Float64Array::from(bad)).unwrap_err()).0,
+            "bad-parameter"
+        );
+    }
+    // A mesh's creases come with the target: no job.
+    let bytes = lsw::wasm::demo_shape("genus2").unwrap().to_vec();
+    let s = WrapSession::new(&bytes, Some("genus2.ply".into()), "{}", None).unwrap();
+    assert!(s.crease_job().is_none());
 }
 
 #[wasm_bindgen_test]

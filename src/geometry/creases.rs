@@ -26,6 +26,9 @@ pub struct Crease {
     pub convex: bool,
 }
 
+/// Numbers per crease edge in [`Creases::to_flat`].
+const FLAT_EDGE: usize = 22;
+
 /// The creases and corners of a target, with search structures.
 pub struct Creases {
     /// Crease edges.
@@ -234,6 +237,54 @@ impl Creases {
         }
     }
 
+    /// The creases as plain numbers, to cross to another worker: the edge and corner counts,
+    /// then [`FLAT_EDGE`] numbers per edge and three per corner (bit for bit: a crease found in
+    /// a helper worker gives the fit the same result as one found by the fit).
+    pub fn to_flat(&self) -> Vec<f64> {
+        let mut out = Vec::with_capacity(2 + FLAT_EDGE * self.edges.len() + 3 * self.corners.len());
+        out.extend([self.edges.len() as f64, self.corners.len() as f64]);
+        for c in &self.edges {
+            for v in [c.ends, c.normals, c.inward].iter().flatten() {
+                out.extend(v.to_array());
+            }
+            out.extend(c.heights);
+            out.extend([c.turn, if c.convex { 1.0 } else { 0.0 }]);
+        }
+        for p in &self.corners {
+            out.extend(p.to_array());
+        }
+        out
+    }
+
+    /// Creases from [`Creases::to_flat`]'s numbers; None if they are not such a list.
+    pub fn from_flat(flat: &[f64]) -> Option<Self> {
+        let count = |x: f64| (x >= 0.0 && x.fract() == 0.0 && x < 1e9).then_some(x as usize);
+        let (n_edges, n_corners) = (count(*flat.first()?)?, count(*flat.get(1)?)?);
+        if flat.len() != 2 + FLAT_EDGE * n_edges + 3 * n_corners
+            || flat.iter().any(|x| !x.is_finite())
+        {
+            return None;
+        }
+        let v = |k: usize| DVec3::from_slice(&flat[k..k + 3]);
+        let edges = flat[2..2 + FLAT_EDGE * n_edges]
+            .chunks_exact(FLAT_EDGE)
+            .map(|e| {
+                let v = |k: usize| DVec3::from_slice(&e[3 * k..3 * k + 3]);
+                Crease {
+                    ends: [v(0), v(1)],
+                    normals: [v(2), v(3)],
+                    inward: [v(4), v(5)],
+                    heights: [e[18], e[19]],
+                    turn: e[20],
+                    convex: e[21] != 0.0,
+                }
+            })
+            .collect();
+        let first = 2 + FLAT_EDGE * n_edges;
+        let corners = (0..n_corners).map(|k| v(first + 3 * k)).collect();
+        Some(Creases::new(edges, corners))
+    }
+
     /// No creases at all.
     pub fn is_empty(&self) -> bool {
         self.edges.is_empty()
@@ -274,6 +325,35 @@ mod tests {
     use super::*;
     use crate::demo::shapes::{cad_part, grid_box};
     use std::f64::consts::FRAC_PI_2;
+
+    /// The numbers that cross to another worker give back the same creases, bit for bit, and
+    /// anything else is refused.
+    #[test]
+    fn creases_cross_as_plain_numbers_unchanged() {
+        let (p, t) = cad_part();
+        let c = detect_creases(&p, &t, 40f64.to_radians());
+        assert!(!c.edges.is_empty() && !c.corners.is_empty());
+        let flat = c.to_flat();
+        let back = Creases::from_flat(&flat).unwrap();
+        assert_eq!(back.edges, c.edges);
+        assert_eq!(back.corners, c.corners);
+        assert!(back.edges.iter().any(|e| e.convex) && back.edges.iter().any(|e| !e.convex));
+        assert_eq!(back.to_flat().len(), flat.len());
+        for bad in [
+            &flat[..flat.len() - 1],
+            &[],
+            &[1.5, 0.0],
+            &[-1.0, 0.0],
+            &[0.0, 1.0, 0.0, f64::NAN, 0.0],
+        ] {
+            assert!(
+                Creases::from_flat(bad).is_none(),
+                "{:?}",
+                &bad[..bad.len().min(5)]
+            );
+        }
+        assert!(Creases::from_flat(&[0.0, 0.0]).unwrap().is_empty());
+    }
 
     #[test]
     fn a_cube_has_twelve_right_angled_convex_edges_and_eight_corners() {

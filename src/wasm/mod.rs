@@ -4,7 +4,8 @@
 //!
 //! * [`errors`] — [`UiError`] and the one conversion from any core error ([`ui_error`]);
 //! * [`session`] — [`WrapSession`], a wrap advanced step by step from the worker; [`field`] its
-//!   view of the distance field, [`io`] its result as a file (and [`export_mesh`]);
+//!   view of the distance field, [`io`] its result as a file (and [`export_mesh`]),
+//!   [`creases`] a cloud's crease detection in a helper worker ([`cloud_creases`]);
 //! * [`mcf`] — [`McfSession`], the mean-curvature-flow lesson;
 //! * [`demo`] — gallery shapes and meshes, control curves;
 //! * [`catalog`] — the lists the app offers ([`catalog()`]), the presets' settings and the
@@ -15,6 +16,7 @@
 //! `www/src/protocol.ts`): add, never rename.
 
 pub mod catalog;
+pub mod creases;
 pub mod demo;
 pub mod errors;
 pub mod field;
@@ -24,6 +26,7 @@ pub mod session;
 pub mod volume;
 
 pub use catalog::{catalog, preset_settings, setting_aliases, settings_docs, settings_enums};
+pub use creases::cloud_creases;
 pub use demo::{control_curves, demo_mesh, demo_shape};
 pub use errors::{ui_error, UiError};
 pub use io::export_mesh;

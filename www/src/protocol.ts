@@ -552,3 +552,14 @@ export interface RenderProbe {
   type: 'probe';
   meshPixelFraction: number;
 }
+
+/** Computation worker → its crease helper (crease-worker.ts): `WrapSession.creaseJob()`'s numbers. */
+export interface CreaseRequest {
+  job: Float64Array;
+}
+
+/** Crease helper → computation worker: `cloudCreases`' numbers for `WrapSession.setCreases`, or
+ * null when the helper failed (the final fit then finds the creases itself). */
+export interface CreaseReply {
+  creases: Float64Array | null;
+}

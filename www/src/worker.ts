@@ -5,7 +5,7 @@ import init, {
   McfSession, WrapSession, presetSettings, settingsDocs, settingsEnums, settingAliases, catalog, demoShape, demoMesh, controlCurves, exportMesh,
   VolumeView, phantomVolume,
 } from '../pkg/lsw.js';
-import type { Catalog, Certificate, ColourMap, FieldView, FromWorker, Histogram, McfStats, MeshTauAdvice, Source, StartedOver, StepReport, TargetInfo, TauAdvice, ToWorker, VolumeInfo } from './protocol';
+import type { Catalog, Certificate, ColourMap, CreaseReply, CreaseRequest, FieldView, FromWorker, Histogram, McfStats, MeshTauAdvice, Source, StartedOver, StepReport, TargetInfo, TauAdvice, ToWorker, VolumeInfo } from './protocol';
 import { failureError } from './protocol';
 import { batchSize } from './schedule';
 import { colorize, robustRange } from './colormap';
@@ -282,6 +282,7 @@ function sendWrapFrame(session: WrapSession): void {
 }
 
 function finish(session: WrapSession): void {
+  stopCreaseHelper();
   playing = false;
   clock.resume(); // (a single step from the page runs with the clock paused)
   clock.phase('certificate');
@@ -339,8 +340,44 @@ function wrapLoop(id: number): void {
   }
 }
 
+/** The helper finding the running wrap's cloud creases (crease-worker.ts), while it works. */
+let creaseHelper: Worker | null = null;
+
+/** Hands a cloud's crease detection to a helper worker, which runs it on the other core while
+ * the steps run here; its answer goes to the session before the final fit (which finds them
+ * itself, the same, if none came by then). */
+function startCreaseHelper(session: WrapSession): void {
+  stopCreaseHelper();
+  const job = session.creaseJob();
+  if (!job) return;
+  const helper = new Worker(new URL('./crease-worker.ts', import.meta.url), { type: 'module' });
+  creaseHelper = helper;
+  helper.onmessage = (ev: MessageEvent<CreaseReply>) => {
+    if (creaseHelper !== helper) return;
+    stopCreaseHelper();
+    if (!ev.data.creases || wrap !== session) return;
+    try {
+      session.setCreases(ev.data.creases);
+    } catch {
+      // (Not creases after all: the fit finds them itself.)
+    }
+  };
+  helper.onerror = () => {
+    if (creaseHelper === helper) stopCreaseHelper();
+  };
+  const request: CreaseRequest = { job };
+  helper.postMessage(request, [job.buffer]);
+}
+
+/** Ends the crease helper (its memory goes with it). */
+function stopCreaseHelper(): void {
+  creaseHelper?.terminate();
+  creaseHelper = null;
+}
+
 /** Forgets the running wrap (the kept result stays). */
 function dropRun(): void {
+  stopCreaseHelper();
   playing = false;
   pendingReports = [];
   runId++;
@@ -380,6 +417,7 @@ async function startSession(autoplay: boolean, id: number): Promise<void> {
     ? WrapSession.fromVolumeView(volume.view, JSON.stringify(wrapSettings), volume.iso ?? undefined, false, progress)
     : new WrapSession(source.bytes, source.name, JSON.stringify(wrapSettings), progress);
   wrap = session;
+  startCreaseHelper(session);
   const tp = session.targetPositions();
   const ti = session.targetIndices();
   const why = lessonMeshWhy(ti);

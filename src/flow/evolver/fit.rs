@@ -42,13 +42,14 @@ impl Evolver {
         }
         let t0 = now_ms();
         if let Some(pending) = self.pending_creases.take() {
-            // Found beside the steps (natively): the fit waits here for what is left of that.
-            let elsewhere = pending.elsewhere();
-            if elsewhere {
+            // Found beside the steps (natively): the fit waits here for what is left of that;
+            // or left to the fit (wasm) and found now.
+            let report = !matches!(&pending, super::PendingCreases::Later(l) if !l.elsewhere());
+            if report {
                 progress.report(super::CREASE_PHASE, 0.0);
             }
-            self.creases = pending.get();
-            if elsewhere {
+            self.creases = pending.get(&mut |f| progress.report(super::CREASE_PHASE, f));
+            if report {
                 progress.report(super::CREASE_PHASE, 1.0);
             }
         }

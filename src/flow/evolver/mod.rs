@@ -36,6 +36,7 @@ use crate::field::{DistanceField, FieldError};
 use crate::geometry::cloud_creases::detect_cloud_creases;
 use crate::geometry::creases::{detect_creases, Creases};
 use crate::geometry::icosphere::IcosphereError;
+use crate::geometry::spatial::point_grid::PointGrid;
 use crate::mesh::{HalfedgeMesh, MeshBuildError, MeshReport};
 use crate::parallel::Later;
 use crate::progress::Progress;
@@ -242,9 +243,9 @@ pub struct Evolver {
     /// The target's sharp creases for the final fit (stabilised frame): from dihedral angles
     /// on a mesh, from plane fits on a cloud; None with `fit.crease_angle_deg` = 0.
     creases: Option<Creases>,
-    /// The creases while they are still being found (natively, beside the steps): they become
-    /// `creases` when the fit starts.
-    pending_creases: Option<Later<Option<Creases>>>,
+    /// The creases while they are still being found (natively, beside the steps) or left to
+    /// the fit (wasm): they become `creases` when the fit starts.
+    pending_creases: Option<PendingCreases>,
     /// Stray points of the cloud left out of the wrap (see [`Target::without_isolated_points`]).
     isolated_points: usize,
     /// Specks of the mesh left out of the wrap (see [`Target::without_specks`]).
@@ -324,6 +325,55 @@ struct StepParts<'a> {
     contacts: ContactReport,
     remesh_reverted: bool,
     surgery: Vec<SurgeryEvent>,
+}
+
+/// A cloud's creases before the final fit.
+enum PendingCreases {
+    /// Being found beside the steps (natively), or known.
+    Later(Later<Option<Creases>>),
+    /// Left to the fit (wasm, one thread), unless [`Evolver::supply_creases`] brings them
+    /// first: the fit's grid, its radius and the crease angle.
+    Deferred {
+        grid: std::sync::Arc<PointGrid>,
+        radius: f64,
+        angle: f64,
+    },
+}
+
+impl PendingCreases {
+    /// The creases, found here if they were left to the fit (`done` hears the fraction).
+    fn get(self, done: &mut dyn FnMut(f64)) -> Option<Creases> {
+        match self {
+            PendingCreases::Later(later) => later.get(),
+            PendingCreases::Deferred {
+                grid,
+                radius,
+                angle,
+            } => {
+                let points = grid.points_in_input_order();
+                let c = detect_cloud_creases(&points, &grid, radius, angle, done);
+                (!c.is_empty()).then_some(c)
+            }
+        }
+    }
+}
+
+/// A cloud's crease detection as a job for another worker (see [`Evolver::crease_job`]): the
+/// target's points in the stabilised frame, the fit radius and the crease angle (radians).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CreaseJob {
+    pub points: Vec<DVec3>,
+    pub radius: f64,
+    pub angle: f64,
+}
+
+impl CreaseJob {
+    /// The creases the fit would find (on a grid built as the fit builds its own, so the same).
+    pub fn run(&self, done: &mut dyn FnMut(f64)) -> Option<Creases> {
+        let grid = PointGrid::new(&self.points, self.radius);
+        let c = detect_cloud_creases(&self.points, &grid, self.radius, self.angle, done);
+        (!c.is_empty()).then_some(c)
+    }
 }
 
 /// What the fit's view of the target (its creases, and the tree or grid the fit projects onto)
@@ -490,19 +540,29 @@ impl Evolver {
             };
             // Only the final fit needs them: natively they are found beside the steps, whose
             // sequential parts leave a core idle (1 M points: 0.25 s of setup, both cores busy).
+            // In the browser (one thread) they are left to the fit, and a helper worker may
+            // find them meanwhile (see `crease_job`).
             let creases = match (&fit_target, key.crease_angle) {
+                (Some(SnapTarget::Points(grid)), Some(angle)) if cfg!(target_arch = "wasm32") => {
+                    let (grid, radius) = (std::sync::Arc::clone(grid), key.fit_radius);
+                    PendingCreases::Deferred {
+                        grid,
+                        radius,
+                        angle,
+                    }
+                }
                 (Some(SnapTarget::Points(grid)), Some(angle)) => {
                     let (framed, grid) = (key.framed(target, center), std::sync::Arc::clone(grid));
                     let radius = key.fit_radius;
-                    crate::parallel::later(
+                    PendingCreases::Later(crate::parallel::later(
                         move |done: &mut dyn FnMut(f64)| {
                             let c = detect_cloud_creases(&framed, &grid, radius, angle, done);
                             (!c.is_empty()).then_some(c)
                         },
                         &mut |f| progress.report(CREASE_PHASE, f),
-                    )
+                    ))
                 }
-                _ => Later::ready(None),
+                _ => PendingCreases::Later(Later::ready(None)),
             };
             (fit_target, creases)
         } else {
@@ -510,7 +570,7 @@ impl Evolver {
                 Some((made, built)) if made == key => built,
                 _ => key.build(target, center),
             };
-            (fit_target, Later::ready(creases))
+            (fit_target, PendingCreases::Later(Later::ready(creases)))
         };
         let d0 = settings.flow.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
         let empty_distance = phi * empty_distance(target, c, &settings);
@@ -696,6 +756,34 @@ impl Evolver {
             crate::parallel::map(pos.len(), |i| field.sample_with_gradient(pos[i]))
                 .into_iter()
                 .unzip();
+    }
+
+    /// A cloud's crease detection while it is left to the final fit (in wasm; None natively,
+    /// where it runs beside the steps, and once found): another worker may run it meanwhile and
+    /// bring the result to [`Evolver::supply_creases`], sparing the fit that time.
+    pub fn crease_job(&self) -> Option<CreaseJob> {
+        match self.pending_creases.as_ref()? {
+            PendingCreases::Deferred {
+                grid,
+                radius,
+                angle,
+            } => Some(CreaseJob {
+                points: grid.points_in_input_order(),
+                radius: *radius,
+                angle: *angle,
+            }),
+            PendingCreases::Later(_) => None,
+        }
+    }
+
+    /// Takes the result of [`Evolver::crease_job`]'s job; false (and nothing changes) when the
+    /// creases are no longer pending (the fit found them already) or were never left to it.
+    pub fn supply_creases(&mut self, creases: Option<Creases>) -> bool {
+        if !matches!(self.pending_creases, Some(PendingCreases::Deferred { .. })) {
+            return false;
+        }
+        self.pending_creases = Some(PendingCreases::Later(Later::ready(creases)));
+        true
     }
 
     /// True when the step limit or the stopping rule has been reached.

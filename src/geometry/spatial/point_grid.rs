@@ -83,6 +83,15 @@ impl PointGrid {
         g
     }
 
+    /// The points in the order they were given (a copy).
+    pub fn points_in_input_order(&self) -> Vec<DVec3> {
+        let mut out = vec![DVec3::ZERO; self.points.len()];
+        for (&i, &p) in self.order.iter().zip(&self.points) {
+            out[i as usize] = p;
+        }
+        out
+    }
+
     /// The cell size in use.
     pub fn cell(&self) -> f64 {
         self.cell
