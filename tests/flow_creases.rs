@@ -16,7 +16,7 @@
 const DEFAULT_CELLS: u32 = 40;
 
 use lsw::demo::shapes::generate;
-use lsw::flow::{Evolver, WrapSettings};
+use lsw::flow::{CreaseJob, Evolver, WrapSettings};
 use lsw::geometry::creases::detect_creases;
 use lsw::metrics::certificate::certify;
 use lsw::metrics::creases::{crease_fidelity, CreaseFidelity, CREASE_ANGLE_DEG, CREASE_OFFSET};
@@ -180,7 +180,15 @@ fn creases_found_elsewhere_give_the_same_wrap() {
     let job = helped
         .crease_job()
         .expect("a cloud's creases are left to the fit");
-    assert_eq!(job.points.len(), target.points.len());
+    // As it crosses to the helper: the points in cell order and their indices.
+    let (points, order) = job.cell_order();
+    assert_eq!(points.len(), target.points.len());
+    let mut shuffled = order.to_vec();
+    shuffled.swap(0, 1);
+    assert!(CreaseJob::from_cell_order(points.to_vec(), &shuffled[1..], 0.1, 0.7).is_none());
+    shuffled[1] = shuffled[0];
+    assert!(CreaseJob::from_cell_order(points.to_vec(), &shuffled, 0.1, 0.7).is_none());
+    let job = CreaseJob::from_cell_order(points.to_vec(), order, job.radius, job.angle).unwrap();
     let creases = job.run(&mut |_| {}).expect("a cube cloud has creases");
     assert!(creases.edges.len() > 20 && creases.corners.len() == 8);
     let creases = lsw::geometry::creases::Creases::from_flat(&creases.to_flat());

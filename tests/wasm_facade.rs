@@ -113,10 +113,22 @@ fn a_crease_job_goes_out_and_its_result_comes_back_once() {
     assert!(s.set_creases(&creases).unwrap());
     assert!(s.crease_job().is_none());
     assert!(!s.set_creases(&creases).unwrap());
+    // (radius, angle, count, points in cell order, their indices)
+    let one = [0.1, 0.7, 1.0, 0.0, 0.0, 0.0, 0.0];
+    assert_eq!(
+        cloud_creases(&js_sys::Float64Array::from(&one[..]))
+            .unwrap()
+            .to_vec(),
+        [0.0, 0.0]
+    );
     for bad in [
         &[][..],
-        &[0.1, 0.5, 1.0, 2.0],
-        &[0.1, f64::NAN, 1.0, 2.0, 3.0],
+        &one[..6],
+        &[0.1, 0.7, 1.5, 0.0, 0.0, 0.0, 0.0],
+        &[0.1, f64::NAN, 1.0, 0.0, 0.0, 0.0, 0.0],
+        &[0.1, 0.7, 1.0, 0.0, f64::INFINITY, 0.0, 0.0],
+        &[0.1, 0.7, 1.0, 0.0, 0.0, 0.0, 1.0],
+        &[0.0, 0.7, 1.0, 0.0, 0.0, 0.0, 0.0],
     ] {
         assert_eq!(
             code_and_hint(cloud_creases(&js_sys::Float64Array::from(bad)).unwrap_err()).0,

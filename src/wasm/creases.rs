@@ -1,7 +1,7 @@
 //! A cloud's crease detection in a helper worker: the session hands out the job
 //! ([`WrapSession::crease_job`]), [`cloud_creases`] runs it in another wasm instance while the
 //! steps go on, and [`WrapSession::set_creases`] brings the result back before the final fit,
-//! which otherwise finds them itself (the same creases either way; 1 M points: 0.7 s of the
+//! which otherwise finds them itself (the same creases either way; 1 M points: 0.4–0.7 s of the
 //! browser's one thread).
 
 use super::errors::UiError;
@@ -12,13 +12,17 @@ use glam::DVec3;
 use js_sys::Float64Array;
 use wasm_bindgen::prelude::*;
 
-/// Numbers before the points in a job: the fit radius and the crease angle.
-const JOB_HEAD: usize = 2;
+/// Numbers before the lists in a job: the fit radius, the crease angle and the point count.
+const JOB_HEAD: usize = 3;
 
-/// The most points handed to a helper. Its wasm instance holds the points twice (as given and
-/// in its grid): 1 M points took the tab from 533 to 645 MB for 0.3 s less; a larger cloud's
-/// creases are left to the fit, where they cost no memory beyond the fit's own.
-pub const HELPER_MAX_POINTS: usize = 2_000_000;
+/// Points per slice copied between a job's array and wasm memory.
+const SLICE: usize = 4096;
+
+/// The most points handed to a helper. It holds the points about three times (as sent, in
+/// input order, in its grid) on a core that the page and the steps share on a 2-core machine:
+/// spot 1 M took 0.14 s less (median of 5) and 130 MB more; spot 2 M took 0.3–0.9 s *more*
+/// and 160–240 MB more. A larger cloud's creases are left to the fit.
+pub const HELPER_MAX_POINTS: usize = 1_500_000;
 
 fn bad_job(what: &str) -> JsValue {
     UiError::bad_parameter(
@@ -32,31 +36,39 @@ fn bad_job(what: &str) -> JsValue {
 /// takes them.
 #[wasm_bindgen(js_name = cloudCreases)]
 pub fn cloud_creases(job: &Float64Array) -> Result<Float64Array, JsValue> {
-    let n = job.length() as usize;
-    if n < JOB_HEAD || (n - JOB_HEAD) % 3 != 0 {
-        return Err(bad_job("not a radius, an angle and a list of points"));
+    let len = job.length() as usize;
+    let head: Vec<f64> = (0..JOB_HEAD.min(len))
+        .map(|k| job.get_index(k as u32))
+        .collect();
+    let [radius, angle, n] = head[..] else {
+        return Err(bad_job("too short"));
+    };
+    let count = (n >= 0.0 && n.fract() == 0.0).then_some(n as usize);
+    let n = count
+        .filter(|&n| len == JOB_HEAD + 4 * n)
+        .ok_or_else(|| bad_job("not a radius, an angle, a count and its lists"))?;
+    // Straight into vectors, a slice at a time: the whole array copied into wasm memory first
+    // would be one more copy of the points in the helper.
+    let mut points = Vec::with_capacity(n);
+    let mut order = Vec::with_capacity(n);
+    let mut buf = vec![0.0; 3 * SLICE];
+    for first in (0..n).step_by(SLICE) {
+        let m = SLICE.min(n - first);
+        let at = (JOB_HEAD + 3 * first) as u32;
+        job.subarray(at, at + 3 * m as u32)
+            .copy_to(&mut buf[..3 * m]);
+        points.extend(buf[..3 * m].chunks_exact(3).map(DVec3::from_slice));
+        let at = (JOB_HEAD + 3 * n + first) as u32;
+        job.subarray(at, at + m as u32).copy_to(&mut buf[..m]);
+        let index = |x: f64| (x >= 0.0 && x.fract() == 0.0 && x < n as f64).then_some(x as u32);
+        order.extend(buf[..m].iter().map(|&x| index(x).unwrap_or(u32::MAX)));
     }
-    // The points straight into their vector, a slice at a time: a million points' numbers
-    // copied whole into wasm memory first would be 24 MB more in the helper.
-    let mut points = Vec::with_capacity((n - JOB_HEAD) / 3);
-    let mut buf = vec![0.0; 3 * 4096];
-    let mut at = JOB_HEAD;
-    while at < n {
-        let len = buf.len().min(n - at);
-        job.subarray(at as u32, (at + len) as u32)
-            .copy_to(&mut buf[..len]);
-        points.extend(buf[..len].chunks_exact(3).map(DVec3::from_slice));
-        at += len;
-    }
-    let (radius, angle) = (job.get_index(0), job.get_index(1));
-    if !(radius.is_finite() && angle.is_finite() && points.iter().all(|p| p.is_finite())) {
+    let finite = radius > 0.0 && radius.is_finite() && angle.is_finite();
+    if !(finite && points.iter().all(|p| p.is_finite())) {
         return Err(bad_job("a number that is not finite"));
     }
-    let job = CreaseJob {
-        points,
-        radius,
-        angle,
-    };
+    let job = CreaseJob::from_cell_order(points, &order, radius, angle)
+        .ok_or_else(|| bad_job("the order does not number the points"))?;
     let creases = job
         .run(&mut |_| {})
         .unwrap_or_else(|| Creases::new(vec![], vec![]));
@@ -65,27 +77,34 @@ pub fn cloud_creases(job: &Float64Array) -> Result<Float64Array, JsValue> {
 
 #[wasm_bindgen]
 impl WrapSession {
-    /// The session's crease detection as plain numbers (fit radius, crease angle, then the
-    /// points) for [`cloud_creases`] in a helper worker; undefined when there is none to do (a
-    /// mesh, a volume, no final fit, more than [`HELPER_MAX_POINTS`] points, or the fit has found
-    /// them already).
+    /// The session's crease detection as plain numbers for [`cloud_creases`] in a helper worker:
+    /// the fit radius, the crease angle, the point count n, the points (stabilised frame) in
+    /// the fit grid's cell order (3n), and each one's index in the target (n). Undefined when
+    /// there is none to do (a mesh, a volume, no final fit, more than [`HELPER_MAX_POINTS`]
+    /// points, or the fit has found them already).
     #[wasm_bindgen(js_name = creaseJob)]
     pub fn crease_job(&self) -> Option<Float64Array> {
         let job = self.evolver.crease_job()?;
-        if job.points.len() > HELPER_MAX_POINTS {
+        let (points, order) = job.cell_order();
+        let n = points.len();
+        if n > HELPER_MAX_POINTS {
             return None;
         }
         // Filled a slice at a time (not from one vector of all the numbers, which would grow
         // this instance's memory for good).
-        let out = Float64Array::new_with_length((JOB_HEAD + 3 * job.points.len()) as u32);
-        out.set_index(0, job.radius);
-        out.set_index(1, job.angle);
-        for (k, chunk) in job.points.chunks(4096).enumerate() {
+        let out = Float64Array::new_with_length((JOB_HEAD + 4 * n) as u32);
+        for (k, x) in [job.radius, job.angle, n as f64].into_iter().enumerate() {
+            out.set_index(k as u32, x);
+        }
+        for (k, chunk) in points.chunks(SLICE).enumerate() {
             let flat: Vec<f64> = chunk.iter().flat_map(|p| p.to_array()).collect();
-            out.set(
-                &Float64Array::from(flat.as_slice()),
-                (JOB_HEAD + 3 * 4096 * k) as u32,
-            );
+            let at = JOB_HEAD + 3 * SLICE * k;
+            out.set(&Float64Array::from(flat.as_slice()), at as u32);
+        }
+        for (k, chunk) in order.chunks(SLICE).enumerate() {
+            let flat: Vec<f64> = chunk.iter().map(|&i| i as f64).collect();
+            let at = JOB_HEAD + 3 * n + SLICE * k;
+            out.set(&Float64Array::from(flat.as_slice()), at as u32);
         }
         Some(out)
     }

@@ -83,6 +83,11 @@ impl PointGrid {
         g
     }
 
+    /// The points in cell order and each one's index in the order they were given.
+    pub fn cell_ordered(&self) -> (&[DVec3], &[u32]) {
+        (&self.points, &self.order)
+    }
+
     /// The points in the order they were given (a copy).
     pub fn points_in_input_order(&self) -> Vec<DVec3> {
         let mut out = vec![DVec3::ZERO; self.points.len()];
