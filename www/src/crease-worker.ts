@@ -1,6 +1,6 @@
 // A helper of the computation worker, one per wrap of a cloud: it finds the cloud's sharp creases
 // in a wasm instance of its own while the steps run, so that the final fit does not spend that
-// time on the one thread (1 M points: 0.7 s). The fit finds the same creases itself when no
+// time on the one thread (1 M points: 0.4–0.7 s). The fit finds the same creases itself when no
 // answer came in time; so an error here only costs that time, and is answered with none.
 import init, { cloudCreases } from '../pkg/lsw.js';
 import type { CreaseReply, CreaseRequest } from './protocol';

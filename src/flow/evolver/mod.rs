@@ -575,25 +575,21 @@ impl Evolver {
             // In the browser (one thread) they are left to the fit, and a helper worker may
             // find them meanwhile (see `crease_job`).
             let creases = match (&fit_target, key.crease_angle) {
-                (Some(SnapTarget::Points(grid)), Some(angle)) if cfg!(target_arch = "wasm32") => {
-                    let (grid, radius) = (std::sync::Arc::clone(grid), key.fit_radius);
-                    PendingCreases::Deferred(CreaseJob {
-                        grid,
-                        input: None,
-                        radius,
-                        angle,
-                    })
-                }
                 (Some(SnapTarget::Points(grid)), Some(angle)) => {
-                    let (framed, grid) = (key.framed(target, center), std::sync::Arc::clone(grid));
-                    let radius = key.fit_radius;
-                    PendingCreases::Later(crate::parallel::later(
-                        move |done: &mut dyn FnMut(f64)| {
-                            let c = detect_cloud_creases(&framed, &grid, radius, angle, done);
-                            (!c.is_empty()).then_some(c)
-                        },
-                        &mut |f| progress.report(CREASE_PHASE, f),
-                    ))
+                    let job = CreaseJob {
+                        grid: std::sync::Arc::clone(grid),
+                        input: None,
+                        radius: key.fit_radius,
+                        angle,
+                    };
+                    if cfg!(target_arch = "wasm32") {
+                        PendingCreases::Deferred(job)
+                    } else {
+                        PendingCreases::Later(crate::parallel::later(
+                            move |done: &mut dyn FnMut(f64)| job.run(done),
+                            &mut |f| progress.report(CREASE_PHASE, f),
+                        ))
+                    }
                 }
                 _ => PendingCreases::Later(Later::ready(None)),
             };
