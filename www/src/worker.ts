@@ -348,9 +348,16 @@ let creaseHelper: Worker | null = null;
  * itself, the same, if none came by then). */
 function startCreaseHelper(session: WrapSession): void {
   stopCreaseHelper();
+  // (A browser without workers inside workers leaves them to the fit.)
+  if (typeof Worker === 'undefined') return;
   const job = session.creaseJob();
   if (!job) return;
-  const helper = new Worker(new URL('./crease-worker.ts', import.meta.url), { type: 'module' });
+  let helper: Worker;
+  try {
+    helper = new Worker(new URL('./crease-worker.ts', import.meta.url), { type: 'module' });
+  } catch {
+    return;
+  }
   creaseHelper = helper;
   helper.onmessage = (ev: MessageEvent<CreaseReply>) => {
     if (creaseHelper !== helper) return;
