@@ -24,6 +24,11 @@ const SLICE: usize = 4096;
 /// and 160–240 MB more. A larger cloud's creases are left to the fit.
 pub const HELPER_MAX_POINTS: usize = 1_500_000;
 
+/// `x` as an index or count below `limit`, if it is a whole number in range.
+fn whole_below(x: f64, limit: f64) -> Option<usize> {
+    (x >= 0.0 && x.fract() == 0.0 && x < limit).then_some(x as usize)
+}
+
 fn bad_job(what: &str) -> JsValue {
     UiError::bad_parameter(
         format!("crease job: {what}"),
@@ -43,8 +48,7 @@ pub fn cloud_creases(job: &Float64Array) -> Result<Float64Array, JsValue> {
     let [radius, angle, n] = head[..] else {
         return Err(bad_job("too short"));
     };
-    let count = (n >= 0.0 && n.fract() == 0.0).then_some(n as usize);
-    let n = count
+    let n = whole_below(n, len as f64)
         .filter(|&n| len == JOB_HEAD + 4 * n)
         .ok_or_else(|| bad_job("not a radius, an angle, a count and its lists"))?;
     // Straight into vectors, a slice at a time: the whole array copied into wasm memory first
@@ -60,8 +64,8 @@ pub fn cloud_creases(job: &Float64Array) -> Result<Float64Array, JsValue> {
         points.extend(buf[..3 * m].chunks_exact(3).map(DVec3::from_slice));
         let at = (JOB_HEAD + 3 * n + first) as u32;
         job.subarray(at, at + m as u32).copy_to(&mut buf[..m]);
-        let index = |x: f64| (x >= 0.0 && x.fract() == 0.0 && x < n as f64).then_some(x as u32);
-        order.extend(buf[..m].iter().map(|&x| index(x).unwrap_or(u32::MAX)));
+        let index = |x: f64| whole_below(x, n as f64).map_or(u32::MAX, |i| i as u32);
+        order.extend(buf[..m].iter().map(|&x| index(x)));
     }
     let finite = radius > 0.0 && radius.is_finite() && angle.is_finite();
     if !(finite && points.iter().all(|p| p.is_finite())) {

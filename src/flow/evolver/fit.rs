@@ -44,7 +44,7 @@ impl Evolver {
         if let Some(pending) = self.pending_creases.take() {
             // Found beside the steps (natively): the fit waits here for what is left of that;
             // or left to the fit (wasm) and found now.
-            let report = !matches!(&pending, super::PendingCreases::Later(l) if !l.elsewhere());
+            let report = pending.takes_time();
             if report {
                 progress.report(super::CREASE_PHASE, 0.0);
             }

@@ -337,6 +337,11 @@ enum PendingCreases {
 }
 
 impl PendingCreases {
+    /// Whether getting them takes time here: found now, or waited for.
+    fn takes_time(&self) -> bool {
+        !matches!(self, PendingCreases::Later(l) if !l.elsewhere())
+    }
+
     /// The creases, found here if they were left to the fit (`done` hears the fraction).
     fn get(self, done: &mut dyn FnMut(f64)) -> Option<Creases> {
         match self {
