@@ -242,7 +242,7 @@ fn a_membrane_across_a_ring_becomes_a_tube() {
         min_width: 0.0,
     };
     // It spans the hole (its rim near the ring): cut at the first look.
-    let op = open_handles(&m, &d, &|_| 1.0, &q, 6, 0)
+    let op = open_handles(&m, &d, &|_| 1.0, &|_| 1.0, &q, 6, 0)
         .operated
         .expect("the membrane is cut");
     assert_eq!((op.genus_before, op.genus_after), (0, 1));
@@ -264,6 +264,7 @@ fn a_membrane_across_a_ring_becomes_a_tube() {
     assert!(open_handles(
         &op.mesh,
         &vec![0.5; op.mesh.n_vertices()],
+        &|_| 1.0,
         &|_| 1.0,
         &q2,
         6,
@@ -287,9 +288,9 @@ fn a_first_contact_waits_until_the_membranes_settle() {
         tunnel_ratio: 0.0,
         min_width: 0.0,
     };
-    let first = open_handles(&m, &deep, &|_| 1.0, &q, 6, 0);
+    let first = open_handles(&m, &deep, &|_| 1.0, &|_| 1.0, &q, 6, 0);
     assert!(first.paired > 0 && first.operated.is_none());
-    let op = open_handles(&m, &deep, &|_| 1.0, &q, 6, first.paired).operated;
+    let op = open_handles(&m, &deep, &|_| 1.0, &|_| 1.0, &q, 6, first.paired).operated;
     assert_eq!(op.map(|o| o.genus_after), Some(1));
 }
 
@@ -315,7 +316,7 @@ fn two_spheres_approaching_in_empty_space_merge_through_a_tube() {
     t.extend(b.triangles().iter().map(|f| f.map(|v| v + n)));
     let m = HalfedgeMesh::from_triangles(p, &t).unwrap();
     let far = vec![1.0; m.n_vertices()];
-    let op = open_handles(&m, &far, &|_| 1.0, &far_query(), 6, 1 << 20)
+    let op = open_handles(&m, &far, &|_| 1.0, &|_| 1.0, &far_query(), 6, 1 << 20)
         .operated
         .expect("the spheres merge");
     assert_eq!((op.components_before, op.components_after), (2, 1));
@@ -359,7 +360,7 @@ fn a_neck_that_takes_a_handle_away_is_cut_only_above_the_target_genus() {
             least_genus,
             ..far_query()
         };
-        open_handles(&m, &far, &|_| 1.0, &q, 6, 1 << 20).operated
+        open_handles(&m, &far, &|_| 1.0, &|_| 1.0, &q, 6, 1 << 20).operated
     };
     for least_genus in [None, Some(0)] {
         let op = look(least_genus).expect("the neck is cut");
@@ -377,7 +378,7 @@ fn a_neck_in_empty_space_is_cut_and_capped() {
         *p *= DVec3::new(1.0, 0.04, 0.04);
     }
     let far = vec![1.0; m.n_vertices()];
-    let op = open_handles(&m, &far, &|_| 1.0, &far_query(), 6, 1 << 20)
+    let op = open_handles(&m, &far, &|_| 1.0, &|_| 1.0, &far_query(), 6, 1 << 20)
         .operated
         .expect("the neck is cut");
     // Each ring cut adds a component (the icosphere's symmetry may give more than one ring).
@@ -414,7 +415,7 @@ fn a_membrane_at_the_data_is_left_alone() {
         tunnel_ratio: 0.0,
         min_width: 0.0,
     };
-    let look = open_handles(&m, &near, &|_| 1.0, &q, 6, 1 << 20);
+    let look = open_handles(&m, &near, &|_| 1.0, &|_| 1.0, &q, 6, 1 << 20);
     assert_eq!(look.paired, 0);
     assert!(look.operated.is_none());
 }

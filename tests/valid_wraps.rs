@@ -198,6 +198,31 @@ fn a_cloud_sampled_sparsely_on_one_side_keeps_that_side() {
     assert!(c.distance_max.unwrap() < 0.25, "{c:?}");
 }
 
+/// Clouds whose density falls steadily from one end to the other, as a scanner sees a part at a
+/// growing angle: every point kept with a chance of 1 at the high-x end down to `low` at the
+/// low-x end. Surgery took the sparse end's sampling gaps for holes (empty space at the global
+/// median spacing): the torus came out with genus 4, the cut sphere with 1. Now a tube where
+/// the cloud is sparser than its median needs a hole that is empty at the local spacing, and
+/// both keep their genus.
+#[test]
+fn a_cloud_sampled_more_sparsely_towards_one_end_keeps_its_genus() {
+    for (name, low, genus) in [("torus-g1-cloud", 0.05, 1), ("sphere-cut-cloud", 0.1, 0)] {
+        let (points, _) = generate(name).unwrap();
+        let (lo, hi) = points
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.x), b.max(p.x)));
+        let mut rng = lsw::demo::Rng::new(5);
+        let kept: Vec<DVec3> = points
+            .into_iter()
+            .filter(|p| rng.uniform() < low + (1.0 - low) * (p.x - lo) / (hi - lo))
+            .collect();
+        let target = Target::new(kept, vec![]).unwrap();
+        let (_, _, c) = wrap_target(name, &target, WrapSettings::default());
+        assert_valid(name, &c);
+        assert_eq!((c.genus, c.components), (Some(genus), Some(1)), "{name}");
+    }
+}
+
 /// A plate cloud 1 % as thick as it is wide, at the defaults. The early wrap's edges are longer
 /// than the plate is thick, and the triangles turning round its rim cut it short; without
 /// `flow::regrow` the corners stayed cut (704 of the 20 000 points outside the wrap, a Hausdorff

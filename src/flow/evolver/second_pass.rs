@@ -193,7 +193,9 @@ impl Evolver {
         };
         let (outside, miss) = pass.outside(&self.mesh);
         if self.stop_reason.is_some() || !part_outside(outside, pass.samples.len()) {
-            self.fit_target = None; // (as after a fit with no second pass: see `fit_if_done`)
+            // (As after a fit with no second pass: see `fit_if_done`.)
+            self.fit_target = None;
+            self.local_spacing = None;
             return last;
         }
         let checked = pass.samples.len();
@@ -249,6 +251,7 @@ impl Evolver {
             }),
         });
         self.fit_target = None;
+        self.local_spacing = None;
         let result = match (third, second) {
             (Some(t), _) if third_kept => t,
             (_, Some(s)) if second_kept => s,

@@ -4,17 +4,59 @@
 
 use super::{Evolver, PhaseTimes};
 use crate::clock::now_ms;
+use crate::flow::settings::WrapSettings;
+use crate::flow::snap::SnapTarget;
 use crate::flow::surgery::detect::FacingQuery;
 use crate::flow::surgery::{
     drop_empty_components, events, open_handles, SurgeryEvent, OPENED_MARGIN,
 };
+use crate::geometry::spatial::local_spacing::spacing_near;
+use crate::geometry::spatial::point_grid::PointGrid;
 use crate::metrics::intersections::count_self_intersections;
+use crate::target::Target;
 use glam::DVec3;
+use std::sync::Arc;
 
 /// Tunnels are looked for from this share of the step limit on: by then membranes over holes
 /// they can reach have met, and the ones left are stuck (cut earlier, while still far from the
 /// walls, a tube fits a genus-5 chain's holes worse: 2.6× the largest distance).
 const TUNNELS_FROM: f64 = 0.5;
+
+/// Where a cloud's local spacing exceeds this many times its median, surgery reads "far from the
+/// data" at the local spacing: `surgery.empty_spacings` local spacings. (Below, at the median:
+/// a random sampling's local medians scatter about it, and an even sampling's handles stay as
+/// they were.)
+const SPARSE: f64 = 1.5;
+
+/// A cloud's points (the fit's grid) and their median spacing, in the stabilised frame, for
+/// surgery's reading of local spacing; None for a mesh, without a fit or without
+/// `surgery.empty_spacings`.
+pub(super) fn local_spacing(
+    fit_target: &Option<SnapTarget>,
+    target: &Target,
+    settings: &WrapSettings,
+    phi: f64,
+) -> Option<(Arc<PointGrid>, f64)> {
+    let s = &settings.surgery;
+    let Some(SnapTarget::Points(grid)) = fit_target else {
+        return None;
+    };
+    if !s.enabled || s.empty_spacings <= 0.0 {
+        return None;
+    }
+    let median = phi * crate::geometry::spatial::spacing::median_spacing(&target.points);
+    (median > 0.0).then(|| (Arc::clone(grid), median))
+}
+
+/// The factor (≤ 1) by which surgery's distances shrink where the local spacing `local` is
+/// sparser than [`SPARSE`] medians: `empty` over `empty_spacings` local spacings, so that a
+/// vertex is in empty space only beyond that many local spacings from the data.
+fn sparse_factor(local: Option<f64>, median: f64, empty: f64, spacings: f64) -> f64 {
+    match local {
+        Some(l) if l > SPARSE * median => (empty / (spacings * l)).min(1.0),
+        _ => 1.0,
+    }
+}
 
 impl Evolver {
     /// Operates when due and needed; the events of this step (empty when nothing happened).
@@ -86,11 +128,21 @@ impl Evolver {
         } else {
             self.surgery_paired
         };
+        // On a cloud sampled sparsely in places, a tube needs its hole to be empty at the local
+        // spacing (see `surgery::SPARSE`).
+        let (empty, spacings) = (self.empty_distance, s.empty_spacings);
+        let local = self.local_spacing.as_ref();
+        let sparse = |p| {
+            local.map_or(1.0, |(grid, median)| {
+                sparse_factor(spacing_near(grid, p), *median, empty, spacings)
+            })
+        };
         let field = &self.field;
         let look = open_handles(
             &self.mesh,
             &self.distances,
             &|p| field.sample(p),
+            &sparse,
             &query,
             s.min_vertices,
             previous,
@@ -147,5 +199,22 @@ impl Evolver {
         self.surgery_events.extend(out.iter().cloned());
         times.surgery += now_ms() - t0;
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_a_sampling_sparser_than_its_median_shrinks_distances() {
+        // empty = 3 median spacings of 0.01.
+        let f = |local| sparse_factor(local, 0.01, 0.03, 3.0);
+        assert_eq!(f(None), 1.0);
+        assert_eq!(f(Some(0.012)), 1.0);
+        assert_eq!(f(Some(0.015)), 1.0);
+        assert!((f(Some(0.03)) - 1.0 / 3.0).abs() < 1e-12);
+        // A global empty set by the grid (larger than 3 spacings) shrinks less.
+        assert!((sparse_factor(Some(0.03), 0.01, 0.06, 3.0) - 2.0 / 3.0).abs() < 1e-12);
     }
 }

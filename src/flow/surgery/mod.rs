@@ -55,6 +55,10 @@ pub struct Operated {
     pub components_after: usize,
 }
 
+/// Where the cloud is sampled sparsely (`sparse` below 1 in [`open_handles`]), a tube's hole must
+/// be this many local "empty" distances from the data at its centre.
+const SPARSE_HOLE: f64 = 1.5;
+
 /// Membranes have settled when their count of paired vertices grew by less than this factor
 /// since the last look.
 const SETTLED_GROWTH: f64 = 1.1;
@@ -81,11 +85,15 @@ pub struct Look {
 /// closed, oriented manifold free of self-intersections whose Euler characteristic changed by
 /// −2 per tube and +2 per cut neck (else the surface stays as it was). `distances` are
 /// the vertices' distances to the target, `probe` the distance at any point (for tunnels, see
-/// [`detect`]); `previous` is the last look's `paired`.
+/// [`detect`]); `sparse(p)` (≤ 1) shrinks "empty" distances where a cloud is sampled more
+/// sparsely than its median (1 elsewhere): a tube there needs its centre [`SPARSE_HOLE`] times
+/// `empty` from the data after shrinking, or it spans a gap of the sampling, not a hole;
+/// `previous` is the last look's `paired`.
 pub fn open_handles(
     mesh: &HalfedgeMesh,
     distances: &[f64],
     probe: &dyn Fn(DVec3) -> f64,
+    sparse: &dyn Fn(DVec3) -> f64,
     query: &FacingQuery,
     min_vertices: usize,
     previous: usize,
@@ -103,7 +111,7 @@ pub fn open_handles(
                 &partner,
                 distances,
                 query,
-                probe,
+                Reading { probe, sparse },
                 settled,
                 min_vertices,
             ),
@@ -129,6 +137,13 @@ pub fn open_handles(
     }
 }
 
+/// How [`operate`] reads the target at any point: the distance, and the factor for a sparse
+/// sampling (see [`open_handles`]).
+struct Reading<'a> {
+    probe: &'a dyn Fn(DVec3) -> f64,
+    sparse: &'a dyn Fn(DVec3) -> f64,
+}
+
 /// The surface to operate on had intersecting faces of its own.
 struct Intersecting;
 
@@ -142,10 +157,11 @@ fn operate(
     partner: &[Option<u32>],
     distances: &[f64],
     query: &FacingQuery,
-    probe: &dyn Fn(DVec3) -> f64,
+    reading: Reading,
     settled: bool,
     min_vertices: usize,
 ) -> Result<Option<Operated>, Intersecting> {
+    let Reading { probe, sparse } = reading;
     let Ok(before) = mesh.validate() else {
         return Ok(None);
     };
@@ -170,6 +186,7 @@ fn operate(
         };
         let mut balls = Vec::new();
         let mut twins = Vec::new();
+        let mut sparse_gaps = Vec::new();
         // Union-find over the parts in empty space: the tubes so far join theirs.
         let mut set: Vec<u32> = (0..=far
             .iter()
@@ -184,6 +201,12 @@ fn operate(
             p
         };
         for t in glued.tubes.iter().filter(|t| t.cut == Cut::Tube) {
+            let f = sparse(t.position);
+            // A gap of a sparse sampling, not a hole: leave the operation out.
+            if f < 1.0 && probe(t.position).abs() * f < SPARSE_HOLE * query.empty {
+                sparse_gaps.push(t.region);
+                continue;
+            }
             let [a, b] = t.sides.map(|v| far[v as usize]);
             let joined = a != u32::MAX && b != u32::MAX && {
                 let (ra, rb) = (root(&set, a), root(&set, b));
@@ -196,8 +219,9 @@ fn operate(
                 balls.push((t.position, t.radius + OPENED_MARGIN * query.empty));
             }
         }
-        if !twins.is_empty() {
+        if !twins.is_empty() || !sparse_gaps.is_empty() {
             skip.extend(twins);
+            skip.extend(sparse_gaps);
             continue;
         }
         let Ok(out) = HalfedgeMesh::from_triangles(glued.positions, &glued.triangles) else {

@@ -4,6 +4,7 @@
 pub mod box_grid;
 pub mod bvh;
 pub mod isolated;
+pub mod local_spacing;
 pub mod parts;
 pub mod point_grid;
 pub mod radix;

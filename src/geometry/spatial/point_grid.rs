@@ -164,14 +164,23 @@ impl PointGrid {
         out.sort_unstable_by(Near::order);
     }
 
-    /// The nearest point to `p` (ties: the smaller input index); `None` without points. The
-    /// radius that surely holds one: p's distance to the grid's box plus the box's diagonal.
-    pub fn nearest(&self, p: DVec3) -> Option<Near> {
-        let size = DVec3::new(
+    /// The diagonal of the grid's box: a radius from any point inside it that holds every point.
+    pub fn diagonal(&self) -> f64 {
+        self.size().length()
+    }
+
+    fn size(&self) -> DVec3 {
+        DVec3::new(
             self.dims[0] as f64,
             self.dims[1] as f64,
             self.dims[2] as f64,
-        ) * self.cell;
+        ) * self.cell
+    }
+
+    /// The nearest point to `p` (ties: the smaller input index); `None` without points. The
+    /// radius that surely holds one: p's distance to the grid's box plus the box's diagonal.
+    pub fn nearest(&self, p: DVec3) -> Option<Near> {
+        let size = self.size();
         let outside = (self.origin - p)
             .max(p - (self.origin + size))
             .max(DVec3::ZERO);
