@@ -149,6 +149,7 @@ impl Explain for IoError {
             IoError::Empty { .. } => "The file is empty: choose another file.",
             IoError::UnknownFormat { .. } => crate::io::formats::use_formats_hint(),
             IoError::Fs { .. } => "Check the path and the file permissions.",
+            IoError::NotWritable { .. } => crate::io::formats::name_output_hint(),
             _ => "The file looks damaged or is not what its name says; re-export it from its source program.",
         }
     }

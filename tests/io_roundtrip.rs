@@ -189,8 +189,15 @@ fn writers_reject_inconsistent_input() {
             assert!(matches!(e, Err(IoError::InvalidInput { .. })), "{f}: {e:?}");
         }
     }
-    assert!(matches!(
-        write_bytes(Format::Xyz, &WriteInput::new(&p, &t)),
-        Err(IoError::Unsupported { .. })
-    ));
+    // A format LSW reads but does not write: said so, with the formats it writes (not "the file
+    // looks damaged", the hint every other file error has).
+    let e = write_bytes(Format::Xyz, &WriteInput::new(&p, &t)).unwrap_err();
+    assert!(matches!(e, IoError::NotWritable { .. }), "{e:?}");
+    assert_eq!(
+        e.to_string(),
+        "cannot write XYZ files: LSW writes .ply, .obj, .stl, .glb or .vtk"
+    );
+    assert_eq!(e.code(), "io_not_writable");
+    let hint = lsw::error::Explain::hint(&e);
+    assert_eq!(hint, "Name the output .ply, .obj, .stl, .glb or .vtk.");
 }

@@ -186,6 +186,13 @@ pub enum IoError {
     /// The operating system could not read or write a file (native only).
     #[error("cannot access {path}: {message}")]
     Fs { path: String, message: String },
+    /// An output named for a format LSW does not write, or for no format (`what`: the format or
+    /// the path).
+    #[error(
+        "cannot write {what}: LSW writes {}",
+        super::formats::writable_extensions()
+    )]
+    NotWritable { what: String },
     /// A writer was given inconsistent input (index out of range, scalar array of the wrong
     /// length, invalid settings JSON, …).
     #[error("{format}: cannot write: {what}")]
@@ -237,6 +244,7 @@ impl IoError {
             IoError::Target { .. } => "The file holds no usable points.",
             IoError::Decompress { .. } => "The compressed data is damaged; re-download or re-export the file.",
             IoError::Fs { .. } => "Check the path and the file permissions.",
+            IoError::NotWritable { .. } => super::formats::name_output_hint(),
             IoError::InvalidInput { .. } => "This is a bug in the caller: the mesh passed to the writer is inconsistent.",
         }
     }
@@ -256,6 +264,7 @@ impl IoError {
             IoError::Target { .. } => "io_target",
             IoError::Decompress { .. } => "io_decompress",
             IoError::Fs { .. } => "io_fs",
+            IoError::NotWritable { .. } => "io_not_writable",
             IoError::InvalidInput { .. } => "io_invalid_input",
         }
     }

@@ -232,6 +232,12 @@ pub fn writable_extensions() -> &'static str {
     })
 }
 
+/// "Name the output .ply, .obj, .stl, .glb or .vtk.": the hint for an output LSW cannot write.
+pub fn name_output_hint() -> &'static str {
+    static TEXT: OnceLock<String> = OnceLock::new();
+    TEXT.get_or_init(|| format!("Name the output {}.", writable_extensions()))
+}
+
 /// The labels of the formats LSW writes: "PLY, OBJ, STL, GLB or VTK".
 pub fn writable_labels() -> &'static str {
     static TEXT: OnceLock<String> = OnceLock::new();

@@ -585,9 +585,8 @@ pub fn write_bytes(format: Format, input: &WriteInput) -> Result<Vec<u8>, IoErro
         Format::Stl => stl::write(input),
         Format::Glb => gltf::write_glb(input),
         Format::Vtk => vtk::write(input),
-        f => Err(IoError::Unsupported {
-            format: f,
-            what: "writing this format".into(),
+        f => Err(IoError::NotWritable {
+            what: format!("{} files", f.info().label),
         }),
     }
 }
@@ -600,12 +599,8 @@ pub fn write_path(path: impl AsRef<std::path::Path>, input: &WriteInput) -> Resu
         .extension()
         .and_then(|e| e.to_str())
         .and_then(Format::from_extension)
-        .ok_or_else(|| IoError::UnknownFormat {
-            reason: format!(
-                "cannot tell the output format from {}; use {}",
-                path.display(),
-                formats::writable_extensions()
-            ),
+        .ok_or_else(|| IoError::NotWritable {
+            what: path.display().to_string(),
         })?;
     let bytes = write_bytes(format, input)?;
     std::fs::write(path, bytes).map_err(|e| IoError::Fs {
