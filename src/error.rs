@@ -464,6 +464,7 @@ mod tests {
                 format: f,
                 what: s(),
             },
+            IoError::NotWritable { what: s() },
         ];
         check(&io, |e| match e {
             IoError::Empty { .. } => "Empty",
@@ -479,6 +480,7 @@ mod tests {
             IoError::Decompress { .. } => "Decompress",
             IoError::Fs { .. } => "Fs",
             IoError::InvalidInput { .. } => "InvalidInput",
+            IoError::NotWritable { .. } => "NotWritable",
         });
         check(&[setting()], |_| "SettingError");
         let field = [
