@@ -21,29 +21,13 @@ pub fn spacing_near(grid: &PointGrid, p: DVec3) -> Option<f64> {
     let mut around = Vec::new();
     let mut d: Vec<f64> = patch
         .iter()
-        .filter_map(|n| nearest_other(grid, n.point, &mut around))
+        .filter_map(|n| grid.nearest_other_within(n.point, grid.diagonal(), &mut around))
         .collect();
     if d.is_empty() {
         return None;
     }
     let mid = d.len() / 2;
     Some(*d.select_nth_unstable_by(mid, f64::total_cmp).1)
-}
-
-/// Distance from `p` (a point of the grid) to its nearest distinct point of the grid, if any.
-/// (From a point of the grid, its box's diagonal reaches every other.)
-fn nearest_other(grid: &PointGrid, p: DVec3, near: &mut Vec<Near>) -> Option<f64> {
-    let mut k = 2;
-    loop {
-        grid.nearest_within(p, grid.diagonal(), k, near);
-        if let Some(n) = near.iter().find(|n| n.d2 > 0.0) {
-            return Some(n.d2.sqrt());
-        }
-        if near.len() < k {
-            return None;
-        }
-        k *= 2;
-    }
 }
 
 #[cfg(test)]

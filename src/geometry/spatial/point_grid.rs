@@ -189,6 +189,23 @@ impl PointGrid {
         out.pop()
     }
 
+    /// The distance from `p` to the nearest point within `radius` at another position than `p`
+    /// (copies of `p` skipped: the k nearest hold every copy before any other point, so k
+    /// doubles until one is not a copy); None when there is none. `near` is scratch space.
+    pub fn nearest_other_within(&self, p: DVec3, radius: f64, near: &mut Vec<Near>) -> Option<f64> {
+        let mut k = 2;
+        loop {
+            self.nearest_within(p, radius, k, near);
+            if let Some(n) = near.iter().find(|n| n.d2 > 0.0) {
+                return Some(n.d2.sqrt());
+            }
+            if near.len() < k {
+                return None;
+            }
+            k *= 2;
+        }
+    }
+
     /// The same points as [`Self::nearest_within`], in an order fixed by the points and the grid
     /// (not by distance): for callers that only sum over them (a plane fit), which then need no
     /// sort and still get the same bits on every run.

@@ -73,22 +73,7 @@ fn compute(points: &[DVec3]) -> (f64, f64) {
     let mut near = Vec::new();
     let mut d: Vec<f64> = (0..points.len())
         .step_by(stride)
-        .filter_map(|i| {
-            // The k nearest hold every copy of the point (distance 0) before any other point:
-            // more until one is not a copy (or there are no more points).
-            let p = points[i];
-            let mut k = 2;
-            loop {
-                grid.nearest_within(p, radius, k, &mut near);
-                if let Some(n) = near.iter().find(|n| n.d2 > 0.0) {
-                    return Some(n.d2.sqrt());
-                }
-                if near.len() < k {
-                    return None;
-                }
-                k *= 2;
-            }
-        })
+        .filter_map(|i| grid.nearest_other_within(points[i], radius, &mut near))
         .collect();
     if d.is_empty() {
         return (0.0, 0.0);
