@@ -48,9 +48,9 @@ pub(super) fn local_spacing(
     (median > 0.0).then(|| (Arc::clone(grid), median))
 }
 
-/// The factor (≤ 1) by which surgery's distances shrink where the local spacing `local` is
-/// sparser than [`SPARSE`] medians: `empty` over `empty_spacings` local spacings, so that a
-/// vertex is in empty space only beyond that many local spacings from the data.
+/// The factor (≤ 1) by which surgery reads a distance where the local spacing `local` is sparser
+/// than [`SPARSE`] medians: `empty` over `empty_spacings` local spacings, so that a place counts
+/// as far from the data only beyond that many local spacings (1 elsewhere).
 fn sparse_factor(local: Option<f64>, median: f64, empty: f64, spacings: f64) -> f64 {
     match local {
         Some(l) if l > SPARSE * median => (empty / (spacings * l)).min(1.0),
