@@ -60,7 +60,6 @@ impl Evolver {
         // difference between done and out of memory in the browser).
         if !self.second_pass_may_follow() {
             self.fit_target = None;
-            self.local_spacing = None;
         }
         times.fit = now_ms() - t0;
         parts.other = times.fit - parts.named();

@@ -266,12 +266,9 @@ pub struct Evolver {
     guarded_left: u32,
     /// Surgery's "far from the data" distance (stabilised frame).
     empty_distance: f64,
-    /// A cloud's points (the fit's grid) and their median spacing (stabilised frame), for
-    /// surgery's reading of "far" where the cloud is sampled sparsely (see `surgery::SPARSE`).
-    local_spacing: Option<(
-        std::sync::Arc<crate::geometry::spatial::point_grid::PointGrid>,
-        f64,
-    )>,
+    /// A cloud's median spacing (stabilised frame), for surgery's reading of "far" where the
+    /// cloud is sampled sparsely, over the fit's grid (see `surgery::SPARSE`); None for a mesh.
+    cloud_spacing: Option<f64>,
     /// Half of `surgery.close_gaps` diagonals (stabilised frame): a tunnel narrower than this
     /// stays closed.
     close_gap_distance: f64,
@@ -617,7 +614,7 @@ impl Evolver {
         };
         let d0 = settings.flow.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
         let empty_distance = phi * empty_distance(target, c, &settings);
-        let local_spacing = surgery::local_spacing(&fit_target, target, &settings, phi);
+        let cloud_spacing = surgery::cloud_spacing(target, &settings, phi);
         let close_gap_distance = phi * close_gap_distance(target, &settings);
         let least_genus = closed.filter(|t| t.components == 1).map(|t| t.genus);
         let pass = second_pass::SecondPass::new(
@@ -661,7 +658,7 @@ impl Evolver {
             },
             guarded_left: 0,
             empty_distance,
-            local_spacing,
+            cloud_spacing,
             close_gap_distance,
             least_genus,
             surgery_events: Vec::new(),

@@ -195,7 +195,6 @@ impl Evolver {
         if self.stop_reason.is_some() || !part_outside(outside, pass.samples.len()) {
             // (As after a fit with no second pass: see `fit_if_done`.)
             self.fit_target = None;
-            self.local_spacing = None;
             return last;
         }
         let checked = pass.samples.len();
@@ -251,7 +250,6 @@ impl Evolver {
             }),
         });
         self.fit_target = None;
-        self.local_spacing = None;
         let result = match (third, second) {
             (Some(t), _) if third_kept => t,
             (_, Some(s)) if second_kept => s,

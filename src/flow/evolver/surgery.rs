@@ -11,11 +11,9 @@ use crate::flow::surgery::{
     drop_empty_components, events, open_handles, SurgeryEvent, OPENED_MARGIN,
 };
 use crate::geometry::spatial::local_spacing::spacing_near;
-use crate::geometry::spatial::point_grid::PointGrid;
 use crate::metrics::intersections::count_self_intersections;
 use crate::target::Target;
 use glam::DVec3;
-use std::sync::Arc;
 
 /// Tunnels are looked for from this share of the step limit on: by then membranes over holes
 /// they can reach have met, and the ones left are stuck (cut earlier, while still far from the
@@ -28,24 +26,15 @@ const TUNNELS_FROM: f64 = 0.5;
 /// they were.)
 const SPARSE: f64 = 1.5;
 
-/// A cloud's points (the fit's grid) and their median spacing, in the stabilised frame, for
-/// surgery's reading of local spacing; None for a mesh, without a fit or without
-/// `surgery.empty_spacings`.
-pub(super) fn local_spacing(
-    fit_target: &Option<SnapTarget>,
-    target: &Target,
-    settings: &WrapSettings,
-    phi: f64,
-) -> Option<(Arc<PointGrid>, f64)> {
+/// A cloud's median spacing in the stabilised frame, for surgery's reading of local spacing;
+/// None for a mesh or without `surgery.empty_spacings`.
+pub(super) fn cloud_spacing(target: &Target, settings: &WrapSettings, phi: f64) -> Option<f64> {
     let s = &settings.surgery;
-    let Some(SnapTarget::Points(grid)) = fit_target else {
-        return None;
-    };
-    if !s.enabled || s.empty_spacings <= 0.0 {
+    if !target.triangles.is_empty() || !s.enabled || s.empty_spacings <= 0.0 {
         return None;
     }
     let median = phi * crate::geometry::spatial::spacing::median_spacing(&target.points);
-    (median > 0.0).then(|| (Arc::clone(grid), median))
+    (median > 0.0).then_some(median)
 }
 
 /// The factor (≤ 1) by which surgery reads a distance where the local spacing `local` is sparser
@@ -131,10 +120,14 @@ impl Evolver {
         // On a cloud sampled sparsely in places, a tube needs its hole to be empty at the local
         // spacing (see `surgery::SPARSE`).
         let (empty, spacings) = (self.empty_distance, s.empty_spacings);
-        let local = self.local_spacing.as_ref();
+        // (Over the fit's grid: a cloud without a fit reads the global spacing only.)
+        let local = match (&self.fit_target, self.cloud_spacing) {
+            (Some(SnapTarget::Points(grid)), Some(median)) => Some((grid, median)),
+            _ => None,
+        };
         let sparse = |p| {
             local.map_or(1.0, |(grid, median)| {
-                sparse_factor(spacing_near(grid, p), *median, empty, spacings)
+                sparse_factor(spacing_near(grid, p), median, empty, spacings)
             })
         };
         let field = &self.field;
