@@ -70,14 +70,17 @@ impl PointGrid {
             (g.key(g.cell_of(points[i])) as u32, i as u32)
         });
         let pairs = radix_sort_by_cell(pairs, cells as u64);
-        // start[k]: the first point of cell k or later.
-        let mut j = 0;
-        for k in 0..=cells {
-            while j < pairs.len() && (pairs[j].0 as usize) < k {
-                j += 1;
+        // start[k]: the first point of cell k or later. Filled a stretch of cells at a time
+        // (a million-point fit grid has 6·10⁶ cells, and a compare per cell took 30–50 ms).
+        let mut next = 0;
+        for (j, &(c, _)) in pairs.iter().enumerate() {
+            let c = c as usize;
+            if c >= next {
+                g.start[next..=c].fill(j as u32);
+                next = c + 1;
             }
-            g.start[k] = j as u32;
         }
+        g.start[next..].fill(pairs.len() as u32);
         g.order = pairs.iter().map(|&(_, i)| i).collect();
         g.points = crate::parallel::map(g.order.len(), |j| points[g.order[j] as usize]);
         g
@@ -386,7 +389,8 @@ mod tests {
 
     /// The radix sort leaves the points as a counting sort does: by cell, in input order
     /// within a cell (over more cells than one digit holds, and with points outside the box's
-    /// rounding clamped into the last cells).
+    /// rounding clamped into the last cells); each cell's start is the first point in it or
+    /// after it.
     #[test]
     fn buckets_are_those_of_a_stable_sort_by_cell() {
         let mut rng = crate::demo::Rng::new(5);
@@ -401,10 +405,10 @@ mod tests {
                 .collect();
             want.sort_by_key(|&(k, _)| k); // stable
             assert_eq!(g.order, want.iter().map(|&(_, i)| i).collect::<Vec<_>>());
-            for (j, &(k, _)) in want.iter().enumerate() {
-                assert!(g.start[k] as usize <= j && j < g.start[k + 1] as usize);
+            // Every cell, empty ones included, starts at the first point of it or later.
+            for (k, &start) in g.start.iter().enumerate() {
+                assert_eq!(start as usize, want.partition_point(|&(c, _)| c < k));
             }
-            assert_eq!(*g.start.last().unwrap() as usize, pts.len());
         }
     }
 }
