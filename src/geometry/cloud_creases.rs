@@ -64,16 +64,23 @@ pub fn detect_cloud_creases(
     let centroid = points.iter().fold(DVec3::ZERO, |a, &p| a + p) / points.len() as f64;
     // 1. The normal (either sign) and surface variation of every tested point.
     let n = tested.len();
-    let fits: Vec<Option<(DVec3, f64)>> = crate::parallel::map_chunked(
+    // (Asked in cell order, then put back: the same fits.)
+    let order = grid.query_order(&tested);
+    let by_cell: Vec<Option<(DVec3, f64)>> = crate::parallel::map_chunked(
         n,
         PROGRESS_CHUNK,
-        |i| {
+        |j| {
             let mut near = Vec::with_capacity(NEIGHBOURS);
-            grid.nearest_within_unordered(tested[i], radius, NEIGHBOURS, &mut near);
+            let p = tested[order[j] as usize];
+            grid.nearest_within_unordered(p, radius, NEIGHBOURS, &mut near);
             plane_fit(near.iter().map(|q| q.point))
         },
         &mut |k| done(0.5 * k as f64 / n as f64),
     );
+    let mut fits = vec![None; n];
+    for (&i, fit) in order.iter().zip(by_cell) {
+        fits[i as usize] = fit;
+    }
     // 2. Near-crease points: groups of their flat neighbours' normals.
     let flat_grid = PointGrid::new(&tested, GATHER * radius);
     let found: Vec<Option<Feature>> = crate::parallel::map_chunked(

@@ -86,6 +86,17 @@ impl PointGrid {
         g
     }
 
+    /// The indices of `queries` in the order of the cells they fall in (input order within a
+    /// cell): asked in this order, queries that lie close together read the same cells one
+    /// after another, from the cache, where in a scan's order each query's cells are a miss.
+    pub fn query_order(&self, queries: &[DVec3]) -> Vec<u32> {
+        let pairs: Vec<(u32, u32)> = crate::parallel::map(queries.len(), |i| {
+            (self.key(self.cell_of(queries[i])) as u32, i as u32)
+        });
+        let sorted = radix_sort_by_cell(pairs, (self.start.len() - 1) as u64);
+        sorted.into_iter().map(|(_, i)| i).collect()
+    }
+
     /// The points in cell order and each one's index in the order they were given.
     pub fn cell_ordered(&self) -> (&[DVec3], &[u32]) {
         (&self.points, &self.order)
@@ -385,6 +396,25 @@ mod tests {
         assert_eq!(PointGrid::new(&sparse, 0.1).cell(), 0.1);
         PointGrid::new(&[], 0.1).nearest_within(DVec3::ZERO, 1.0, 4, &mut out);
         assert!(out.is_empty());
+    }
+
+    /// Queries in cell order: every index once, by cell, in input order within a cell (also
+    /// for queries outside the points' box, clamped into its border cells).
+    #[test]
+    fn queries_in_cell_order() {
+        let mut rng = crate::demo::Rng::new(8);
+        let mut cube = || DVec3::new(rng.uniform(), rng.uniform(), rng.uniform());
+        let pts: Vec<DVec3> = (0..5_000).map(|_| cube()).collect();
+        let queries: Vec<DVec3> = (0..3_000)
+            .map(|_| 1.4 * cube() - DVec3::splat(0.2))
+            .collect();
+        let g = PointGrid::with_cell(&pts, 0.05);
+        let order = g.query_order(&queries);
+        let key = |i: u32| g.key(g.cell_of(queries[i as usize]));
+        let mut want: Vec<u32> = (0..queries.len() as u32).collect();
+        want.sort_by_key(|&i| key(i)); // stable
+        assert_eq!(order, want);
+        assert!(key(order[0]) < key(order[order.len() - 1]));
     }
 
     /// The radix sort leaves the points as a counting sort does: by cell, in input order
