@@ -167,6 +167,59 @@ pub fn certify(
     )
 }
 
+/// What building the half-edge mesh says: manifold and oriented as far as it can tell, the
+/// first problem met, the topology, and the faces of zero area.
+struct MeshChecks {
+    manifold: bool,
+    oriented: bool,
+    problem: Option<String>,
+    report: Option<crate::mesh::MeshReport>,
+    degenerate_faces: usize,
+}
+
+impl MeshChecks {
+    /// `manifold`: the edge counts found no edge with more than two faces; `closed_finite`: no
+    /// boundary edge and every position finite (a degenerate face's topology is read then).
+    fn of(
+        positions: &[DVec3],
+        triangles: &[[u32; 3]],
+        manifold: bool,
+        closed_finite: bool,
+    ) -> Self {
+        let mut c = MeshChecks {
+            manifold,
+            oriented: true,
+            problem: None,
+            report: None,
+            degenerate_faces: 0,
+        };
+        match HalfedgeMesh::from_triangles(positions.to_vec(), triangles) {
+            Err(e) => {
+                match e {
+                    MeshBuildError::NonManifoldEdge { .. } if manifold => c.oriented = false,
+                    MeshBuildError::NonManifoldVertex { .. } => c.manifold = false,
+                    _ => c.manifold = false,
+                }
+                c.problem = Some(e.to_string());
+            }
+            Ok(m) => {
+                c.degenerate_faces = (0..m.n_faces() as u32)
+                    .filter(|&f| m.face_normal_area(f).1 <= 0.0)
+                    .count();
+                match m.validate() {
+                    Ok(r) => c.report = Some(r),
+                    Err(ValidationError::NonManifoldVertex { .. }) => c.manifold = false,
+                    Err(ValidationError::DegenerateFace { .. }) if closed_finite => {
+                        c.report = Some(m.topology());
+                    }
+                    Err(e) => c.problem = Some(e.to_string()),
+                }
+            }
+        }
+        c
+    }
+}
+
 /// [`certify`] with the target's side already built.
 pub fn certify_against(
     positions: &[DVec3],
@@ -174,44 +227,32 @@ pub fn certify_against(
     target: Option<&CertificateTarget>,
 ) -> Certificate {
     let finite = positions.iter().all(|p| p.is_finite());
-    let edges = edge_counts(triangles);
-    let closed = edges.boundary == 0 && !triangles.is_empty();
-    let mut manifold = edges.non_manifold == 0;
-    let mut oriented = true;
-    let mut problem = None;
-    let mut report = None;
-    let mut degenerate_faces = 0;
-    match HalfedgeMesh::from_triangles(positions.to_vec(), triangles) {
-        Err(e) => {
-            match e {
-                MeshBuildError::NonManifoldEdge { .. } if manifold => oriented = false,
-                MeshBuildError::NonManifoldVertex { .. } => manifold = false,
-                _ => manifold = false,
-            }
-            problem = Some(e.to_string());
-        }
-        Ok(m) => {
-            degenerate_faces = (0..m.n_faces() as u32)
-                .filter(|&f| m.face_normal_area(f).1 <= 0.0)
-                .count();
-            match m.validate() {
-                Ok(r) => report = Some(r),
-                Err(ValidationError::NonManifoldVertex { .. }) => manifold = false,
-                Err(ValidationError::DegenerateFace { .. }) if closed && finite => {
-                    report = Some(m.topology());
-                }
-                Err(e) => problem = Some(e.to_string()),
-            }
-        }
-    }
+    // The checks are independent: natively the self-intersections are counted beside the
+    // topology, and the distances measured beside the outside test (spot 1 M: 84 ms one after
+    // another).
+    let (self_intersections, (edges, closed, mesh)) = crate::parallel::beside(
+        || match finite {
+            true => count_self_intersections(positions, triangles),
+            false => 0,
+        },
+        || {
+            let edges = edge_counts(triangles);
+            let closed = edges.boundary == 0 && !triangles.is_empty();
+            let manifold = edges.non_manifold == 0;
+            let mesh = MeshChecks::of(positions, triangles, manifold, closed && finite);
+            (edges, closed, mesh)
+        },
+    );
+    let MeshChecks {
+        manifold,
+        oriented,
+        mut problem,
+        report,
+        degenerate_faces,
+    } = mesh;
     if triangles.is_empty() {
         problem = Some("the mesh has no faces".into());
     }
-    let self_intersections = if finite {
-        count_self_intersections(positions, triangles)
-    } else {
-        0
-    };
     let valid = closed && manifold && oriented && finite && self_intersections == 0;
     if problem.is_none() && !valid {
         problem = Some(if !finite {
@@ -226,26 +267,28 @@ pub fn certify_against(
             format!("{self_intersections} pairs of faces intersect")
         });
     }
-    let (distance_min, distance_max) = match target {
-        Some(t) if finite && !positions.is_empty() => {
-            let d = crate::parallel::map(positions.len(), |i| t.distance(positions[i]));
-            (
-                Some(d.iter().copied().fold(f64::INFINITY, f64::min)),
-                Some(d.iter().copied().fold(0.0, f64::max)),
-            )
-        }
-        _ => (None, None),
-    };
+    let ((distance_min, distance_max), outside) = crate::parallel::beside(
+        || match target {
+            Some(t) if finite && !positions.is_empty() => {
+                let d = crate::parallel::map(positions.len(), |i| t.distance(positions[i]));
+                (
+                    Some(d.iter().copied().fold(f64::INFINITY, f64::min)),
+                    Some(d.iter().copied().fold(0.0, f64::max)),
+                )
+            }
+            _ => (None, None),
+        },
+        || match target {
+            Some(t) if closed && manifold && oriented && finite => Some(points_outside(
+                positions,
+                triangles,
+                &t.samples,
+                t.outside_tolerance,
+            )),
+            _ => None,
+        },
+    );
     let target_topology = target.and_then(|t| t.topology);
-    let outside = match target {
-        Some(t) if closed && manifold && oriented && finite => Some(points_outside(
-            positions,
-            triangles,
-            &t.samples,
-            t.outside_tolerance,
-        )),
-        _ => None,
-    };
     Certificate {
         valid,
         closed,
