@@ -209,6 +209,20 @@ pub enum FieldError {
     },
 }
 
+/// A field's grid laid out for a checked target (see [`DistanceField::plan`]).
+#[derive(Clone, Debug)]
+pub struct FieldPlan {
+    grid: Grid,
+    beta: f64,
+}
+
+impl FieldPlan {
+    /// The cell size the field will have.
+    pub fn cell_size(&self) -> f64 {
+        self.grid.cell
+    }
+}
+
 /// Milliseconds spent in each phase of [`DistanceField::new`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct FieldTimings {
@@ -271,21 +285,14 @@ impl DistanceField {
     /// build would fail). (A cloud's follows its point spacing, which is remembered for the build
     /// on this thread.)
     pub fn planned_cell_size(target: &Target, settings: &FieldSettings) -> Option<f64> {
-        if target.points.iter().any(|p| !p.is_finite()) {
-            return None;
-        }
-        settings.check().ok()?;
-        Self::grid_for(target, settings).ok().map(|(g, _)| g.cell)
+        Self::plan(target, settings).ok().map(|p| p.cell_size())
     }
 
-    /// [`DistanceField::new`], reporting the near band (the long part on big inputs) per item and
-    /// the sweep, sign and gradient as they finish.
-    pub fn new_with_progress(
-        target: &Target,
-        settings: &FieldSettings,
-        progress: &mut Progress,
-    ) -> Result<Self, FieldError> {
-        let t0 = crate::clock::now_ms();
+    /// Checks `target` and `settings` and lays out the grid the field will have, for
+    /// [`DistanceField::new_planned`]: a caller that needs the cell size before the field (the
+    /// evolver, to build the fit's grid beside it) lays it out once (the principal box of a
+    /// million points is six passes over them).
+    pub fn plan(target: &Target, settings: &FieldSettings) -> Result<FieldPlan, FieldError> {
         settings.check()?;
         if target.points.is_empty() {
             return Err(FieldError::EmptyTarget);
@@ -302,6 +309,30 @@ impl DistanceField {
             return Err(FieldError::BadTriangle { triangle });
         }
         let (grid, beta) = Self::grid_for(target, settings)?;
+        Ok(FieldPlan { grid, beta })
+    }
+
+    /// [`DistanceField::new`], reporting the near band (the long part on big inputs) per item and
+    /// the sweep, sign and gradient as they finish.
+    pub fn new_with_progress(
+        target: &Target,
+        settings: &FieldSettings,
+        progress: &mut Progress,
+    ) -> Result<Self, FieldError> {
+        let plan = Self::plan(target, settings)?;
+        Self::new_planned(target, settings, plan, progress)
+    }
+
+    /// [`DistanceField::new_with_progress`] on the grid `plan` laid out for this `target` and
+    /// these `settings`.
+    pub fn new_planned(
+        target: &Target,
+        settings: &FieldSettings,
+        plan: FieldPlan,
+        progress: &mut Progress,
+    ) -> Result<Self, FieldError> {
+        let t0 = crate::clock::now_ms();
+        let FieldPlan { grid, beta } = plan;
         let init = settings.truncation.map_or(f64::INFINITY, |t| t * beta);
 
         let t1 = crate::clock::now_ms();

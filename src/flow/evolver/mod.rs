@@ -525,7 +525,10 @@ impl Evolver {
         // and the start only through the cell size and φ, both known from the settings: they are
         // built on other threads while the field and the start are (bust: 255 ms of setup), for
         // the start the settings ask for, and again below in the rare case of another start.
-        let planned = DistanceField::planned_cell_size(target, &settings.field).map(|cell| {
+        // (The field's grid is laid out once, for both.)
+        let plan = DistanceField::plan(target, &settings.field);
+        let planned = plan.as_ref().ok().map(|p| {
+            let cell = p.cell_size();
             // (A cloud's field is never signed; a mesh's is where it is closed, the usual case.)
             let guess = settings.clone().resolved_for(!target.triangles.is_empty());
             FitKey::new(&guess, target, cell, start_scale(target, cell, &guess))
@@ -534,7 +537,7 @@ impl Evolver {
         let (prebuilt, start) = crate::parallel::beside(
             || planned.map(|k| (k, k.build(target, center))),
             || -> Result<_, EvolveError> {
-                let field = DistanceField::new_with_progress(target, &settings.field, progress)?;
+                let field = DistanceField::new_planned(target, &settings.field, plan?, progress)?;
                 let mut resolved = settings.clone().resolved_for(field.is_signed());
                 progress.report(START_PHASE, 0.0);
                 // The target's topology where it is closed: for the start's checks and
