@@ -51,12 +51,14 @@ pub fn radix_sort_by_cell<K: Copy + Into<u64> + Send + Sync>(
                 at += n;
             }
         }
-        let target = Target(out.as_mut_ptr(), out.len());
+        let shared = SharedOut(out.as_mut_ptr(), out.len());
         let scatter = |r: usize, start: &[usize]| {
             let mut start = start.to_vec();
             for &pair in runs[r] {
                 let d = digit(pair.0);
-                target.write(start[d], pair);
+                // SAFETY: the runs' digit stretches are disjoint, so no other run's thread
+                // writes `start[d]` in this pass, and nothing reads `out` until it ends.
+                unsafe { shared.write(start[d], pair) };
                 start[d] += 1;
             }
         };
@@ -81,17 +83,20 @@ const PARALLEL_FROM: usize = 1 << 16;
 
 /// The output of a scatter pass, written from several threads at places that are disjoint by
 /// construction: the runs' digit stretches partition it.
-struct Target<T>(*mut T, usize);
+struct SharedOut<T>(*mut T, usize);
 
-// SAFETY: the pointer is only written through [`Target::write`], at indices that no other
-// thread writes in the same pass (see `radix_sort_by_cell`), into a buffer that outlives it.
-unsafe impl<T: Send> Sync for Target<T> {}
+// SAFETY: the pointer is only written through [`SharedOut::write`], whose callers keep the
+// threads on disjoint indices, into a buffer that outlives the pass.
+unsafe impl<T: Send> Sync for SharedOut<T> {}
 
-impl<T> Target<T> {
-    fn write(&self, i: usize, value: T) {
+impl<T> SharedOut<T> {
+    /// Writes `value` at index `i` (checked against the length; the old entry is not dropped).
+    ///
+    /// # Safety
+    /// No other thread may read or write index `i` while this runs.
+    unsafe fn write(&self, i: usize, value: T) {
         assert!(i < self.1, "radix scatter out of bounds");
-        // SAFETY: in bounds (checked), and no other thread reads or writes index `i` in this
-        // pass (`write` drops nothing: the old entry is a plain copy).
+        // SAFETY: in bounds (checked); the caller keeps other threads off index `i`.
         unsafe { self.0.add(i).write(value) }
     }
 }
