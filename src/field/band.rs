@@ -18,8 +18,8 @@ use glam::DVec3;
 
 /// From this many triangles on, the band is found node by node ([`triangles_band_by_nodes`])
 /// rather than triangle by triangle: a marching-cubes iso-surface of a volume has millions of
-/// triangles far smaller than a cell, and splatting each over its (2k+1)³ nodes cost 6.6 s on the
-/// 3.3 M-triangle brain iso-surface.
+/// triangles far smaller than a cell, and splatting each over its (2k+1)³ nodes would visit every
+/// node many times over.
 pub const NODE_QUERY_TRIANGLES: usize = 1_000_000;
 
 /// The initial condition for fast sweeping.
@@ -104,9 +104,8 @@ pub fn points_band(
                         let row = x0 + nx * (iy + ny * (iz - z_first));
                         let out = &mut slab[row..=row + (x1 - x0)];
                         for (v, &a) in out.iter_mut().zip(&dx2) {
-                            // A select and a store every time, not a store on a branch:
-                            // vectorised natively, the splat took a fifth less (spot 1 M:
-                            // band 214 → 173 ms; in wasm the same 570 ms); the same minimum.
+                            // A select and a store every time, not a store on a branch: it
+                            // vectorises natively, and the minimum is the same.
                             let s = a + dyz;
                             *v = if s < *v { s } else { *v };
                         }
@@ -226,8 +225,7 @@ pub fn triangles_band(
 
 /// A node's nearest triangle so far in [`triangles_band`]: its squared distance, the distance
 /// rounded up (kept so that the bounding-sphere rejection needs no square root per visit; a
-/// bound too large only skips fewer nodes) and its index. 16 bytes a node, as much as the
-/// separate arrays took before.
+/// bound too large only skips fewer nodes) and its index. 16 bytes a node.
 #[derive(Clone, Copy)]
 struct Nearest {
     d2: f64,
@@ -284,8 +282,7 @@ const CLUSTER_CELLS: f64 = 1.0;
 
 /// Triangles whose centres share a cube of [`CLUSTER_CELLS`]: their grown boxes nearly coincide,
 /// so one test against the cluster's box turns a node away from all of them. (Splatted one by
-/// one, a dense mesh's triangles visited every band node ~1 600 times: 72 M visits for the
-/// 44 K band nodes of a 330 K-triangle bust.)
+/// one, a dense mesh's triangles would visit every band node hundreds of times.)
 struct Cluster {
     /// The triangles, in index order.
     triangles: Vec<u32>,
@@ -622,7 +619,7 @@ mod node_query_tests {
 
     #[test]
     fn node_queries_equal_the_splat_on_the_band() {
-        // A genus-2 surface of small triangles (~60 K) on a coarse grid.
+        // A genus-2 surface of many triangles, small against the cells of a coarse grid.
         let (p, t) = crate::demo::genus2_surface(120);
         let settings = FieldSettings {
             cells_per_min_dimension: 12,
@@ -666,7 +663,8 @@ mod cluster_tests {
     use crate::field::FieldSettings;
     use crate::geometry::aabb::Aabb;
 
-    /// The splat before clusters, kept as the reference: triangle `t` = `[a, b, c]` offers its exact distance to the nodes of `slab` (whose first
+    /// The plain splat without clusters, the reference the clustered one is checked against:
+    /// triangle `t` = `[a, b, c]` offers its exact distance to the nodes of `slab` (whose first
     /// z-plane is `z_first`) within `r` of its plane and its grown box (`xy` node ranges, `z`
     /// planes); each keeps the nearer.
     #[allow(clippy::too_many_arguments)]

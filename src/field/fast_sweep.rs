@@ -8,19 +8,18 @@
 //! * else `u = (a + b + √(2h² − (a − b)²))/2`; if `u ≤ c` done (two-dimensional);
 //! * else the three-term root `u = (a + b + c + √((a+b+c)² − 3(a² + b² + c² − h²)))/3`;
 //!   a negative discriminant falls back to the two-dimensional value (the reference takes
-//!   `√|disc|` instead, §13.6).
+//!   `√|disc|` instead, docs/method.md §13.6).
 //!
 //! A value is only ever lowered. Sweeping stops after the first pass in which no value dropped
 //! by more than `tolerance·h`. Nodes none of whose neighbours dropped (by more than that) since
 //! their last update are skipped ("locking", Bak et al. 2010): their update could not change.
-//! With
-//! `tolerance = 0` this is "until no value changes": in a Gauss–Seidel pass that changes nothing
-//! every node was updated against the final values of its neighbours, so the discrete solution
-//! is reached exactly, but round-off ripples (drops of 1e-12 h) can keep that going for ~60 passes
-//! on a real scan. The drops after the first cycle are already below 1e-4 h (bunny: 4e-5 h after
-//! pass 9, 3e-8 h after pass 16), far below the scheme's O(h) discretisation error, hence the
-//! default tolerance 1e-4 (see `FieldSettings::sweep_tolerance`). [`SweepReport::converged`] is
-//! false when the pass cap stopped it first.
+//! With `tolerance = 0` this is "until no value changes": in a Gauss–Seidel pass that changes
+//! nothing every node was updated against the final values of its neighbours, so the discrete
+//! solution is reached exactly, but round-off ripples can keep that going for dozens of passes.
+//! The drops after the first cycle are typically already below 1e-4 h, far below the scheme's
+//! O(h) discretisation error, hence the default tolerance 1e-4 (see
+//! `FieldSettings::sweep_tolerance`). [`SweepReport::converged`] is false when the pass cap
+//! stopped it first.
 
 use super::grid::Grid;
 use std::sync::atomic::Ordering::{Acquire, Relaxed, Release};
@@ -388,8 +387,8 @@ const ACTIVE: u8 = 1;
 const FROZEN: u8 = 2;
 
 /// Rows swept together, skewed by one node each (see [`sweep_rows`]). Grouping helps the
-/// native cores' caches; wasm (one thread, no wide loads) measured 5 % faster one row at a
-/// time, and the result is bit-identical either way.
+/// native cores' caches; wasm (one thread, no wide loads) is faster one row at a time, and the
+/// result is bit-identical either way.
 const GROUP: usize = if cfg!(target_arch = "wasm32") { 1 } else { 4 };
 
 /// One row of a pass: first storage index, neighbour offsets (y−, y+, z−, z+; 0 = missing),

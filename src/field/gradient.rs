@@ -1,4 +1,4 @@
-//! The normalised negative gradient `g = −∇d/|∇d|` at every node [method §2.7].
+//! The normalised negative gradient `g = −∇d/|∇d|` at every node [docs/method.md §2.7].
 //!
 //! Central differences `(d[i+1] − d[i−1])/(2c)` inside, one-sided differences on the border
 //! planes (the reference leaves border nodes at zero; one-sided values keep the field pulling

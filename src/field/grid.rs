@@ -1,17 +1,16 @@
 //! The voxel lattice of a distance field: where its nodes are and how they are numbered.
 //!
 //! Values live at **nodes** `origin + (ix, iy, iz)·c` for `0 ≤ ix < nx` etc.; there is no
-//! half-cell shift (a node's value is the distance measured at that very node). Storage index:
+//! half-cell shift (a node's value is the distance at that very node). Storage index:
 //! `i = ix + nx·(iy + ny·iz)` (x fastest, then y, then z), as in the reference and in VTK
 //! structured points.
 //!
-//! Layout [method §2.1–2.2]: `c = β_min / N` with `β_min` the smallest side of the target's
-//! bounding box (of its principal box when that is much tighter: [`reference_length_of`]) and
-//! `N` the cells per minimum dimension; the box is expanded by `ζ·β_min` on every
-//! side; the node count per axis is the number of cells plus one, so the last node plane lies on
-//! or just beyond the expanded box (the reference's "133×132×121" for the bunny are cell counts:
-//! here 134×133×122 nodes). The lattice starts at the expanded box's corner (not at the world
-//! origin; nothing depends on that).
+//! Layout [docs/method.md §2.1–2.2]: `c = β_min / N` with `β_min` the smallest side of the target's
+//! bounding box (of its principal box when that is much tighter: [`reference_length_of`]) and `N`
+//! the cells per minimum dimension; the box is expanded by `ζ·β_min` on every side; the node count
+//! per axis is the number of cells plus one, so the last node plane lies on or just beyond the
+//! expanded box (the reference reports cell counts: here each axis has one node more). The lattice
+//! starts at the expanded box's corner (not at the world origin; nothing depends on that).
 
 use super::{FieldError, FieldSettings};
 use crate::geometry::aabb::Aabb;
@@ -174,10 +173,9 @@ pub fn reference_length_of(points: &[DVec3], slack: f64) -> f64 {
 }
 
 /// A target about aligned with the axes keeps the method's grid bit for bit: its principal box
-/// must be this much tighter than the axis-aligned one to count. Every file of the shared data
-/// keeps its grid: the bunny's principal reference is 0.87 of its axis-aligned one, the minimal
-/// bunny cloud's 0.82, the others' 0.99 or more. The genus sweep's turned clouds fall to 0.29
-/// (a plate) … 0.72 (a chain of tori) and get a grid at most this much coarser than lying flat.
+/// must be this much tighter than the axis-aligned one to count (its reference length below
+/// 1/1.25 of the aligned one), which scans lying about straight are not. A target lying turned
+/// gets a grid at most this much coarser than lying flat.
 pub const TURNED_SLACK: f64 = 1.25;
 
 fn reference_length_of_sides(s: DVec3) -> f64 {
@@ -190,12 +188,9 @@ fn reference_length_of_sides(s: DVec3) -> f64 {
 }
 
 /// The smallest β_min relative to the longest side: at most 40 / 0.16 = 250 cells along the
-/// longest side at the default N. Every real scan in the test data is above it; flat targets
-/// are not, and at 1/10 (until 2026-11-25) they paid for it in time and vertices without a
-/// measurable gain in detail: 3Torus.obj (4.7 × 0.46 × 4.5) 19.7 → 7.5 s, 86 K → 35 K
-/// vertices, Hausdorff 0.05 → 0.08 %; a plate with three holes (17:1) 31 → 12 s, 101 K → 41 K
-/// vertices, 0.19 → 0.26 %, genus 3 either way; the 1 × 0.6 × 0.01 plate 19 → 7.5 s, exact
-/// either way.
+/// longest side at the default N. Real scans are above it; flat targets are not, and a finer
+/// grid costs them time and vertices without a measurable gain in detail (see
+/// docs/decisions/).
 pub const MIN_REFERENCE_RATIO: f64 = 0.16;
 
 /// The largest cells-per-minimum-dimension whose grid fits under the memory cap (at least 1).
@@ -222,8 +217,8 @@ mod tests {
     use super::*;
 
     /// A flat slab's points turned about two axes: the reference length stays within
-    /// [`TURNED_SLACK`] of the slab lying flat (the axis-aligned box alone gave 4.6×); lying flat
-    /// it is the method's.
+    /// [`TURNED_SLACK`] of the slab lying flat (the axis-aligned box alone would be several times
+    /// longer); lying flat it is the method's.
     #[test]
     fn a_turned_slab_keeps_about_its_reference_length() {
         let flat: Vec<DVec3> = (0..4000)

@@ -1,5 +1,5 @@
 //! The distance field that drives the flow: exact near the target, fast everywhere, signed when
-//! it can be [method §2; project decision 1].
+//! it can be [docs/method.md §2; project decision 1].
 //!
 //! Pipeline of [`DistanceField::new`], one file per step:
 //! [`grid`] (lattice layout) → [`band`] (exact distances within `k` cells) → [`fast_sweep`]
@@ -9,9 +9,9 @@
 //! Precision: values are **f64** (8 bytes per node): the band is exact to rounding, which the
 //! tests check to 1e-9 relative, and the flow subtracts d₀ from values of order c. The gradient is
 //! a unit vector stored as **3×f32** (12 bytes per node), see [`gradient`]. With the 1-byte band
-//! flag a field holds 21 bytes per node (bunny, 133×133×121 nodes: 45 MB). While building, the
-//! sweep works on an f32 copy (it is memory-bound, and its O(c) error dwarfs f32 rounding) with
-//! 1 byte of state per node, and mesh targets keep a 4-byte nearest-triangle index per node.
+//! flag a field holds 21 bytes per node. While building, the sweep works on an f32 copy (it is
+//! memory-bound, and its O(c) error dwarfs f32 rounding) with 1 byte of state per node, and mesh
+//! targets keep a 4-byte nearest-triangle index per node.
 //!
 //! Isosurfaces ([`DistanceField::isosurface`]) come from
 //! [`crate::geometry::marching_cubes`]: closed, manifold, oriented, welded.
@@ -71,7 +71,8 @@ pub struct FieldSettings {
     pub max_sweep_passes: u32,
     /// Sweeping stops after the first pass (from the 8th on) in which no value dropped by more
     /// than `sweep_tolerance·c`; 0 means "until no value changes at all". Unit: cells.
-    /// Range 0–1; default 1e-4 (9–12 passes on real targets; the scheme's own error is O(c)).
+    /// Range 0–1; default 1e-4 (the scheme's own error is O(c), so a tighter tolerance gains
+    /// nothing).
     pub sweep_tolerance: f64,
     /// Memory cap in bytes for the finished field (21 bytes per node, see the module docs); a
     /// larger grid is refused with [`FieldError::TooLarge`]. Default 1 GiB.
@@ -79,8 +80,8 @@ pub struct FieldSettings {
     /// Point clouds only: the cell is at least this many median nearest-neighbour spacings, so a
     /// sparse cloud gets a grid coarse enough that the offset surface d = d₀ cannot slip between
     /// its points (then it would wrap each point on its own and the vertex count would run away).
-    /// 0 turns it off. Range 0–10; default 2 (dense scans such as the bunny are below it and keep
-    /// N cells per β_min; a 1 300-point cow gets a 3.6× coarser grid).
+    /// 0 turns it off. Range 0–10; default 2 (dense scans are below it and keep N cells per
+    /// β_min; only sparse clouds get a coarser grid).
     pub min_cell_spacings: f64,
     /// Point clouds only: a point is a stray return, left out of the field, the start and the
     /// fit, when fewer than 6 points (itself included) lie within this many median spacings of
@@ -91,18 +92,17 @@ pub struct FieldSettings {
     pub outlier_spacings: f64,
     /// A target lying turned away from the axes gets the grid of its principal box: β_min is the
     /// smaller of the axis-aligned box's and this many times the principal box's (see
-    /// [`grid::reference_length_of`]). 0 keeps the method's axis-aligned box (share links made
-    /// before 2026-11-29 decode to 0). Range 0 or 1–100; default 1.25.
+    /// [`grid::reference_length_of`]). 0 keeps the method's axis-aligned box (share links
+    /// without this key decode to 0). Range 0 or 1–100; default 1.25.
     pub principal_slack: f64,
     /// Point clouds only: nodes deeper than this many cells inside a region the cloud encloses
     /// (the inside of a solid sampled all round: not linked to the grid's border by nodes one
     /// cell farther still from every point, see [`sign::negate_enclosed`]) get a negative
-    /// distance. A wrap vertex that slipped past a
-    /// sharp rim into such a part is then held and regrown instead of driven on through it by
-    /// the full-wrap term (a 0.1-thick square frame had its corners cut and gained two handles).
-    /// Parts thinner than twice this, and clouds with wide gaps, stay unsigned. 0 keeps the
-    /// field unsigned (share links made before 2026-11-29's twenty-seventh session decode to 0).
-    /// Range 0 or 1–16; default 2.
+    /// distance. A wrap vertex that slips past a sharp rim into such a part is then held and
+    /// regrown instead of driven on through it by the full-wrap term (which would cut a thin
+    /// frame's corners and open false handles). Parts thinner than twice this, and clouds with
+    /// wide gaps, stay unsigned. 0 keeps the field unsigned (share links without this key
+    /// decode to 0). Range 0 or 1–16; default 2.
     pub enclosed_cells: f64,
 }
 
@@ -368,7 +368,7 @@ impl DistanceField {
         let t2 = crate::clock::now_ms();
         progress.report("distance field: sweeps", 0.0);
         // The sign reads only the band and the mesh: worked out beside the sweep, which fills
-        // in the values away from the band on one thread (bunny: 94 of its 240 ms).
+        // in the values away from the band on one thread.
         let ((signedness, inside, sign_ms), sweep) = crate::parallel::beside(
             || {
                 let t = crate::clock::now_ms();
@@ -516,7 +516,7 @@ impl DistanceField {
 
     /// Maps the field into a uniformly scaled frame `x' = φ·(x − center)`: the grid moves and
     /// shrinks/grows with it and distances are multiplied by φ (> 0); gradients, being unit
-    /// directions, are unchanged. This is the stabilised frame of the flow [method §3.2].
+    /// directions, are unchanged. This is the stabilised frame of the flow [docs/method.md §3.2].
     pub fn scale_uniform(&mut self, center: DVec3, phi: f64) {
         assert!(
             phi > 0.0 && phi.is_finite(),
@@ -543,7 +543,7 @@ impl DistanceField {
     }
 
     /// The isosurface `d = iso` extracted on a lattice of cell size `factor·c` over the same box,
-    /// with values resampled trilinearly [method §5.3 step 1]; `factor = 1` is
+    /// with values resampled trilinearly [docs/method.md §5.3 step 1]; `factor = 1` is
     /// [`DistanceField::isosurface`]. `factor` > 1 gives fewer, larger triangles. `factor` is
     /// clamped to 0.5–16 (below 0.5 the resampled grid would hold over 8× the nodes); a
     /// non-finite factor counts as 1.
@@ -567,11 +567,10 @@ impl DistanceField {
     /// [`DistanceField::isosurface_resampled`] for the clamp), for the level set `d = iso`.
     ///
     /// Only the window of the resampled lattice around the nodes below `iso` is sampled (the
-    /// icosphere's padded box is mostly far from the target: cube-hole samples 38 % of the
-    /// lattice's 531 K nodes). The window keeps the lattice's origin (see
-    /// [`ScalarGridView::first`](crate::geometry::marching_cubes::ScalarGridView)), and every node
-    /// outside it is ≥ `iso` and linked to the border, so the (exterior) isosurface is the same,
-    /// bit for bit, as over the whole lattice.
+    /// icosphere's padded box is mostly far from the target). The window keeps the lattice's origin
+    /// (see [`ScalarGridView::first`](crate::geometry::marching_cubes::ScalarGridView)), and every
+    /// node outside it is ≥ `iso` and linked to the border, so the (exterior) isosurface is the
+    /// same, bit for bit, as over the whole lattice.
     fn with_resampled<R>(
         &self,
         factor: f64,

@@ -1,4 +1,4 @@
-//! Trilinear interpolation of node values at any point [method §2.8].
+//! Trilinear interpolation of node values at any point [docs/method.md §2.8].
 //!
 //! Computed in local coordinates `t = (p − origin)/c` (the reference expands the polynomial in
 //! world coordinates, which loses digits far from the origin). The point is first **clamped into

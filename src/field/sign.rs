@@ -1,4 +1,5 @@
-//! The sign of a mesh distance field: negative inside, positive outside [method §2.6, §13.4].
+//! The sign of a mesh distance field: negative inside, positive outside [docs/method.md §2.6,
+//! §13.4].
 //!
 //! * **Band nodes** take the sign of `(p − q)·n` where `q` is the closest point on the nearest
 //!   triangle and `n` the angle-weighted pseudo-normal of the feature holding `q` (face normal,
@@ -105,8 +106,8 @@ fn signed_volume(points: &[DVec3], triangles: &[[u32; 3]]) -> f64 {
 /// Marks the exterior: nodes reachable from the grid border through non-frozen nodes
 /// (6-connected). A scanline fill: each seed grows into its whole run along x, and the rows
 /// beside the run (y ± 1, z ± 1) get one seed per stretch of open nodes. The stack then holds
-/// runs rather than nodes, and rows are read in order (bunny cloud, 2.1 M nodes: ≈ 10 ms where a
-/// node-by-node fill took ≈ 50). The exterior is a set, so the order of the fill cannot change it.
+/// runs rather than nodes, and rows are read in order (several times faster than a node-by-node
+/// fill). The exterior is a set, so the order of the fill cannot change it.
 fn flood_exterior(grid: &Grid, frozen: impl Fn(usize) -> bool) -> Vec<bool> {
     let [nx, ny, nz] = grid.dims;
     let mut outside = vec![false; grid.node_count()];
@@ -170,8 +171,8 @@ pub fn negate_inside(values: &mut [f64], inside: Option<&[bool]>) {
 
 /// The exterior flood of [`negate_enclosed`] runs over the nodes this many cells farther from
 /// the data than its `level`: a random sampling leaves gaps that a band of `level` = 2 cells
-/// (4 median spacings, `field.min_cell_spacings`) let the flood through about once in a
-/// 30 000-point frame; one cell more sealed all of them.
+/// (4 median spacings, `field.min_cell_spacings`) now and then lets the flood through; one cell
+/// more seals them.
 const SEAL_CELLS: f64 = 1.0;
 /// Node steps by which the exterior then grows into the nodes between `level` and the seal: a
 /// node outside the data within one cell of the sealed exterior is at most two 6-connected steps
@@ -214,7 +215,7 @@ pub fn negate_enclosed(grid: &Grid, values: &mut [f64], level: f64) -> usize {
     }
     // Enclosed are the parts of what is left that reach beyond the seal: a pocket between the
     // level and the seal alone is a gap of a sparse sampling seen through a fine grid, not a
-    // solid (on a 3 000-point cloud such pockets held the wrap and opened a handle).
+    // solid (negated, such pockets would hold the wrap and open a false handle).
     let mut enclosed = vec![false; values.len()];
     let mut stack: Vec<usize> = candidates
         .iter()
