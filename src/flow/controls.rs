@@ -1,4 +1,4 @@
-//! The control functions of the LSW equation (method spec §4.1): ε slows mean-curvature flow to
+//! The control functions of the LSW equation (docs/method.md §4.1): ε slows mean-curvature flow to
 //! zero near the target, η advects towards it, ρ = ω·ε weighs the tangential redistribution.
 
 /// Parameters of the control functions (stabilised frame).

@@ -50,9 +50,8 @@ const ALONG: f64 = 0.1;
 /// alone and take part in no flip: the caller bans those near an intersection the last try made.
 ///
 /// With the target's `triangles` (a mesh target), a vertex does not move through the target's
-/// material: the bust's nearest crease to a vertex on its lower lip was often the far end of the
-/// mouth slit, and the faces pulled there cut through the lip (the wrap's vertices inside it up
-/// to 1.4 % of the diagonal off the surface).
+/// material: a vertex's nearest crease can lie across a thin slit (seen from a lip, the far end
+/// of a mouth), and the faces pulled there would cut through the material.
 pub fn snap_to_creases(
     mesh: &mut HalfedgeMesh,
     creases: &Creases,

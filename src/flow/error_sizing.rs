@@ -1,10 +1,10 @@
-//! Error-adaptive sizing for the final fit on mesh targets (issue 15): where the target is still
+//! Error-adaptive sizing for the final fit on mesh targets: where the target is still
 //! far from the fitted wrap — an eye socket, a mouth, the valley where a fin meets a body, all
 //! bridged — the wrap's edges there are made shorter, so the next fit pass has vertices to put
 //! into it.
 //!
 //! The curvature sizing only sees the wrap's own curvature, which is low exactly where the wrap
-//! bridges a concavity. The miss is measured from the target's side instead (the direction of
+//! bridges a concavity. The miss is judged from the target's side instead (the direction of
 //! the Hausdorff distance that the bridging hides): each target sample farther than the
 //! tolerance from the wrap caps the edge length at the wrap face nearest to it. A hole in a scan
 //! has no samples, so a wrap spanning it is left coarse.
@@ -58,9 +58,9 @@ pub fn error_caps(
 }
 
 /// A crease whose dihedral angle the wrap misses by more than this many degrees is refined
-/// by [`crease_caps`]. Measured on cube-hole and cad-part, each turned three ways: 2° kept
-/// 1061 of their 1062 crease edges within 10°, 1° and 3° 1057, no refinement 1032
-/// (the faces of a coarse wrap beside a crease lean, and its crease vertices then slide off).
+/// by [`crease_caps`] (the faces of a coarse wrap beside a crease lean, and its crease vertices
+/// then slide off). A tighter or looser tolerance keeps fewer creases sharp (see
+/// docs/decisions/).
 pub const BEVEL_TOL_DEG: f64 = 2.0;
 
 /// Per-vertex caps (as [`error_caps`]) where the wrap still bevels a sharp crease of the target:
@@ -70,9 +70,9 @@ pub const BEVEL_TOL_DEG: f64 = 2.0;
 /// bevelled.
 ///
 /// A wrap face that stands for several of the target's narrow facets beside a crease (a hole's
-/// faceted wall under its rim) is a chord whose normal leans away from the wall's, by less than
-/// the missed distance that [`error_caps`] sees (cube-hole: a rim edge at 12°, its wall 0.0015
-/// off, a quarter of that tolerance).
+/// faceted wall under its rim) is a chord whose normal leans away from the wall's, while the
+/// wall lies off it by less than the distance [`error_caps`] would notice: only the angle
+/// shows the bevel.
 pub fn crease_caps(
     mesh: &HalfedgeMesh,
     wrap: &TriangleBvh,

@@ -35,7 +35,7 @@ pub struct GuardSettings {
     /// The contact check runs every this many steps (and before the final fit); when it finds
     /// intersections the evolution goes back to the last clean state and redoes the steps
     /// checking each. 1 checks every step. Range ≥ 1; default 16 (one check costs about as
-    /// much as two steps — 57 ms at 82 K faces — and contact is rare).
+    /// much as two steps, and contact is rare).
     pub check_every: u32,
     /// Rounds of selective reverts before the whole move is reverted. Range 1–100; default 8.
     pub max_rounds: u32,
@@ -45,7 +45,7 @@ pub struct GuardSettings {
     /// Divergence: surface area above this multiple of the start surface's area plus the target
     /// box's area. Range (1, 10⁶]; default 1000.
     pub max_area_growth: f64,
-    /// Divergence: more vertices than this. Default 2 000 000 (twenty times a fine wrap).
+    /// Divergence: more vertices than this. Default 2 000 000 (far beyond any fine wrap).
     pub max_vertices: usize,
 }
 

@@ -1,4 +1,4 @@
-//! One semi-implicit mean-curvature-flow step: `(I − τΔ) F^{n+1} = F^n` (method spec §6.2).
+//! One semi-implicit mean-curvature-flow step: `(I − τΔ) F^{n+1} = F^n` (docs/method.md §6.2).
 //!
 //! Implicit diffusion is unconditionally stable, so τ is limited by accuracy only. The pure flow
 //! shrinks a sphere as r(t) = sqrt(r0² − 4t), which the tests check.
@@ -19,8 +19,8 @@ pub struct McfSettings {
     /// Corrector passes: after the linearised step, rebuild the operator at the new positions and
     /// solve again from the old ones (a Picard iteration towards fully implicit Euler). 0 is the
     /// reference's semi-implicit scheme, whose operator lags one step behind (co-volumes of the
-    /// larger, older surface) and so shrinks a sphere too slowly: first-order error 1.2 % at
-    /// τ = 1e-3 on the unit sphere at t = 0.2. One pass cuts it to 0.4 % at twice the cost.
+    /// larger, older surface) and so shrinks a sphere too slowly, a first-order error. One pass
+    /// cuts that error severalfold at twice the cost.
     /// Default 1; range 0–4.
     pub corrector_passes: u32,
     /// Linear solver settings.
@@ -82,7 +82,7 @@ pub fn lesson_steps_left(r0: f64, tau: f64, step: u32) -> u32 {
     }
     let f = LESSON_STOP_FRACTION;
     let stop = sphere_extinction_time(r0) * (1.0 - f * f);
-    // The last step strictly before extinction: t = n·τ < r0²/4 (n·τ as the session computes it).
+    // The last step strictly before extinction: t = n·τ < r0²/4 (n·τ as the lesson computes it).
     let extinction = sphere_extinction_time(r0);
     let mut before_extinction = (extinction / tau).ceil() - 1.0;
     while before_extinction > 0.0 && before_extinction * tau >= extinction {

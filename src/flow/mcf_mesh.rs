@@ -1,4 +1,4 @@
-//! Mean-curvature flow of a mesh the user loaded: the smoothing lesson (issue 18, item 6).
+//! Mean-curvature flow of a mesh the user loaded: the smoothing lesson.
 //!
 //! The sphere lesson ([`super::mcf`]) checks the scheme against an exact law; this one applies
 //! the same implicit step, `(I − τΔ) F^{n+1} = F^n` ([`mcf_step_with`]), to any manifold
@@ -11,7 +11,7 @@
 //! scaling a mesh by s scales the time any feature takes to smooth out by s² (a sphere of radius
 //! r vanishes at r²/4). The lesson therefore takes τ as a fraction of D², D the bounding-box
 //! diagonal, and flows with τ·D²: the same τ/D² does the same amount of smoothing per step on a
-//! bunny in metres or a scan in millimetres, and the linear system `I + (τ/A_i)·L` — whose
+//! model in metres or a scan in millimetres, and the linear system `I + (τ/A_i)·L` — whose
 //! conditioning depends on τ over the co-volumes A_i ∝ (edge length)² — is unchanged by scale.
 //!
 //! An open mesh's boundary is pinned (mobility 0, see [`mcf_step_with`]): at a boundary vertex
@@ -29,8 +29,8 @@ use serde::Serialize;
 
 /// The lesson ends at flow time t = `MESH_LESSON_HORIZON`·D². A sphere just inside its
 /// bounding box (D² = 12 r²) has then shrunk to 90 % of its radius (it vanishes at D²/48 ≈
-/// 0.021 D²); on a scan, noise and small features are gone long before (the bunny's ears by
-/// about 0.002·D², so a longer lesson shows mostly a shrinking blob).
+/// 0.021 D²); on a scan, noise and small features are gone long before, so a longer lesson
+/// shows mostly a shrinking blob.
 pub const MESH_LESSON_HORIZON: f64 = 0.004;
 
 /// … or earlier, when the area falls below this fraction of the initial area: the mesh has
@@ -71,7 +71,7 @@ pub const LESSONS: [LessonInfo; 2] = [
     },
 ];
 
-/// Why an MCF session on a given mesh could not start, or a step of it failed.
+/// Why the MCF of a given mesh could not start, or a step of it failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MeshMcfError {
     /// No vertices or no triangles. Fix: load a mesh (a point cloud has no triangles to flow).
@@ -313,9 +313,9 @@ impl MeshFlow {
     ///
     /// The clamp makes every step a convex combination of the old positions (the system is an
     /// M-matrix with unit row sums: a discrete maximum principle), so no loaded mesh can blow up.
-    /// Without it, meshes with sliver and obtuse triangles do: the npm bunny's area grew 900-fold
-    /// in the lesson's 200 steps, the teapot's 30-fold (the ±19.1 cotangent clamp likely leaves
-    /// the operator indefinite on slivers). On the acute icosphere it changes nothing. Should
+    /// Without it, meshes with sliver and obtuse triangles do: their area can grow manyfold
+    /// within the lesson (the ±19.1 cotangent clamp likely leaves the operator indefinite on
+    /// slivers). On an acute mesh such as the icosphere it changes nothing. Should
     /// the corrector pass's solve fail on a (nearly) collapsed mesh, the step is retried with the
     /// plain semi-implicit scheme, whose clamped system is strictly diagonally dominant.
     pub fn step(&mut self) -> Result<&McfStepReport, MeshMcfError> {
@@ -354,7 +354,7 @@ impl MeshFlow {
         mesh_lesson_steps(self.tau_relative).saturating_sub(self.step)
     }
 
-    /// What this session's τ/D² means for the lesson.
+    /// What this lesson's τ/D² means for it.
     pub fn tau_advice(&self) -> MeshTauAdvice {
         mesh_tau_advice(self.tau_relative)
     }

@@ -1,4 +1,4 @@
-//! Final fit on mesh targets: reaching into the concavities that the fit bridged (issue 15).
+//! Final fit on mesh targets: reaching into the concavities that the fit bridged.
 //!
 //! The fit moves each vertex along its normal towards its closest target point. A vertex on a
 //! surface that spans a slit narrower than a grid cell (a mouth, the gap under a cupped ear) has
@@ -63,10 +63,10 @@ pub fn reach_into_misses(
         .filter_map(|(&m, u)| u.map(|(t, d2)| (m, t, d2)))
         .collect();
     // At most [`TRIES_PER_VERTEX`] per wrap vertex: a folded target (a brain's sulci) misses a
-    // hundred thousand samples in narrow gaps whose ways are nearly all blocked, and testing
-    // them all cost gm_half 6 s a pass. Spread over the wrap: each face's deepest, then each
-    // face's second deepest, and so on (the deepest of all lie in a few deep gaps, all blocked:
-    // gm_half reached none, and kept a Hausdorff distance of 17 % of its diagonal, against 14.5).
+    // great many samples in narrow gaps whose ways are nearly all blocked, and testing them all
+    // would dominate the pass. Spread over the wrap: each face's deepest, then each face's
+    // second deepest, and so on (the deepest of all lie in a few deep gaps, all blocked: taking
+    // them first would reach none).
     let most = TRIES_PER_VERTEX * positions.len();
     if tries.len() > most {
         tries.sort_by(|x, y| x.1.cmp(&y.1).then(y.2.total_cmp(&x.2)).then(x.0.cmp(&y.0)));
@@ -112,11 +112,10 @@ pub fn reach_into_misses(
             return Some((v, d2, m));
         }
         // The nearest corner's way is blocked (a lip between it and a slit's far corner): the
-        // vertex two rings around the face nearest to the sample whose way is clear (the bust
-        // from eight encodings: 0.59–1.36 % of the diagonal, seven under 1 %, against
-        // 0.64–1.40 %, four). On an open target, with no inside to test, its way must cross
-        // nothing at all (with the sliver allowed, such a way dipped under a sheet to a sample
-        // behind it; required everywhere, four of the eight busts stayed above 1 %).
+        // vertex two rings around the face nearest to the sample whose way is clear. On an open
+        // target, with no inside to test, its way must cross nothing at all (with the sliver
+        // allowed, such a way can dip under a sheet to a sample behind it); on a closed one the
+        // sliver is allowed, since requiring a clean way everywhere reaches fewer samples.
         let mut ring = mesh.rings_around(&t, 2);
         ring.sort_by(|&a, &b| {
             let d = |v: u32| (positions[v as usize] - s).length_squared();
@@ -140,9 +139,8 @@ pub fn reach_into_misses(
         }
     }
     // The moved vertices' other neighbours follow by a share of the mean move, so that the dent
-    // starts with sloped sides rather than a spike whose remeshed sides fold into a flap (the
-    // bust's eye socket kept one 1.4 % of the diagonal off its wall with spikes, none with
-    // dents).
+    // starts with sloped sides rather than a spike whose remeshed sides fold into a flap (a
+    // flap stands off the concavity's wall, a dent does not).
     let mut follow = vec![(DVec3::ZERO, 0u32); positions.len()];
     for (v, b) in best.iter().enumerate() {
         if let Some((_, s)) = b {
@@ -174,16 +172,16 @@ pub fn reach_into_misses(
     moved
 }
 
-/// How many missed samples [`reach_into_misses`] tries per wrap vertex, at most. The bust's
-/// passes tried up to 0.8 per vertex (all of them, so the same meshes as without the bound).
+/// How many missed samples [`reach_into_misses`] tries per wrap vertex, at most: above what an
+/// ordinary concavity needs, so the bound only binds on folded targets.
 const TRIES_PER_VERTEX: usize = 2;
 
 /// The least dip [`through_material`] allows, as a share of the longest move (a vertex on the
 /// target up to rounding).
 pub(crate) const MOVE_FLOOR: f64 = 1e-3;
 
-/// The share of a moved vertex's move that its neighbours follow (see [`reach_into_misses`]);
-/// 0.2, 0.3 and 0.5 all lined the bust's eye socket, 0.3 with the least Hausdorff.
+/// The share of a moved vertex's move that its neighbours follow (see [`reach_into_misses`]):
+/// the value is not critical; this one lines a socket closest (see docs/decisions/).
 const DENT_SHARE: f64 = 0.3;
 
 /// Moves the tips of the thin flaps that reaching leaves onto the target; returns how many moved.
@@ -234,8 +232,8 @@ const ARRIVAL: f64 = 0.02;
 /// from `s`).
 const STRETCH: f64 = 0.01;
 /// How deep under the target a way's middle may lie, as a share of its length (see
-/// [`through_material`]); the bust's ways from its lip into the mouth slit's far end, which
-/// cut through the lip, dipped by 0.2–0.4.
+/// [`through_material`]): ways that cut through a lip into the far end of a slit dip by
+/// several times this.
 const SLIVER: f64 = 0.1;
 
 #[cfg(test)]

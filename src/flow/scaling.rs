@@ -1,4 +1,4 @@
-//! Stabilisation scaling (method spec §3): surface, grid and distances are scaled uniformly by
+//! Stabilisation scaling (docs/method.md §3): surface, grid and distances are scaled uniformly by
 //! φ = sqrt(τ/(σ·μ₀)) so that the start surface's mean co-volume is τ/σ. The constants C1, C2, D1,
 //! τ of the method are tuned for this frame, which makes them independent of the target's size.
 
@@ -22,7 +22,7 @@ mod tests {
 
     #[test]
     fn bunny_reference_value() {
-        // Spec §3.1 (run): r = 0.141672, s = 2, τ = 0.07 → φ = 14.9935.
+        // docs/method.md §3.1 (run): r = 0.141672, s = 2, τ = 0.07 → φ = 14.9935.
         assert!((icosphere_scale(0.07, 0.2, 0.141672, 2) - 14.9935).abs() < 1e-3);
     }
 }

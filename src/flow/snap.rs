@@ -88,9 +88,8 @@ pub fn snap_to_target(
                 }
                 // Along the normal by the closest point's component on it, also where that
                 // point lies off to the side (near a crease or in a narrow valley): moving to
-                // the point itself crowds vertices there (measured: spot's Hausdorff 1.03 %
-                // against 0.94 %, cube-hole's 0.86 % against 0.13 %), and refusing such moves
-                // (the rule until 2026-11-25) left spot at 1.34 %.
+                // the point itself crowds vertices there, and refusing such moves leaves the
+                // vertex farther off still.
                 SnapTarget::Triangles(bvh) => (bvh.closest_point(p)?.point - p).dot(n),
             };
             (t.abs() <= params.max_move).then_some(p + t * n)
@@ -123,7 +122,7 @@ pub fn snap_to_target(
 /// point (moves longer than `max_move` are not made); returns how many moved. For a *closed*
 /// target only, after the fit's moves along the normals: there every vertex belongs on the
 /// target (no hole to bridge), and one the normal move left off — beside a crease, where its
-/// normal leans towards the other face — is put on it (cad-part's Hausdorff 0.075 → 0.000 %).
+/// normal leans towards the other face — is put on it.
 pub fn snap_to_closest(
     mesh: &mut HalfedgeMesh,
     bvh: &TriangleBvh,
@@ -168,14 +167,12 @@ pub fn move_onto_closest(
 /// the moves would fold (turn its normal by more than 60°) halves the move of its vertex that
 /// strays most from the face's mean move, up to three times, then undoes it: the fit must not
 /// create self-intersections where the offset surface bridges a hole or a narrow gap. Undoing
-/// the moves of all three vertices at once (the rule until 2026-11-26) left a fit distance off
-/// the surface wherever the plane fits' noise tilted a small face: 6–11 % of the bunny cloud's
-/// 40 K vertices, and its means 0.111/0.077 % against 0.067/0.036 % now; it also
-/// cut DoubleWedge.stl's acute corners (Hausdorff 1.70 % against 0.60 %).
+/// the moves of all three vertices at once would leave a fit distance off the surface wherever
+/// the plane fits' noise tilts a small face, and would cut acute corners.
 ///
 /// A face whose straying vertex has no move (left) keeps its turn: at a sharp corner the right
-/// surface turns that much, and blaming another vertex there (tried) cut DoubleWedge's corners
-/// again (1.03 %). The fit's intersection check after the pass is the guard of validity.
+/// surface turns that much, and blaming another vertex there cuts the corner. The fit's
+/// intersection check after the pass is the guard of validity.
 fn fold_limited_shares(mesh: &HalfedgeMesh, old: &[DVec3], moves: &[Option<DVec3>]) -> Vec<f64> {
     let mut share: Vec<f64> = moves
         .iter()
@@ -243,11 +240,10 @@ const SMALLEST_SHARE: f64 = 0.2;
 
 /// A vertex without a move of its own but with target points around it (`has_points`: a plane
 /// nearly along its normal, a move too long) takes the mean move of its neighbours when at
-/// least two thirds of them have one.
-/// Left where it was, it stood a fit distance off the surface among moved neighbours, their
-/// faces folded, and the fold check then undid the moves of a whole patch around it (on the
-/// bunny cloud the means fell from 0.131/0.098 to 0.111/0.077 % with the fill). One pass, from
-/// the computed moves only, so the result does not depend on the vertex order.
+/// least two thirds of them have one. Left where it was, it would stand a fit distance off the
+/// surface among moved neighbours, their faces folded, and the fold check would then undo the
+/// moves of a whole patch around it. One pass, from the computed moves only, so the result does
+/// not depend on the vertex order.
 fn fill_from_neighbours(
     mesh: &HalfedgeMesh,
     positions: &[DVec3],
@@ -344,8 +340,8 @@ fn plane_offset_of(
         return None;
     }
     // The plane through the weighted centroid sits inside a curved patch by about h²/2R (the
-    // weights' spread over twice the radius of curvature): on the bunny's ears that is a tenth
-    // of a percent of the diagonal. The height of a quadric fitted over the plane removes it.
+    // weights' spread over twice the radius of curvature), which on thin curved parts is well
+    // above the fit's noise. The height of a quadric fitted over the plane removes it.
     let lift = quadric_height(&near, c, m, p, params.min_points).unwrap_or(0.0);
     Some((c - p).dot(m) / cos + lift / cos)
 }
@@ -367,7 +363,7 @@ fn quadric_height(
         nalgebra::Vector6::new(1.0, u, v, u * u, u * v, v * v)
     };
     // The normal equations' upper triangle (21 sums) and right-hand side, accumulated by hand:
-    // this runs for every vertex over up to `max_points` points (a tenth of a 1 M-point fit).
+    // this runs for every vertex over up to `max_points` points.
     let (mut upper, mut atz) = ([0.0; 21], nalgebra::Vector6::zeros());
     let mut count = 0;
     for &(q, w) in near {
@@ -399,9 +395,9 @@ fn quadric_height(
         }
     }
     // Points (nearly) on a line leave the system singular: no lift. A lift is bounded by the
-    // patch's RMS tangent radius (at the rim of a scan the quadric is extrapolated; measured on
-    // a cut sphere's cloud, limiting it further by how far p's foot lies from the centroid
-    // changed nothing there and lost half the gain on the bunny).
+    // patch's RMS tangent radius (at the rim of a scan the quadric is extrapolated; limiting
+    // it further by how far p's foot lies from the centroid would not help there and would
+    // lose much of the gain elsewhere).
     let coef = ata.cholesky()?.solve(&atz);
     let spread = (ata[(0, 3)] + ata[(0, 5)]) / ata[(0, 0)];
     let h = basis(p - c).dot(&coef);

@@ -1,5 +1,5 @@
-//! The start surface, scaled into the stabilised frame (spec §3, §5): an icosphere around the
-//! target, or the boundary of the field's exterior region `d ≥ d_iso` plus one remesh.
+//! The start surface, scaled into the stabilised frame (docs/method.md §3, §5): an icosphere around
+//! the target, or the boundary of the field's exterior region `d ≥ d_iso` plus one remesh.
 //!
 //! Both are free of self-intersections by construction (a remesh that would break that is
 //! dropped), so the contact guard of every later step starts from a clean surface.
@@ -41,13 +41,12 @@ fn icosphere_radius(target: &Target, settings: &WrapSettings) -> f64 {
     settings.start.icosphere_radius_factor * 0.4 * (bmin + 1.5 * bmax)
 }
 
-/// One icosphere per part of a point cloud whose parts lie apart (centre and radius, target
-/// units: [`PART_ROOM`] times the farthest point of the part from its box's centre), or `None`
-/// for one around the whole target. A single sphere shrinking onto two objects set apart leaves
-/// a neck between them that must pinch in empty space; on clouds of two spheres turned at random
-/// its ragged neck could not be cut in 8 of 11 orientations and the wrap stayed one part. Parts
-/// are [`parts_apart`] at `start.part_gap` of the diagonal; each must hold [`PART_POINTS`]
-/// points and the spheres must not overlap, else one sphere as the method has it.
+/// One icosphere per part of a point cloud whose parts lie apart (centre and radius, target units:
+/// [`PART_ROOM`] times the farthest point of the part from its box's centre), or `None` for one
+/// around the whole target. A single sphere shrinking onto two objects set apart leaves a neck
+/// between them that must pinch in empty space, and a ragged neck often cannot be cut, so the wrap
+/// stays one part. Parts are [`parts_apart`] at `start.part_gap` of the diagonal; each must hold
+/// [`PART_POINTS`] points and the spheres must not overlap, else one sphere as the method has it.
 fn spheres_apart(target: &Target, settings: &WrapSettings) -> Option<Vec<(DVec3, f64)>> {
     let share = settings.start.part_gap;
     if !target.triangles.is_empty() || share <= 0.0 {
@@ -177,10 +176,11 @@ pub fn build_start(
             let scaled: Vec<DVec3> = pos.into_iter().map(|p| phi * (p - center)).collect();
             let mut mesh = HalfedgeMesh::from_triangles(scaled, &tris)?;
             let sizes = isosurface_sizes(settings.remesh.min_edge_multiplier, c_r, phi);
-            // One remesh with back-projection onto the marching-cubes surface (spec §5.3). If it
-            // leaves intersecting faces the start is refused: the raw marching-tetrahedra surface
-            // is full of slivers on which the flow is not stable (measured: it blows up within a
-            // few steps), and this happens where the exterior leaked into narrow channels.
+            // One remesh with back-projection onto the marching-cubes surface (docs/method.md
+            // §5.3). If it leaves intersecting faces the start is refused: the raw
+            // marching-tetrahedra surface is full of slivers on which the flow is not stable (it
+            // blows up within a few steps), and this happens where the exterior leaked into
+            // narrow channels.
             let rs = RemeshSettings {
                 iterations: 1,
                 use_projection: true,

@@ -4,7 +4,7 @@
 //!
 //! The four share every edge vector, length and cross product, and a face loop reads memory in
 //! order, whereas the per-vertex one-ring walks of the stand-alone versions chase pointers
-//! through the halfedge arrays (at 40 K vertices those walks were most of the step's time). Each
+//! through the halfedge arrays (on large meshes those walks dominate a step). Each
 //! result equals its stand-alone definition — [`angle_weighted_normals`],
 //! [`CotanLaplacian::new`], [`tangential_velocity`] — up to rounding; the tests check that.
 //!
@@ -37,7 +37,7 @@ struct VertexSums {
     normal: DVec3,
     /// `Σ (1 + ê_a·ê_b)(e_a + e_b)` over the vertex's corners, `e_a`, `e_b` the corner's two
     /// spokes. On a closed mesh the corners around a vertex are exactly its consecutive spoke
-    /// pairs, so this is the cyclic sum of method spec §6.3.
+    /// pairs, so this is the cyclic sum of docs/method.md §6.3.
     tangential: DVec3,
     /// Mixed Voronoi area.
     covolume: f64,

@@ -1,4 +1,4 @@
-//! Tangential redistribution (method spec §6.3, the intended cyclic formula): moves vertices
+//! Tangential redistribution (docs/method.md §6.3, the intended cyclic formula): moves vertices
 //! within the surface towards the bisectors of narrow wedges, which evens out angles and
 //! co-volumes without changing the shape.
 

@@ -1,6 +1,6 @@
 //! Settings of a wrap, nested by stage (start, field, flow, remesh, fit, guard, surgery, solver,
-//! stop),
-//! with the method's names and defaults (method spec §10.1), and the presets users pick from.
+//! stop), with the method's names and defaults (docs/method.md §10.1), and the presets users pick
+//! from.
 //! Everything (de)serialises with serde so a URL or a JSON file can carry it; unknown keys are
 //! rejected by [`WrapSettings::from_json`], missing keys default, and the flat keys of the first
 //! releases are still read ([`aliases`]).
@@ -19,28 +19,25 @@ use crate::field::FieldSettings;
 use crate::solve::SolverSettings;
 use serde::{Deserialize, Serialize};
 
-/// λ_min of the isosurface start when `auto` picks it: half the isosurface preset's 0.4. Measured
-/// (quick build, 2026-11-23): spot.obj 5 268 vertices, Hausdorff 1.36 %, mean 0.012 / 0.095 % in
-/// 1.1 s (0.4: 1 304 vertices, 2.51 %, 0.038 / 0.239 %; the icosphere full wrap: 1.99 %,
-/// 0.058 / 0.16 % in 2.0 s); the half-resolution brain at iso 128: mean distance to the
-/// iso-surface 0.52 mm (icosphere: 1.61 mm) in half the time.
+/// λ_min of the isosurface start when `auto` picks it: half the isosurface preset's 0.4, fine
+/// enough that the automatic start fits closer than the icosphere full wrap without its cost
+/// (see docs/decisions/).
 pub const AUTO_ISOSURFACE_MIN_EDGE: f64 = 0.2;
 
-/// Error-adaptive fit passes on a volume's iso-surface by default. A brain's misses lie in sulci
-/// narrower than a cell, which no pass reaches: on gm_half.nrrd five passes took the fit from
-/// 1.2 to 11 s and the wrap from 14 K to 32 K vertices for Hausdorff 17.5 → 14.5 % and mean
-/// target → wrap 4.24 → 3.25 % of the diagonal (issue 15's start: 4.1 s, 19.5 %, 4.74 %).
+/// Error-adaptive fit passes on a volume's iso-surface by default. A volume's misses lie in
+/// folds narrower than a cell, which no pass reaches: the passes multiply the fit's time and
+/// the wrap's vertices for little gain (see docs/decisions/).
 pub const VOLUME_REFINE_PASSES: u32 = 0;
 
 /// A named bundle of settings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Preset {
-    /// The paper's bunny settings (D2 = 1 pushes into concavities), d₀ retuned for the exact field.
+    /// The paper's settings (D2 = 1 pushes into concavities), d₀ retuned for the exact field.
     FullWrap,
     /// D2 = 0: the surface stops at the first obstacle and bridges concavities.
     Obstacle,
-    /// Marching-cubes start for higher-genus targets (spec §10.2).
+    /// Marching-cubes start for higher-genus targets (docs/method.md §10.2).
     Isosurface,
     /// Pure mean-curvature flow of the icosphere (ε ≡ 1, η ≡ 0), for teaching and checking.
     Mcf,
@@ -227,9 +224,10 @@ pub const RANGES: &[SettingRange] = &[
 ];
 
 impl WrapSettings {
-    /// These settings with the isosurface start and its parameters (spec §10.2): 20 steps of
-    /// τ = 0.05, C1 = D1 = 1/(1 − e⁻⁴) (the reference's `PreComputeAdvectionDiffusionParams(2.0)`),
-    /// no size schedule, λ_min = 0.4, 3 remesh iterations from step 1.
+    /// These settings with the isosurface start and its parameters (docs/method.md §10.2): 20
+    /// steps of τ = 0.05, C1 = D1 = 1/(1 − e⁻⁴) (the reference's
+    /// `PreComputeAdvectionDiffusionParams(2.0)`), no size schedule, λ_min = 0.4, 3 remesh
+    /// iterations from step 1.
     pub fn with_isosurface_start(mut self) -> Self {
         let c = 1.0 / (1.0 - crate::fmath::exp(-4.0f64));
         self.start.surface = StartSurface::Isosurface;
@@ -331,8 +329,8 @@ impl WrapSettings {
             }
         }
         // A wrap's edge sizes follow its icosphere start's edges, so each level quadruples its
-        // vertices: level 3 wrapped a torus cloud with 218 K vertices in 14 s, level 4 ran past
-        // a minute and level 5 past an hour. Flow without a target (MCF) may go finer.
+        // vertices, and the run time grows faster still. Flow without a target (MCF) may go
+        // finer.
         let level = self.start.icosphere_level;
         if self.flow.use_target
             && self.start.surface != StartSurface::Isosurface
@@ -563,7 +561,7 @@ mod tests {
             },
         };
         assert_eq!(s, want);
-        // The nested form round-trips, and old keys cover every leaf they used to.
+        // The nested form round-trips, and the old keys cover every leaf they name.
         let json = serde_json::to_string(&want).unwrap();
         assert_eq!(WrapSettings::from_json(&json).unwrap(), want);
         assert_eq!(aliases::ALIASES.len(), 34);

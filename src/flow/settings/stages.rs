@@ -1,6 +1,7 @@
-//! The settings of each stage of a wrap, with the method's names and defaults (method spec §10.1).
-//! Lengths are relative to the target: cells of the distance grid, or multiples of the start
-//! surface; τ, C1, C2, D1 act in the stabilised frame (spec §3), which makes them scale-free.
+//! The settings of each stage of a wrap, with the method's names and defaults (docs/method.md
+//! §10.1). Lengths are relative to the target: cells of the distance grid, or multiples of the
+//! start surface; τ, C1, C2, D1 act in the stabilised frame (docs/method.md §3), which makes them
+//! scale-free.
 
 use crate::remesh::features::FeatureSettings;
 use serde::{Deserialize, Serialize};
@@ -9,10 +10,10 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum StartSurface {
-    /// Chosen per target (measured, see the README): the exterior isosurface for targets with a
+    /// Chosen per target (see docs/decisions/): the exterior isosurface for targets with a
     /// signed field (closed meshes: it keeps their genus), the icosphere for point clouds and
-    /// open meshes (it spans scan holes); the icosphere also where the isosurface start leaked
-    /// through gaps and intersects itself (noisy volumes). Settings still at their full-wrap
+    /// open meshes (it spans scan holes); the icosphere also where the isosurface start would
+    /// leak through gaps and intersect itself (noisy volumes). Settings still at their full-wrap
     /// defaults follow the chosen start's own defaults ([`super::WrapSettings::resolved_for`]).
     Auto,
     /// An icosphere around the target's bounding box (genus 0 results).
@@ -57,8 +58,8 @@ pub struct StartSettings {
     pub isosurface_resampling: f64,
     /// Icosphere start on a point cloud: parts lying apart (no cell of this share of the
     /// target's diagonal links them) start from a sphere each (see `flow::start`). 0: one
-    /// sphere around all, as the method has it (share links made before 2026-11-29 decode to
-    /// 0). Range 0–1; default 0.05.
+    /// sphere around all, as the method has it (share links without this key decode to 0).
+    /// Range 0–1; default 0.05.
     pub part_gap: f64,
 }
 
@@ -83,13 +84,14 @@ pub struct FlowSettings {
     pub use_target: bool,
     /// Initial time step τ (stabilised frame). Range (0, 10]; default 0.07.
     pub tau: f64,
-    /// C1: strength of the curvature term ε(δ) = C1·(1 − exp(−δ²/C2)). Default 1.
+    /// C1: strength of the curvature term ε(δ) = C1·(1 − exp(−δ²/C2)). Range ≥ 0;
+    /// default 1.
     pub c1: f64,
-    /// C2: width of ε's cut-off near the target (squared stabilised length). Default 1.
+    /// C2: width of ε's cut-off near the target (squared stabilised length). Range > 0; default 1.
     pub c2: f64,
-    /// D1: strength of the advection η = D1·δ·(cos θ − D2·sin θ). Default 2.
+    /// D1: strength of the advection η = D1·δ·(cos θ − D2·sin θ). Range ≥ 0; default 2.
     pub d1: f64,
-    /// D2: full-wrap push into concavities (0 = obstacle). Default 1.
+    /// D2: full-wrap push into concavities (0 = obstacle). Range ≥ 0; default 1.
     pub d2: f64,
     /// ω: tangential redistribution weight, ρ = ω·ε. Range 0–1; default 0.05.
     pub tangential_weight: f64,
@@ -98,39 +100,37 @@ pub struct FlowSettings {
     /// η⁺: no advection where δ < 0. Default true.
     pub advection_positive_support: bool,
     /// d₀ as a multiple of half the voxel diagonal (√3/2·c_G): the surface settles where the
-    /// field equals d₀. Range 0–10; default 1.0 (the reference used 2.0 on a field that
-    /// overestimates distances ×1.7; our field is exact near the target).
+    /// field equals d₀. Range 0–10; default 1.0 (the reference's 2.0 compensates a field that
+    /// overestimates distances; this field is exact near the target).
     pub iso_level_factor: f64,
     /// A wrap that leaves part of its target outside starts over once with D₂ =
     /// `second_pass_d2`, and on a point cloud with d₀ grown to the sampling's gap spacing (the
     /// 99th percentile of the nearest-point distances) where that is larger, at most this many
     /// times the value above; the pass that leaves fewer points outside is kept. At a sparse
     /// cloud's usual d₀ (1.7 median spacings) a tenth of a randomly sampled surface lies farther
-    /// than d₀ from every point, and round the rim of an open single-layer scan the wrap slipped
+    /// than d₀ from every point, and round the rim of an open single-layer scan the wrap slips
     /// through those gaps (`flow/evolver/second_pass.rs`). Not for volumes. 1 turns the second
     /// pass off. Range 1–4; default 1.5.
     pub cover_gaps: f64,
     /// D₂ of that second pass: 0, the obstacle setting, does not push harder where the normal
-    /// lies across the gradient, which on open single-layer sheets drove the coarse early
-    /// wrap's edge past the sheet's rim (a dome of 100 000 random points: 2 447 of 20 000 points
-    /// outside after a full-wrap second pass, 37 after this one; a wavy sheet as a mesh: 2 811
-    /// of 14 641 vertices after the first pass, 31 after this one). Range ≥ 0; default 0.
+    /// lies across the gradient, which on open single-layer sheets drives the coarse early
+    /// wrap's edge past the sheet's rim (see docs/decisions/). Range ≥ 0; default 0.
     pub second_pass_d2: f64,
     /// Once the surgery has operated, where the surface lies farther from the data than this
     /// many times the surgery's empty distance (`surgery.empty_cells`, `surgery.empty_spacings`)
     /// and the data lies in front of it (cos θ > 0: the distance falls along its outward normal),
     /// its advection is mirrored, so that it moves away from the data, inwards, instead of
     /// towards it. Such a surface is a bubble of the wrap's inside: where the membranes of
-    /// several holes meet (bores crossing in a cube, a cube's frame), what is left between the
-    /// tubes hangs in empty space, inflated towards the walls by the advection and held back by
-    /// the curvature flow (a cube's frame of thin bars: genus 3 for 5 and a hub 0.67 from the
-    /// data; with this, genus 5 and 0.09). A tube that must widen to its hole's wall has the
+    /// several holes meet (crossing bores, a frame of bars), what is left between the tubes
+    /// hangs in empty space, inflated towards the walls by the advection and held back by the
+    /// curvature flow, and keeps holes closed. A tube that must widen to its hole's wall has the
     /// wall behind it. Before any cut it is off: a surface far from the data that faces it has
-    /// then slipped through a gap in a sparsely sampled wall, and deflating drove it on into
-    /// the inside. 0 turns this off (links made before it was the default decode to 0).
-    /// Range 0–100; default 1 (benches/RESULTS.md, thirty-third and thirty-fourth sessions).
+    /// then slipped through a gap in a sparsely sampled wall, and deflating would drive it on
+    /// into the inside. 0 turns this off (share links without this key decode to 0).
+    /// Range 0–100; default 1 (see docs/decisions/).
     pub deflate_far: f64,
-    /// σ: the stabilisation scales the start so its mean co-volume is τ/σ. Default 0.2.
+    /// σ: the stabilisation scales the start so its mean co-volume is τ/σ. Range (0, 10];
+    /// default 0.2.
     pub shrink_factor: f64,
     /// Steps after which sizes shrink by λ_dec, τ by λ_dec² and D1 grows by 1/λ_dec.
     /// Default [3, 10, 20, 50, 100, 120, 140, 145].
@@ -143,13 +143,14 @@ pub struct FlowSettings {
     /// A vertex inside the offset surface whose offset level lies farther than this many d₀
     /// along its normal sits on a chord through a thin part of the target and moves out to
     /// that level ([`crate::flow::regrow`]); a vertex that settled just inside finds it within
-    /// a fraction of d₀. 0 turns this off. Default 1.5 (the bunny's wrap is unchanged).
+    /// a fraction of d₀. 0 turns this off. Range 0–100; default 1.5 (deep enough that a wrap
+    /// with no thin parts is left unchanged).
     pub regrow_depth: f64,
     /// How far along its normal such a vertex looks for the offset level, in grid cells.
-    /// Default 16.
+    /// Range 0–1000; default 16.
     pub regrow_cells: f64,
-    /// The most such a vertex moves in one step, in its mean edge lengths (longer moves grew
-    /// spikes that the remesh split without end). Default 2.
+    /// The most such a vertex moves in one step, in its mean edge lengths (longer moves grow
+    /// spikes that the remesh splits without end). Range 0–100; default 2.
     pub regrow_edges: f64,
 }
 
@@ -189,18 +190,19 @@ pub struct RemeshingSettings {
     pub enabled: bool,
     /// First step after which remeshing may run. Default 4 (the fresh icosphere needs none).
     pub from_step: u32,
-    /// When to remesh. Default auto: the quality band, the schedule's size changes and every
-    /// `every`-th step. Measured on the bunny (2026-11-25): `always` calls the remesher 143 times
-    /// (1.6 s), `auto` remeshes in 0.85 s with the same accuracy and validity over the shape suite;
-    /// the quality band alone diverged on the two-spheres-apart cloud.
+    /// When to remesh: always, quality_band or auto. Default auto: the quality band, the
+    /// schedule's size changes and every `every`-th step, which remeshes less often than
+    /// `always` for the same accuracy; the quality band alone can let a wrap diverge (see
+    /// docs/decisions/).
     pub trigger: RemeshTrigger,
-    /// With trigger auto: remesh at least every this many steps. Default 4.
+    /// With trigger auto: remesh at least every this many steps. Range 1–1000;
+    /// default 4.
     pub every: u32,
     /// Vertex-averaged κ(J_Δ) (equilateral = 1) above which [`RemeshTrigger::QualityBand`]
     /// remeshes. Default 1.5.
     pub max_kappa: f64,
     /// λ_min: l_min as a fraction of the start surface's edge (icosphere) or of √2·c (isosurface).
-    /// Default 0.14.
+    /// Range (0, 10]; default 0.14.
     pub min_edge_multiplier: f64,
     /// Remeshing outer iterations per call. Default 2.
     pub iterations: u32,
@@ -209,9 +211,8 @@ pub struct RemeshingSettings {
     /// Feature detection in the remesher (re-detected each call). Default off.
     pub features: FeatureSettings,
     /// Splits put the new vertex on the curve through the edge's ends along their normals, not
-    /// on the chord (the reference), which lies inside a convex rim: measured 2026-11-26 on a
-    /// 20 000-point thin plate, the corners' miss fell from 6.1 to 4.2 % of the diagonal, and a
-    /// cube cloud kept 177 of its 192 edges within 10° instead of 136. Default true.
+    /// on the chord (the reference), which lies inside a convex rim and rounds corners and
+    /// crease lines off. Default true.
     pub curved_splits: bool,
 }
 
@@ -248,14 +249,8 @@ pub struct FitSettings {
     pub passes: u32,
     /// Most cloud points a vertex's plane is fitted to: the nearest within `radius_cells`. Keeps
     /// the fit's cost per vertex bounded on dense scans, where the radius holds thousands of
-    /// points. Range ≥ 6; default 64. Only dense clouds reach it (not the bunny's 35 K points
-    /// nor the 20 K-point test clouds). On 1 M points sampled from spot, 256 → 128: fit
-    /// 1.58 → 1.23 s, mean distances 0.006 / 0.030 → 0.004 / 0.027 % of the diagonal; on a
-    /// 1 M-point bust with noise of half a spacing 0.007 / 0.018 → 0.008 / 0.019 %.
-    /// 128 → 64 (2026-11-28): the fit's moves 0.48 → 0.28 s on 1 M points; the noise-free
-    /// clouds come closer (spot 0.0037 → 0.0026 %, bust 0.0024 → 0.0021 %), the noisy bust
-    /// 0.0082 → 0.0110 %, a twentieth of its noise. (An earlier fit, without the quadric,
-    /// needed more: 64 left spot's p95 at 0.93 % against 0.56 %.)
+    /// points. Range ≥ 6; default 64: only dense clouds reach it, and there more points cost
+    /// time without bringing the fit measurably closer (see docs/decisions/).
     pub max_points: usize,
     /// Sharp creases of the target: edges whose faces turn by more than this many degrees
     /// are kept sharp — the fit puts wrap vertices on the target's corners and crease lines and
@@ -270,17 +265,18 @@ pub struct FitSettings {
     /// have none. Range ≥ 0; default 0.25.
     pub refine_error_cells: f64,
     /// Most extra passes the error-adaptive sizing may add after `passes` (each halves the
-    /// edges that still miss). Range 0–10; default 5 (3 left the sculpted bust's mouth slit at
-    /// 0.81 % of the diagonal against 0.54 %; shapes that stop missing stop earlier), 0 on a
-    /// volume's iso-surface (see [`super::VOLUME_REFINE_PASSES`]).
+    /// edges that still miss). Range 0–10; default 5 (enough to line narrow slits; shapes that
+    /// stop missing stop earlier), 0 on a volume's iso-surface (see
+    /// [`super::VOLUME_REFINE_PASSES`]).
     pub refine_passes: u32,
     /// The error-adaptive sizing's vertex budget: a pass whose new caps could take the wrap
     /// past this many vertices (four per capped vertex) adds none. (The remesh of each pass
     /// refines beside the creases it sharpened, caps or not: a wrap that starts its fit near
     /// the budget may end a few per cent above it.) Range ≥ 100; default 80 000.
     pub refine_max_vertices: usize,
-    /// Reaching into concavities on mesh targets (with the error-adaptive sizing): after a pass, the wrap vertex nearest to a target vertex still missed moves onto
-    /// it when the way there is clear of the target — a slit narrower than a grid cell (a mouth,
+    /// Reaching into concavities on mesh targets (with the error-adaptive sizing): after a
+    /// pass, the wrap vertex nearest to a target vertex still missed moves onto it when the
+    /// way there is clear of the target — a slit narrower than a grid cell (a mouth,
     /// the gap under an ear) is lined instead of bridged (see `flow::reach`). Default true.
     pub reach: bool,
 }
@@ -313,8 +309,8 @@ pub struct SurgerySettings {
     pub check_every: u32,
     /// Empty space: farther from the target than this many cells of the distance grid (and than
     /// `empty_spacings`). Holes narrower than about twice this stay closed. Range ≥ 0; default 2
-    /// (the surface rests 0.87 cells off the data; 3 kept the holes of seven sparse samplings of
-    /// the genus-4 and genus-5 chains closed, of the 96 of `benches/genus/sweep.sh`).
+    /// (the surface rests under a cell off the data; larger values keep the holes of sparse
+    /// samplings closed, see docs/decisions/).
     pub empty_cells: f64,
     /// Empty space on a point cloud: also farther than this many median point spacings (gaps
     /// in a random sampling reach about three). Range ≥ 0; default 3.
@@ -325,12 +321,13 @@ pub struct SurgerySettings {
     /// Through-holes at least as deep as they are wide: two facing sheets far from the data also
     /// meet when their gap is below this multiple of their distance to the target and the path
     /// between them is ringed by data (the membranes over a tunnel's two ends feel no pull
-    /// towards each other, see [`crate::flow::surgery::detect`]). 0: off (links made before it
-    /// decode to 0). Range ≥ 0; default 4 (a round hole 2 radii deep has a gap ratio ≈ 2.5).
+    /// towards each other, see [`crate::flow::surgery::detect`]). 0: off (share links without
+    /// this key decode to 0). Range ≥ 0; default 4 (a round hole 2 radii deep has a gap ratio
+    /// ≈ 2.5).
     pub tunnel_ratio: f64,
     /// Smallest patch (vertices) that is cut. Range ≥ 3; default 3: a membrane across a hole
-    /// only a few edges wide has few vertices far from the data, and 6 kept such holes closed in
-    /// seven turned, noisy or sparse samplings of the 96 of `benches/genus/sweep.sh`.
+    /// only a few edges wide has few vertices far from the data, and a larger minimum keeps
+    /// such holes closed (see docs/decisions/).
     pub min_vertices: usize,
     /// Close gaps up to this fraction of the target's bounding-box diagonal: a handle whose hole
     /// is narrower stays closed (the app's "Close gaps up to" control). 0 leaves it to the
@@ -358,13 +355,14 @@ impl Default for SurgerySettings {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct StopSettings {
-    /// Step limit N_t. Default 146 (the reference's bunny run).
+    /// Step limit N_t. Range 0–100000; default 146 (the reference's step count).
     pub steps: u32,
     /// Stop early when this fraction of vertices moved less than `displacement_cells` in the
     /// last step (only after the last schedule step). Range (0, 1]; default 0.98.
     pub fraction: f64,
     /// Stop threshold on per-step displacement, in cells of the distance grid. Default 0.002
-    /// (the approach to d₀ is exponential at a few % per step, so this leaves ≈ 0.05 cells).
+    /// (the approach to d₀ is exponential at a few per cent per step, so this leaves ≈ 0.05
+    /// cells).
     pub displacement_cells: f64,
 }
 

@@ -57,10 +57,9 @@ const RIM_DEPTH: f64 = 0.5;
 ///
 /// A patch is cut only once it spans its hole: the median distance of its rim to the target
 /// (`distances` per vertex) below `rim` or below half its deepest vertex's, or once the membranes
-/// have `settled` (stopped closing in on each other). Two membranes first touch in one spot; a
-/// tube cut there would leave
-/// the rest of them facing each other around it, and cutting that later would open a second
-/// handle through the same hole.
+/// have `settled` (stopped closing in on each other). Two membranes first touch at one point; a
+/// tube cut there would leave the rest of them facing each other around it, and cutting that
+/// later would open a second handle through the same hole.
 pub fn glue_facing_regions(pass: &Pass) -> Option<Glued> {
     let Pass {
         mesh,
@@ -193,13 +192,12 @@ pub fn glue_facing_regions(pass: &Pass) -> Option<Glued> {
 /// line and the axis stays below this (0 across, 1 along).
 const NECK_ALONG: f64 = 0.5;
 
-/// Whether the vertices of region `r` face their partners across `axis` (the line between its
-/// two loops), as a neck's do. The wrap's two sides pressed together round a narrow through-hole
-/// also form a ring facing itself: curvature flow squeezed the hole to a thin tube of the
-/// outside, which the ring surrounds, and its two sheets face each other along the tube. Capping
-/// that ring's loops would fill the hole (a fat torus with a hole of 6 % of its width came out
-/// genus 0). Asked only where the target's genus is unknown (a cloud's) and the pinch would not
-/// split the surface.
+/// Whether the vertices of region `r` face their partners across `axis` (the line between its two
+/// loops), as a neck's do. The wrap's two sides pressed together round a narrow through-hole also
+/// form a ring facing itself: curvature flow squeezed the hole to a thin tube of the outside, which
+/// the ring surrounds, and its two sheets face each other along the tube. Capping that ring's loops
+/// would fill the hole and lose the handle. Asked only where the target's genus is unknown (a
+/// cloud's) and the pinch would not split the surface.
 fn faces_across(
     mesh: &HalfedgeMesh,
     region: &[Option<u32>],
@@ -618,11 +616,10 @@ fn cap(positions: &mut Vec<DVec3>, lp: &[u32], away: DVec3) -> Vec<[u32; 3]> {
 /// round to (n, m), each step a triangle; for each start of `b` (the [`ZIP_WORK`] / (n·m)
 /// nearest to `a[0]`, all of them on small loops) the staircase of least total rung length,
 /// within a band about the diagonal, is found by dynamic programming, and the least
-/// of those is kept (none past [`ZIP_CELLS`]). The greedy zip it replaces (the shorter diagonal
-/// from the vertex nearest `a[0]`) twisted the 6- and 9-vertex loops of a plate's narrow hole
-/// (one of them zigzag) into a tube that crossed itself 9 times; the least *area* twisted them
-/// too (a twisted tube narrows in the middle: less area, crossing faces). `None` when no zip is
-/// valid.
+/// of those is kept (none past [`ZIP_CELLS`]). A greedy zip (the shorter diagonal from the
+/// vertex nearest `a[0]`) twists small, zigzag loops into a tube that crosses itself; so does
+/// the least *area* (a twisted tube narrows in the middle: less area, crossing faces). `None`
+/// when no zip is valid.
 fn zip_loops(mesh: &HalfedgeMesh, a: &[u32], b: &[u32]) -> Option<Vec<[u32; 3]>> {
     let (n, m) = (a.len(), b.len());
     if n < 3 || m < 3 || (n + 1) * (m + 1) > ZIP_CELLS {
@@ -640,8 +637,7 @@ fn zip_loops(mesh: &HalfedgeMesh, a: &[u32], b: &[u32]) -> Option<Vec<[u32; 3]>>
     let at = |i: usize, k: usize| i * (m + 1) + k;
     // Within the band, the rungs of the first and the last side of the staircase, (0, k) and
     // (n, k) or (i, 0) and (i, m), never meet: no edge of three faces, and no zip that fans one
-    // loop out from a vertex of the other (the least-area zip of a narrow, deep hole's 6- and
-    // 9-vertex loops was two such fans, two discs instead of a tube).
+    // loop out from a vertex of the other (two such fans make two discs instead of a tube).
     let in_band = |i: usize, k: usize| (2 * i * m).abs_diff(2 * k * n) < n * m;
     let mut best: Option<(f64, Vec<[u32; 3]>)> = None;
     for j0 in starts {
@@ -696,8 +692,9 @@ fn zip_loops(mesh: &HalfedgeMesh, a: &[u32], b: &[u32]) -> Option<Vec<[u32; 3]>>
 
 /// Staircase cells (n·m per start of `b`) a zip may fill across all the starts it tries.
 const ZIP_WORK: usize = 1 << 21;
-/// Loops with more staircase cells than this (128 MB of costs: loops of 4 000 vertices each, a
-/// tenth of a bunny-sized wrap round one hole) are not zipped.
+/// Loops with more staircase cells than this (loops of some 4 000 vertices each, far longer
+/// than any hole's rim on a wrap of ordinary size) are not zipped: their costs alone would
+/// take too much memory.
 const ZIP_CELLS: usize = 1 << 24;
 
 /// Whether a directed edge occurs twice among `tris` (an edge of three faces once glued).
@@ -736,10 +733,8 @@ mod tests {
     use super::*;
 
     /// Loops of 3 to 8 vertices at random (a fixed generator; sizes, centres and radii) on two
-    /// parallel planes: every
-    /// zip made uses each loop edge once and no edge twice in one direction (an edge of three
-    /// faces). A 3-vertex loop zipped against a 6-vertex one used to go round its short loop
-    /// first and back over its first rung.
+    /// parallel planes: every zip made uses each loop edge once and no edge twice in one
+    /// direction (an edge of three faces), even where a short loop meets a long one.
     #[test]
     fn a_zip_never_uses_an_edge_twice() {
         let mut state = 0x2545_f491_4f6c_dd1d_u64;
@@ -792,10 +787,10 @@ mod tests {
         assert!(zipped > 1500, "{zipped}");
     }
 
-    /// The loops of a plate's narrow hole (`plate-holes`, 150 000 points, noise, turned), in
+    /// The loops of a plate's narrow hole (a dense, noisy cloud of a turned plate), in
     /// cylindrical coordinates about the hole's axis: a round 6-vertex loop and a zigzag 9-vertex
-    /// one 6.5 radii below it. The tube zipped between them does not cross itself (the greedy zip
-    /// crossed itself 9 times, the zip of least area 24 times).
+    /// one 6.5 radii below it. The tube zipped between them does not cross itself (a greedy zip
+    /// or the zip of least area would).
     #[test]
     fn a_deep_narrow_tube_does_not_cross_itself() {
         let a = [(-31.0, 0.027), (-88.0, 0.027), (-150.0, 0.025)]

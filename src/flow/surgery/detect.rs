@@ -65,10 +65,9 @@ const DATA_ON_THE_WAY: f64 = 0.5;
 /// Whether `p` lies in a hole already opened (`opened`: balls round the tubes, see
 /// [`FacingQuery::opened`]): within [`SAME_HOLE_REACH`] times its ball, with
 /// no data on the straight way to its centre (`probe` signed: the inside of a solid is data).
-/// A square frame's hole kept membrane in its corners beyond the ball round its first tube, and
-/// a second tube there gave the frame genus 2; the ball round a tube across a wide, low hole
-/// (a ladder-back chair's, between two rails) reaches the holes above and below it, which have
-/// a rail on the way.
+/// A square hole can keep membrane in its corners beyond the ball round its first tube, and a
+/// second tube there would add a false handle; the ball round a tube across a wide, low hole
+/// (between two rails) reaches the holes above and below it, which have a rail on the way.
 pub fn in_opened_hole(
     p: DVec3,
     opened: &[(DVec3, f64)],
@@ -215,9 +214,9 @@ pub fn facing_pairs_and_tunnels(
 
 /// A tunnel's membrane reaches this many times the tunnel's half-width (the distance to the
 /// target at its middle) from the vertex that found it (by default; see
-/// [`super::open_handles`] for the narrower retry). At 2, wider tubes were cut in a genus-5
-/// chain's holes and three of its twelve clouds of `benches/genus/sweep.sh` ended 3× farther
-/// from the data (0.02 → 0.06); at 1, a plate's hole was missed.
+/// [`super::open_handles`] for the narrower retry). Wider patches cut tubes wider than their
+/// holes, which end farther from the data; narrower ones miss small holes (see
+/// docs/decisions/).
 pub const PATCH_WIDTHS: f64 = 1.5;
 /// … and at least this many of its edges: a hole a few edges wide (the smallest of a plate's)
 /// needs a patch of a ring or two to make a tube.
@@ -226,23 +225,22 @@ const PATCH_EDGES: f64 = 2.0;
 /// Vertices of a tunnel's membranes are farther from the data than this share of `empty`.
 const TUNNEL_FAR: f64 = 0.5;
 /// A tunnel's path keeps farther from the data than this share of `empty`: 2.25 point spacings,
-/// a gap that a random sampling of a wall leaves about once in 10⁷ spacings². At 0.5 (1.5
-/// spacings) a path slipped through both faces of a 3 000-point plate, whose inside then looked
-/// like a tunnel, and the plate got a fourth handle.
+/// a gap that a random sampling of a wall leaves about once in 10⁷ spacings². Closer, a path
+/// can slip through both faces of a sparsely sampled plate, whose inside then looks like a
+/// tunnel and gets a false handle.
 const PATH_CLEAR: f64 = 0.75;
 /// A tunnel's path runs level: farther from the data than this share of its vertex's distance
-/// all the way (along a hole's axis the distance hardly changes). In the clouds of the genus
-/// sweep, paths through holes kept 0.90 of it or more; paths from the lining of a sampled
-/// shell cut open (the wrap dents into it through the opening) towards the shell fell to
-/// 0.59–0.66 within a step, and their rings met the curved wall all round as a hole's would.
+/// all the way (along a hole's axis the distance hardly changes). Paths through holes stay
+/// well above this share; paths from the lining of a sampled shell cut open (the wrap dents
+/// into it through the opening) towards the shell fall well below it within a step, though
+/// their rings meet the curved wall all round as a hole's would.
 const LEVEL: f64 = 0.8;
 /// A ring ray meets the data within this share of `empty` (1.5 spacings, one cell: it does not
 /// slip through the gaps of a sampled wall).
 const RING_HIT: f64 = 0.5;
 /// A tunnel's wall reaches this share of `empty` either side of its middle along the path: a ring
 /// there lies 1.5× [`RING_HIT`] off a sheet through the middle, so that its rays along the sheet
-/// miss it (on the sheets of 3 000 to 30 000 random points, every ring off the middle missed;
-/// in the genus sweep's clouds, most tunnels' walls reach 0.75–1.5).
+/// miss it, while the walls of real tunnels reach at least about this far.
 const DEPTH: f64 = 0.75;
 
 /// Vertices farther from the data than a threshold, bucketed for neighbour queries.
@@ -288,7 +286,7 @@ impl<'a> Sheet<'a> {
         }
         let pts: Vec<DVec3> = far.iter().map(|&v| mesh.position(v)).collect();
         // Vertices are spaced by their edges, which may be far longer than the gap between two
-        // sheets: the gap is measured along the normal, and a partner may sit up to an edge
+        // sheets: the gap is taken along the normal, and a partner may sit up to an edge
         // away sideways.
         let edges: Vec<f64> = far.iter().map(|&v| mesh.mean_edge_length(v)).collect();
         let max_reach = far
@@ -748,7 +746,7 @@ mod tests {
     /// the wrap outside it, each within an edge of the other across the shell, facing back; rings
     /// between them meet the curved shell all round. Neither is a tunnel: a path from the lining
     /// falls towards the shell ([`LEVEL`]), and the first step from the outside spans the shell.
-    /// A sphere-cut cloud got two handles this way once tube zips stopped failing.
+    /// Paired, they would give a cut shell false handles.
     #[test]
     fn a_partner_across_a_wall_is_no_tunnel() {
         let (level, shell, inner, outer) = (1, 2.4, 1.5, 2.8);

@@ -1,4 +1,4 @@
-//! Topology surgery (issue 14): a Lagrangian surface cannot change its genus by moving, so a
+//! Topology surgery: a Lagrangian surface cannot change its genus by moving, so a
 //! surface shrinking onto a handle would span the handle's hole with two membranes pressed
 //! together. Surgery finds such membranes ([`detect`]) and replaces them by a tube ([`bridge`]):
 //! the hole opens and the flow goes on to fit its walls.
@@ -121,8 +121,8 @@ pub fn open_handles(
     let (mut paired, mut tunnels, mut op) = look(PATCH_WIDTHS);
     if matches!(op, Ok(None)) && !tunnels.is_empty() {
         // Nothing cut although a tunnel paired: its tube may have crossed the surface. Membranes
-        // resting tilted across a bore (a scan saw its wall only near the ends) gave rims whose
-        // tube crossed itself; narrower patches round the path give rounder loops.
+        // resting tilted across a bore (a scan that saw its wall only near the ends) give rims
+        // whose tube crosses itself; narrower patches round the path give rounder loops.
         (paired, tunnels, op) = look(NARROW_PATCH_WIDTHS);
     }
     let (operated, intersecting) = match op {
@@ -251,8 +251,7 @@ fn operate(
         }
         // Each crossing is blamed on the operation that made its faces, and two operations
         // crossing each other on the later one: the first stays in (tubes across the arms of
-        // one cavity can cross; a cube drilled along three axes had all four of a look's tubes
-        // at fault, and nothing was cut).
+        // one cavity can cross, and blaming both would leave every tube of the look out).
         let owner = |f: u32| {
             glued
                 .tubes
