@@ -1,7 +1,7 @@
 //! The angle of a triangle corner from its cross- and dot-product, without the platform's libm.
 //!
-//! The flow needs three corner angles per face per step (angle-weighted normals), ~250 K angles
-//! at 40 K vertices. `acos` of a normalised dot product costs two square roots more and is poorly
+//! The flow needs three corner angles per face per step (angle-weighted normals), about six per
+//! vertex. `acos` of a normalised dot product costs two square roots more and is poorly
 //! conditioned for small angles; `f64::atan2` calls the platform's libm, which differs between
 //! glibc and wasm in the last bit. This is Cephes' `atan` (rational approximation after range
 //! reduction) using only `+ − × ÷`, so the same bits come out natively and in the browser — a

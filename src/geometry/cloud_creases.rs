@@ -25,7 +25,7 @@ use glam::{DMat3, DVec3};
 
 /// Points per neighbourhood of the plane fits.
 const NEIGHBOURS: usize = 32;
-/// Most points tested (every k-th point of a denser cloud): bounds the cost on 1 M-point scans.
+/// Most points tested (every k-th point of a denser cloud): bounds the cost on dense scans.
 const MAX_TESTED: usize = 50_000;
 /// Surface variation above which a point may lie near a crease (a 40° crease through the
 /// middle of a disk gives about 0.016; noise of 3 % of the radius about 0.002).

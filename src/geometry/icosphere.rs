@@ -1,4 +1,4 @@
-//! Subdivided icosahedron: the default starting surface (method spec §5.1).
+//! Subdivided icosahedron: the default starting surface (docs/method.md §5.1).
 
 use crate::mesh::HalfedgeMesh;
 use glam::DVec3;

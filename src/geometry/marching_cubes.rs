@@ -1,14 +1,14 @@
 //! Isosurfaces of node values on a regular grid: the starting surface for higher-genus targets
-//! [method §5.3].
+//! [docs/method.md §5.3].
 //!
 //! **Marching tetrahedra on the Kuhn (Freudenthal) split** rather than table-based marching cubes:
 //! every cube is cut into the 6 tetrahedra around its main diagonal (0,0,0)–(1,1,1), the same way
 //! in every cube, so neighbouring cubes agree on every face diagonal. The isosurface of the
-//! piecewise-linear interpolant is then a closed 2-manifold wherever the level set stays inside
-//! the grid, with no ambiguous cases at all (classic marching cubes needs an asymptotic decider
-//! or its 33-case extension to avoid holes; the reference has none, §5.3). The price is about
-//! twice as many (and less regular) triangles, irrelevant here because the starting surface is
-//! remeshed at once.
+//! piecewise-linear interpolant is then a closed 2-manifold wherever the level set stays inside the
+//! grid, with no ambiguous cases at all (classic marching cubes needs an asymptotic decider or its
+//! 33-case extension to avoid holes; the reference has none, docs/method.md §5.3). The price is
+//! about twice as many (and less regular) triangles, irrelevant here because the starting surface
+//! is remeshed at once.
 //!
 //! Conventions: a node is *inside* when its value is `< iso`; border nodes of the grid are always
 //! treated as outside, so the surface is closed even where the level set would leave the grid.
@@ -153,7 +153,8 @@ pub struct GridNodes {
 
 /// [`marching_cubes`] with the node values read through `value(ix, iy, iz)` (indices in
 /// `grid.dims`): a caller whose values are a function of stored ones (a voxel volume padded and
-/// offset by its iso-value) need not write them all out first (a 640³ volume's copy took 2 GB).
+/// offset by its iso-value) need not write them all out first (for a large volume that copy
+/// would be gigabytes).
 pub fn marching_cubes_with(
     grid: &GridNodes,
     value: impl Fn(usize, usize, usize) -> f64,

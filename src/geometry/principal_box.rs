@@ -1,7 +1,8 @@
 //! The sides of a point set's box along its principal axes (the eigenvectors of its covariance):
-//! unlike the axis-aligned box, the same for the set turned any way. A plate 1 × 0.6 × 0.06 turned
-//! at random had an axis-aligned box of 1.08 × 0.57 × 0.67, and a grid sized by its smallest side
-//! 3.5× coarser than the plate's lying flat (see `field::grid::reference_length_of`).
+//! unlike the axis-aligned box, the same for the set turned any way. A thin plate turned at
+//! random has an axis-aligned box about as thick as it is wide, and a grid sized by its smallest
+//! side would be several times coarser than the plate's lying flat (see
+//! `field::grid::reference_length_of`).
 //!
 //! Only `+ − × ÷ sqrt` (through [`smallest_eigenvector`]): the same bits natively and in wasm.
 
@@ -41,7 +42,7 @@ pub fn principal_sides(points: &[DVec3]) -> Option<DVec3> {
         .filter(|w| w.length_squared() > 1e-12)
         .map_or_else(|| thin.any_orthonormal_vector(), DVec3::normalize);
     let middle = thin.cross(wide);
-    // The extents along the three axes in one pass (a million points: three passes were 10 ms).
+    // The extents along the three axes in one pass over the points, not three.
     let (lo, hi) = points
         .iter()
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {

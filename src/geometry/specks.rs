@@ -1,9 +1,8 @@
 //! Specks of a mesh: small closed parts floating apart from the rest (a scan's loose debris, a
 //! model's stray bits), under two grid cells across. The wrap cannot resolve them (its offset
-//! surface around one is a blob of a few cells), and wrapping them failed: a unit cube with five
-//! floating cubes a fifth of a cell wide came out with 18 intersecting face pairs, with a hundred
-//! the evolution diverged. A mesh target leaves them out, as a cloud leaves out its stray points
-//! (see [`crate::geometry::spatial::isolated`]).
+//! surface around one is a blob of a few cells), and wrapping them fails: a few leave intersecting
+//! faces, many make the evolution diverge. A mesh target leaves them out, as a cloud leaves out its
+//! stray points (see [`crate::geometry::spatial::isolated`]).
 //!
 //! Only closed parts (every edge shared by two of the part's triangles) are specks: an open
 //! piece can be a patch of a larger surface split at its seams (a CAD export's T-junctions, a

@@ -1,5 +1,5 @@
 //! Principal curvatures from the edge-based curvature tensor (Cohen-Steiner & Morvan; PMP's
-//! `Curvature::analyze_tensor`, method spec §8.1), shared by the sizing field and the feature
+//! `Curvature::analyze_tensor`, docs/method.md §8.1), shared by the sizing field and the feature
 //! detector so one remesh call computes it once.
 
 // `!(x > y)` is used deliberately: it is also true when x is NaN.

@@ -1,5 +1,5 @@
 //! Cotangent Laplace–Beltrami operator over mixed Voronoi co-volumes (Meyer et al. 2003),
-//! with the reference's clamping (method spec §6.2).
+//! with the reference's clamping (docs/method.md §6.2).
 
 use crate::mesh::HalfedgeMesh;
 use crate::solve::{ScaledRows, SolveError};
@@ -129,9 +129,9 @@ impl CotanLaplacian {
                 }
             })
             .collect();
-        // Assembled from a linear pass over the halfedges (one-ring walks chase pointers and were
-        // the slow part): count the row lengths, scatter each outgoing halfedge into its row,
-        // then divide each row by its diagonal. Row order is halfedge order (deterministic).
+        // Assembled from a linear pass over the halfedges (one-ring walks chase pointers): count
+        // the row lengths, scatter each outgoing halfedge into its row, then divide each row by its
+        // diagonal. Row order is halfedge order (deterministic).
         let nh = 2 * mesh.n_edges();
         let mut indptr = vec![0u32; n + 1];
         for h in 0..nh as u32 {

@@ -1,5 +1,5 @@
 //! Angle-weighted vertex normals (Thürmer & Wüthrich): the normal used by the LSW advection
-//! term (method spec §6.1 step 1) and by the viewer's shading.
+//! term (docs/method.md §6.1 step 1) and by the viewer's shading.
 
 use crate::geometry::angle::corner_angle;
 use crate::mesh::HalfedgeMesh;

@@ -3,9 +3,9 @@
 //! cell that holds the lowest corner of the two boxes' overlap, so exactly once.
 //!
 //! Why not the BVH's dual traversal ([`crate::geometry::spatial::bvh::Bvh::for_each_self_overlap`]):
-//! on a wrap it visited three node pairs for every overlapping box pair, at ~35 ns a visit
-//! (17 K faces: 17 ms a check, and the final fit checks several times a pass). Here the work
-//! is a sort of a few entries a box and short runs of box tests.
+//! on a wrap it visits several node pairs for every overlapping box pair, each a scattered read,
+//! and the final fit checks several times a pass. Here the work is a sort of a few entries a box
+//! and short runs of box tests.
 //!
 //! Boxes much larger than the typical one (a long sliver, a stray triangle) would fill many
 //! cells; up to [`MAX_BIG`] of them are tested against every box instead. With more, or with
@@ -22,7 +22,7 @@ use glam::DVec3;
 const MAX_CELLS: i64 = 64;
 /// Most big boxes tested one by one against all (each costs a pass over every box).
 pub const MAX_BIG: usize = 64;
-/// Box-pair tests per box at most (a wrap of 17 K faces needs 26), see the crowding check.
+/// Box-pair tests per box at most (a wrap needs a tenth of this), see the crowding check.
 const TESTS_PER_BOX: usize = 256;
 /// Cells per axis at most (so a cell's key fits 63 bits).
 const MAX_DIM: i64 = 1 << 20;
@@ -39,7 +39,7 @@ fn overlap(amin: DVec3, amax: DVec3, bmin: DVec3, bmax: DVec3) -> bool {
 /// ones).
 ///
 /// The cells' runs are tested in parallel natively, and `keep` runs there too: most overlapping
-/// pairs of a mesh's faces share a vertex (107 K of 114 K on a 17 K-face wrap), and dropping
+/// pairs of a mesh's faces share a vertex, and dropping
 /// them where they are found spares collecting them.
 pub fn overlapping_pairs(
     mins: &[DVec3],
@@ -59,7 +59,7 @@ pub fn overlapping_pairs(
         .collect();
     let (_, &mut median, _) = extents.select_nth_unstable_by(n / 2, |a, b| a.total_cmp(b));
     // The grid spans the finite boxes (a non-finite one is a big one; `min` passes over a NaN
-    // only in some positions, which left the boxes before it below the grid's corner).
+    // only in some positions, which would leave the boxes before it below the grid's corner).
     let finite = |i: usize| mins[i].is_finite() && maxs[i].is_finite();
     let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
     for i in (0..n).filter(|&i| finite(i)) {
@@ -127,7 +127,7 @@ pub fn overlapping_pairs(
         start = end;
     }
     // The boxes in entry order: a run's tests then read contiguous memory (scattered reads
-    // took most of the time).
+    // would dominate).
     let boxes: Vec<(DVec3, DVec3)> = ids
         .iter()
         .map(|&i| (mins[i as usize], maxs[i as usize]))
@@ -267,7 +267,7 @@ mod tests {
     #[test]
     fn declines_a_crowd_of_small_boxes_among_large_ones() {
         // 5 000 unit boxes on a line (the median size: a cell of 2), and 4 000 boxes a
-        // thousandth that size within half a unit, in one cell: 8 M pairs to test there.
+        // thousandth that size within half a unit, in one cell: millions of pairs to test there.
         let mut mins: Vec<DVec3> = (0..5000)
             .map(|k| DVec3::new(2.0 * k as f64, 0.0, 0.0))
             .collect();

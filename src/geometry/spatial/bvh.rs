@@ -52,9 +52,9 @@ fn box_dist2(p: DVec3, min: DVec3, max: DVec3) -> f64 {
 }
 
 /// The nodes of a tree that splits every range of more than `leaf` primitives at its middle
-/// (`len / 2`), as both builders do: the exact capacity of its node list. (Guessed at `2n /
-/// leaf`, the list outgrew it, since such leaves hold about `0.6·leaf`, and while it doubled it
-/// was held twice: 0.9 GB at once for a 640³ volume's 9.7 M-triangle iso-surface.)
+/// (`len / 2`), as both builders do: the exact capacity of its node list. (A guess of `2n /
+/// leaf` is too small, since such leaves hold about `0.6·leaf`, and a list that outgrows its
+/// capacity is held twice while it doubles.)
 fn halving_tree_nodes(n: usize, leaf: usize) -> usize {
     // The ranges of one level differ in length by one at most: count them by length.
     let mut level = vec![(n, 1usize)];
@@ -181,7 +181,7 @@ impl Bvh {
 
     /// [`Self::new_morton`] over `n` primitives whose boxes `bounds(i) = (min, max)` are computed
     /// where needed rather than stored: for millions of triangles (a big volume's iso-surface)
-    /// the two arrays took 48 bytes a triangle at the field's peak of memory. The same tree.
+    /// the two arrays would take 48 bytes a triangle at the field's peak of memory. The same tree.
     pub fn new_morton_with(
         n: usize,
         bounds: impl Fn(usize) -> (DVec3, DVec3),

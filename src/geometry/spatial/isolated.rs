@@ -1,11 +1,11 @@
 //! Isolated points of a cloud: stray returns of a scanner (dust, a reflection, a point behind
 //! the object) lying far from every other sample. Wrapped as they are, each pulls a tentacle out
-//! of the shrinking surface or needs a component of its own; on the bunny cloud with 0.5 % of
-//! its points scattered over its box, the evolution diverged.
+//! of the shrinking surface or needs a component of its own; a small share of strays scattered
+//! over a cloud's box can make the evolution diverge.
 //!
 //! The test: a point is isolated when fewer than [`ISOLATED_BELOW`] distinct positions (its own
 //! included) lie within `radius` of it: copies of a point count once, so a stray recorded six
-//! times over is still a stray (a sphere cloud with ten such strays diverged). With a radius of
+//! times over is still a stray. With a radius of
 //! several median spacings, a point of a densely sampled surface has dozens within it, also
 //! along a thin wire or at a cube's corner; a stray point (or a speck of a few) farther than the
 //! radius from the surface has only itself. Points are bucketed on cells whose diagonal is the
@@ -22,9 +22,8 @@ use glam::DVec3;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
-/// A multiply–rotate hash for cell keys: the default SipHash made the test cost two seconds on
-/// a million points, most of it hashing. (The answer never depends on the hash: only counts
-/// and lookups.)
+/// A multiply–rotate hash for cell keys: with the default SipHash, hashing would be most of the
+/// test's cost. (The answer never depends on the hash: only counts and lookups.)
 #[derive(Default)]
 struct CellHasher(u64);
 
@@ -83,13 +82,13 @@ pub fn isolated_points(points: &[DVec3], radius: f64) -> Vec<bool> {
     let keys: Vec<[i64; 3]> = crate::parallel::map(points.len(), |i| key(points[i]));
     let cells = Cells::new(&keys);
     // The points in cell order, so that a cell's are side by side in memory (looked up by index
-    // they were a cache miss each, most of the test's time on a million points).
+    // each would be a cache miss).
     let sorted: Vec<DVec3> =
         crate::parallel::map(cells.order.len(), |j| points[cells.order[j] as usize]);
     let r2 = radius * radius;
     // Distinct positions found so far around a point: copies of a point (a scan's repeated
     // records, merged passes) are one sample of the surface, and a stray recorded six times is
-    // still a stray (such a cloud diverged).
+    // still a stray.
     struct Found {
         at: [DVec3; ISOLATED_BELOW],
         n: usize,
@@ -116,10 +115,10 @@ pub fn isolated_points(points: &[DVec3], radius: f64) -> Vec<bool> {
             }
         }
     };
-    // A cell short of distinct positions looks at its six face neighbours for each of its
-    // points, then at the other cells within reach (±2), nearest first, until the point has
-    // enough (nearly every cell of a random sampling is short: 359 K of the 379 K of a 1 M-point
-    // scan). The answer per cell is the list of its isolated points (empty: no allocation).
+    // A cell short of distinct positions looks at its six face neighbours for each of its points,
+    // then at the other cells within reach (±2), nearest first, until the point has enough (nearly
+    // every cell of a random sampling is short). The answer per cell is the list of its isolated
+    // points (empty: no allocation).
     let answers: Vec<Vec<u32>> = crate::parallel::map(cells.runs.len(), |c| {
         let (k, a, b) = cells.runs[c];
         // (Every point of a cell lies within the radius of every other: the cell's diagonal.)
@@ -168,9 +167,9 @@ pub fn isolated_points(points: &[DVec3], radius: f64) -> Vec<bool> {
 ///
 /// The count alone also flags a part of the surface sampled more sparsely than the rest: a
 /// random sampling's median spacing is half its mean one, so a region with a third of the
-/// median density already has points with fewer than six within six median spacings (an
-/// ellipsoid sampled 3× more sparsely on one side lost 298 points there; 10× more sparsely, the
-/// whole side, and the wrap slipped inside and diverged). An isolated point is kept when the
+/// median density already has points with fewer than six within six median spacings (left out,
+/// they would thin such a side further, and a side sampled far more sparsely would lose all its
+/// points and let the wrap slip inside). An isolated point is kept when the
 /// distance to its [`ISOLATED_BELOW`]−1-th nearest point is at most [`STRAY_RATIO`] times the
 /// median of that distance over its [`STRAY_NEIGHBOURS`] nearest points: a sparse patch's
 /// points all see the same wide spacing, while a stray's nearest points lie on a surface that
@@ -261,8 +260,7 @@ const STRAY_REACH: f64 = 4.0;
 /// order, and a lookup from a cell to its run. (The order within a cell, and of the cells, never
 /// changes an answer: only counts.) Not a [`super::point_grid::PointGrid`]: that one keeps a
 /// start for every cell of the box and caps the cells per axis, and this test's cells must stay
-/// exactly radius/√3 wide — a million-point bust has 5·10⁷ of them, a few hundred thousand
-/// occupied.
+/// exactly radius/√3 wide — a dense scan's box holds tens of millions of them, few occupied.
 struct Cells {
     order: Vec<u32>,
     /// (cell, start, end) per occupied cell.
@@ -279,14 +277,14 @@ enum Lookup {
     Hash(HashMap<[i64; 3], usize, BuildHasherDefault<CellHasher>>),
 }
 
-/// Most (y, z) rows of cells for which [`Lookup::Rows`] keeps a table (4 MB; a million-point
-/// bust's box has 1.3·10⁵ rows).
+/// Most (y, z) rows of cells for which [`Lookup::Rows`] keeps a table (a few megabytes, more
+/// rows than a dense scan's box has).
 const MAX_ROWS: u64 = 1 << 20;
 
 impl Cells {
     /// Buckets points by their non-negative cell `keys`: by a radix sort of one integer per cell
-    /// where the cells of the points' box can be numbered in 64 bits (a million points: a
-    /// comparison sort of the triples and its keys took 0.3 s), else by that sort.
+    /// where the cells of the points' box can be numbered in 64 bits (much faster than a
+    /// comparison sort of the triples), else by that sort.
     fn new(keys: &[[i64; 3]]) -> Self {
         let dims = keys.iter().fold([1u64; 3], |d, k| {
             std::array::from_fn(|a| d[a].max(k[a] as u64 + 1))
@@ -468,7 +466,7 @@ mod tests {
             let stray = stray_points(&pts, radius);
             let lost = stray[..surface].iter().filter(|&&i| i).count();
             // (The ones lost lie where the sparse half meets the dense one, whose points are
-            // their nearest, or alone by chance inside it: 0, 23 and 51 here.)
+            // their nearest, or alone by chance inside it.)
             assert!(
                 lost * 10 <= flagged,
                 "{ratio}: {lost} of {flagged} surface points lost"

@@ -1,7 +1,7 @@
 //! The sampling spacing of a cloud *here*: a scan is rarely sampled evenly (the side a scanner
 //! saw at a grazing angle may hold a tenth of the points per area of the side it faced), and a
 //! rule scaled by the median spacing of the whole cloud reads the sparse side's ordinary gaps as
-//! holes. Measured like [`super::spacing::median_spacing`] (a point's distance to its nearest
+//! holes. Computed like [`super::spacing::median_spacing`] (a point's distance to its nearest
 //! distinct point), as the median over the [`SAMPLES`] points nearest to the data point nearest
 //! to the place: a patch of the surface around it. (The points nearest to a place in a gap are
 //! not such a patch: they are the clump beside the gap, spaced closer than the patch.)

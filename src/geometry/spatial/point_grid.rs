@@ -64,14 +64,13 @@ impl PointGrid {
     pub fn with_cell(points: &[DVec3], cell: f64) -> Self {
         let mut g = PointGrid::empty(points, cell);
         let cells = g.start.len() - 1;
-        // (The keys and the gather below on both cores: on a million points each took as long
-        // as the sort.)
+        // (The keys and the gather below in parallel: each costs about as much as the sort.)
         let pairs: Vec<(u32, u32)> = crate::parallel::map(points.len(), |i| {
             (g.key(g.cell_of(points[i])) as u32, i as u32)
         });
         let pairs = radix_sort_by_cell(pairs, cells as u64);
         // start[k]: the first point of cell k or later. Filled a stretch of cells at a time
-        // (a million-point fit grid has 6·10⁶ cells, and a compare per cell took 30–50 ms).
+        // (a dense cloud's fit grid has millions of cells, and a compare per cell is slow).
         let mut next = 0;
         for (j, &(c, _)) in pairs.iter().enumerate() {
             let c = c as usize;

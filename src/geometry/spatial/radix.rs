@@ -1,8 +1,7 @@
 //! Stable sort of (cell, index) pairs by cell, shared by the spatial grids: a least-significant-
 //! digit radix sort whose per-digit counting tables stay in the cache. A counting sort straight
 //! into millions of cells moves each entry to a random place of a bucket array far larger than
-//! the caches (a million scattered points, 0.28 s; now a fraction), and a comparison sort is
-//! O(n log n).
+//! the caches, and a comparison sort is O(n log n).
 
 /// Bits per digit: a table of 4 096 counts stays in the cache.
 pub const RADIX_BITS: u32 = 12;
@@ -11,8 +10,7 @@ pub const RADIX_BITS: u32 = 12;
 ///
 /// Natively, long inputs are cut into [`CHUNKS`] runs counted and scattered on the threads at
 /// once: each run's entries of a digit go to their own stretch of that digit's bucket, after
-/// those of the runs before it, so the result is the one stable order whatever the threads (the
-/// stray-point test's sort of a million points was a third of the test's time, on one core).
+/// those of the runs before it, so the result is the one stable order whatever the threads.
 pub fn radix_sort_by_cell<K: Copy + Into<u64> + Send + Sync>(
     mut pairs: Vec<(K, u32)>,
     cells: u64,
