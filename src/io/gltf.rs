@@ -214,7 +214,7 @@ pub fn read_with(bytes: &[u8], resolve: Resolver) -> Result<RawGeometry, IoError
         )
     })?;
     // gltf-json 1.4.1's validation indexes `accessors[POSITION]` before checking the index and
-    // panics on a dangling one (found by cargo-fuzz); check it here first.
+    // panics on a dangling one; check it here first.
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, prim) in mesh.primitives.iter().enumerate() {
             for (sem, acc) in &prim.attributes {

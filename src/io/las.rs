@@ -21,7 +21,7 @@ const F: Format = Format::Las;
 
 /// Bytes of point records decoded at a time: the crate reserves a chunk's records before
 /// decoding them, and a record may be up to 64 KiB long (extra bytes), so the chunk is counted
-/// in bytes (a fuzzing find: 65 536 records of 50 000 bytes asked for 3.3 GB).
+/// in bytes (counted in records, a corrupt file could ask for gigabytes).
 const CHUNK_BYTES: u64 = 1 << 22;
 
 /// True when `bytes` start with LAS's file signature (LAZ files have it too).
@@ -58,12 +58,12 @@ fn u64_at(bytes: &[u8], o: usize) -> Option<u64> {
     <[u8; 8]>::try_from(b).ok().map(u64::from_le_bytes)
 }
 
-/// Refuses counts the file cannot hold before the crate sees them (fuzzing finds, each a panic
-/// or a reservation of gigabytes in the crate):
+/// Refuses counts the file cannot hold before the crate sees them (each would be a panic or a
+/// reservation of gigabytes in the crate):
 /// - the point count times the record length, which the crate computes, must fit 64 bits, and
 ///   an uncompressed file must hold that many bytes;
-/// - the first extended VLR's 64-bit length, reserved before reading it (17 GB), must fit;
-/// - a LAZ chunk table's count, reserved before reading the table (14 GB), must not exceed the
+/// - the first extended VLR's 64-bit length, reserved before reading it, must fit;
+/// - a LAZ chunk table's count, reserved before reading the table, must not exceed the
 ///   file's bytes (each chunk takes at least one).
 ///
 /// Fields as the public header stores them: offset to the point data at byte 96, point format
@@ -177,7 +177,7 @@ fn laszip_vlr(bytes: &[u8]) -> Option<&[u8]> {
     None
 }
 
-/// Refuses a LASzip description the laz crate would panic on (fuzzing finds: a panic is a crash
+/// Refuses a LASzip description the laz crate would panic on (a panic is a crash
 /// of the CLI and a trap in the browser): one with no items (the crate `expect`s one), and, for
 /// variable-size chunks, a chunk table that holds fewer points than the header counts (the
 /// crate indexes the table past its end). What the crate cannot parse is left for it to report.
@@ -247,7 +247,7 @@ pub fn read_counting(
 
 /// Runs the crates' decoding, natively turning a panic into an error. The laz crate's
 /// arithmetic decoder indexes its models with decoded symbols, so corrupt compressed data can
-/// panic it deep inside (an eighth fuzzing find, which no check of the header can foresee).
+/// panic it deep inside (which no check of the header can foresee).
 /// Natively the CLI then says the data is corrupt instead of crashing (the panic's own message
 /// still goes to stderr: the process's panic hook is left alone). In wasm a panic cannot be
 /// caught: the worker traps and the app reports it and restarts the worker.
@@ -480,7 +480,7 @@ mod tests {
                 let _ = read(&b);
             }
         }
-        // A chunk table that claims 4 × 10⁹ chunks (the fuzzer's find asked for 14 GB).
+        // A chunk table that claims 4 × 10⁹ chunks.
         let mut chunks = file(&cloud(300), true);
         let start = u32::from_le_bytes(chunks[96..100].try_into().unwrap()) as usize;
         let table = i64::from_le_bytes(chunks[start..start + 8].try_into().unwrap()) as usize;
@@ -491,12 +491,12 @@ mod tests {
             "{err}"
         );
         // A LAZ point count whose byte size overflows 64 bits (the crate multiplies them: a
-        // panic with debug assertions; a fuzzing find).
+        // panic with debug assertions).
         let mut huge = file(&cloud(3), true);
         huge[107..111].copy_from_slice(&0u32.to_le_bytes());
         huge[247..255].copy_from_slice(&(1u64 << 62).to_le_bytes());
         assert!(matches!(read(&huge), Err(IoError::CountTooLarge { .. })));
-        // An extended VLR that claims 2⁴⁰ bytes (the third fuzzing find asked for 17 GB).
+        // An extended VLR that claims 2⁴⁰ bytes.
         let mut evlr = file(&cloud(3), false);
         let at = evlr.len() as u64;
         evlr[235..243].copy_from_slice(&at.to_le_bytes());

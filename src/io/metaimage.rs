@@ -3,7 +3,7 @@
 //!
 //! World coordinates: `Offset` (alias `Position`, `Origin`) + `TransformMatrix` (alias
 //! `Rotation`, `Orientation`) · (`ElementSpacing` ⊙ index), in the file's own world frame, which
-//! is kept as written (the shared brain files are RAS and agree with their NIfTI original).
+//! is kept as written.
 //! `TransformMatrix` lists the direction of index axis 0 first, then axis 1, then axis 2 (MetaIO
 //! stores the direction matrix column by column, as ITK reads it). `CompressedData = True` means
 //! a zlib stream. Reference: the MetaIO documentation of ITK

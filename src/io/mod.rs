@@ -49,7 +49,7 @@ use serde::{Deserialize, Serialize};
 
 /// The progress phase of reading a file: the readers of big clouds and meshes (PLY, XYZ, OBJ,
 /// STL, PCD, LAS/LAZ, E57, PTX) report the share of their input read, so a file that takes
-/// seconds to read (16 M points of LAZ: ≈ 6 s in the browser) shows a percentage too.
+/// seconds to read shows a percentage too.
 pub const READING: &str = "reading";
 
 /// How often, in records, a reader reports its position (reports are thinned further in time).
@@ -176,11 +176,10 @@ pub fn read_bytes_progress(
 /// Inflated bytes and the file name they came under, without `.gz`.
 type Inflated = (Vec<u8>, Option<String>);
 
-/// A gzip-compressed mesh or cloud (`scan.ply.gz`, `points.xyz.gz`, …): its inflated bytes and
-/// the file name without `.gz`. `None` when `bytes` are not gzip, or are a NIfTI volume (which
-/// is stored that way and inflated by its reader as far as the frame it needs). Before, any gzip
-/// was taken for a NIfTI and a compressed PLY was refused as "a NIfTI without its header".
-/// Inflation stops at deflate's worst-case ratio; gzip inside gzip is refused.
+/// A gzip-compressed mesh or cloud (`scan.ply.gz`, `points.xyz.gz`, …): its inflated bytes and the
+/// file name without `.gz`. `None` when `bytes` are not gzip, or are a NIfTI volume (which is
+/// stored that way and inflated by its reader as far as the frame it needs). Inflation stops at
+/// deflate's worst-case ratio; gzip inside gzip is refused.
 fn gunzipped(bytes: &[u8], file_name: Option<&str>) -> Result<Option<Inflated>, IoError> {
     use volume::{inflate_prefix, is_gzip, Packing, MAX_INFLATE_RATIO};
     let lower = file_name.map(str::to_ascii_lowercase);

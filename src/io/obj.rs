@@ -2,7 +2,7 @@
 //! any number of objects/groups) and writer.
 //!
 //! Hand-written rather than using `tobj`: tobj's errors carry no line number (a user cannot find
-//! the bad line in a 3 MB file), it drops files with only `v` lines (point clouds), and it builds
+//! the bad line in a large file), it drops files with only `v` lines (point clouds), and it builds
 //! per-object, per-attribute arrays LSW does not need. Only positions and face corners are read;
 //! texture coordinates, normals, materials, lines and free-form geometry are skipped. Faces are
 //! fan-triangulated. A file without `f` lines is a point cloud.

@@ -1,7 +1,7 @@
 //! Stanford PLY: reader (ASCII, binary little- and big-endian) and binary little-endian writer.
 //!
 //! Hand-written rather than using a crate: the PLY crates build a dynamic property map per
-//! element (one allocation per vertex), which is far from the 0.2 s budget for a million points,
+//! element (one allocation per vertex), which is far too slow for a million points,
 //! and do not report byte offsets or bound their allocations by the file size. Here the vertex
 //! records are read in place from the input slice (no copy), element counts are checked against
 //! the bytes that follow the header before anything is allocated, and every error names the line

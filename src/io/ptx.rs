@@ -5,9 +5,8 @@
 //! frame as row vectors, `[x y z 1] · M`, its last row the translation. Point lines are
 //! `x y z intensity [r g b]`; a line of zeros is a grid cell without a return and is left out.
 //!
-//! Without this reader a PTX file was sniffed as a point list and its header lines (the
-//! scanner's position, axes and matrix rows) became points; the grid's empty cells piled up at
-//! the origin.
+//! Read as a plain point list, a PTX file's header lines (the scanner's position, axes and
+//! matrix rows) would become points and the grid's empty cells would pile up at the origin.
 
 use super::error::{Format, IoError, Location};
 use super::text::{parse_f64, show, words, Lines};
@@ -86,7 +85,7 @@ pub fn read_counting(
             .ok_or_else(|| truncated(format!("scan {at}'s header (rows)")))?;
         let rows = count("rows", rows)?;
         // Every grid cell takes a line of at least 7 bytes ("0 0 0 0"): a larger grid is a
-        // corrupt header (and columns × rows may not even fit 64 bits: a fuzzing find).
+        // corrupt header (and columns × rows may not even fit 64 bits).
         let cells = columns as u128 * rows as u128;
         if cells * 8 > bytes.len() as u128 + 8 {
             return Err(IoError::CountTooLarge {

@@ -178,7 +178,8 @@ impl VoxelVolume {
             Inside::Dark => 1.0,
         };
         // The volume padded by one voxel of outside (1) and offset by the iso-value, read where
-        // the marching needs it rather than written out (8 bytes a voxel: 2 GB for 640³).
+        // the marching needs it rather than written out (at 8 bytes a voxel, gigabytes for a
+        // large volume).
         let value = |ix: usize, iy: usize, iz: usize| -> f64 {
             let pad = |i: usize, n: usize| i == 0 || i > n;
             if pad(ix, nx) || pad(iy, ny) || pad(iz, nz) {

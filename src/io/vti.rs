@@ -4,8 +4,8 @@
 //! parser.
 //!
 //! World coordinates: `Origin + Direction · (Spacing ⊙ index)` with `Direction` row-major and the
-//! index counted from the extent's lower corner, in the file's own frame (kept as written: the
-//! shared brain files are RAS and agree with their NIfTI original). The array read is the one
+//! index counted from the extent's lower corner, in the file's own frame (kept as written). The
+//! array read is the one
 //! named by [`VolumeOptions::array`], else `PointData`'s active `Scalars`, else the first point
 //! array. Binary blocks follow VTK's layout: a header of `UInt32` or `UInt64` values (the byte
 //! count; or, compressed, block count, block size, last block size and the compressed sizes),

@@ -113,8 +113,8 @@ pub fn read(bytes: &[u8]) -> Result<(RawMesh, Scalars), IoError> {
         let at = r.at();
         match kw {
             // After POINT_DATA only attributes follow; the ones not read here (vectors,
-            // normals, cell data, fields) end the geometry. (Found by fuzzing: a second
-            // POINTS/POLYGONS after POINT_DATA made the scalars disagree with the points.)
+            // normals, cell data, fields) end the geometry. (A second POINTS/POLYGONS after
+            // POINT_DATA would make the scalars disagree with the points.)
             _ if point_data.is_some() && kw != b"SCALARS" => break,
             b"POINTS" if !points.is_empty() => {
                 return Err(IoError::syntax(

@@ -3,9 +3,9 @@
 //! along UV seams and hard edges), faces stored twice, faces wound the wrong way.
 //!
 //! Such a mesh cannot have a signed distance field (its edges are boundary or non-manifold),
-//! so it used to be wrapped like a point cloud: from an icosphere, without its genus, with no
-//! inside to guide the flow (cube-hole with half its faces flipped: ~97 K vertices in 15 s,
-//! against 6.7 K in 1.2 s for the clean file). The repair changes no position and no shape:
+//! so it would be wrapped like a point cloud: from an icosphere, without its genus, with no
+//! inside to guide the flow, far slower and into far more vertices than the clean file. The
+//! repair changes no position and no shape:
 //!
 //! 1. corners with bit-identical coordinates become one vertex (the first in file order);
 //! 2. faces with a repeated corner, and second copies of a face (either winding), are dropped;
@@ -16,12 +16,10 @@
 //!    outwards (positive volume) — or inwards when another closed part contains it an odd
 //!    number of times (a hollow part's inner wall);
 //! 5. a vertex whose faces fall into several fans (joined by paired edges) gets one copy per fan,
-//!    so parts that touch at an edge or a vertex become separate closed parts. (DoubleWedge.stl,
-//!    two wedges on one edge: 79 K vertices in 9.4 s, Hausdorff 0.60 %, became 4.6 K vertices
-//!    in 0.7 s, 0.03 %.)
-//! 6. holes of at most [`MOST_HOLE_EDGES`] edges in a large part are closed by a fan (a scan's
-//!    missing faces: cube-hole with 3 % of its faces dropped, 118 K vertices in 16 s from the
-//!    icosphere, became 6.9 K in 2 s from the isosurface).
+//!    so parts that touch at an edge or a vertex become separate closed parts (each then has a
+//!    signed field of its own instead of being wrapped as a cloud);
+//! 6. holes of at most [`MOST_HOLE_EDGES`] edges in a large part are closed by a fan (a few
+//!    missing faces, so the part can start from the isosurface instead of the icosphere).
 //!
 //! It is used only where it turns a mesh with non-manifold or inconsistent edges into one
 //! without, or closes boundary edges; an already closed and oriented mesh is touched only to turn
@@ -59,7 +57,7 @@ const PROBES: usize = 8;
 const MOST_NESTED_PARTS: usize = 32;
 
 /// (Boundary edges, edges used other than once each way) of a triangle list, by its stars (a
-/// counting sort by vertex: 21 ms on 329 K faces, where sorting every edge took 59).
+/// counting sort by vertex, several times faster than sorting every edge).
 fn edge_defects(tris: &[[u32; 3]]) -> (usize, usize) {
     let c = super::stars::closure(tris);
     (c.boundary_edges, c.bad_edges)
@@ -99,8 +97,8 @@ pub fn repair(points: &[DVec3], triangles: &[[u32; 3]]) -> Option<Mended> {
     if before == (0, 0) {
         return facing_parts(points, triangles);
     }
-    // With boundary edges only (an open scan), only corners merged on them could close any
-    // (bunny.ply, 70 K faces: 140 ms of mending that changed nothing, now 8 ms for the check).
+    // With boundary edges only (an open scan), only corners merged on them could close any: a
+    // cheap check spares an open scan the whole mending, which would change nothing.
     if before.1 == 0 && !coincident(points, &rims) && !small_loop(&rims) {
         return None;
     }
@@ -402,8 +400,7 @@ fn consistent_winding(tris: &[[u32; 3]], pairs: &[Pair]) -> Option<(Vec<bool>, V
 
 /// A closed, oriented mesh of several parts, each turned to face out (or in, where nested an
 /// odd number of times): the field signs a mesh by its total volume, so a part wound against
-/// the others was signed inside out (two spheres, one wound inwards: mean distance 2.4 % of the
-/// diagonal instead of 0.0006 %). None when every part already faces its way, for one part
+/// the others would be signed inside out. None when every part already faces its way, for one part
 /// (its sign follows its volume), and beyond [`MOST_NESTED_PARTS`] parts (nesting unchecked, a
 /// hollow part's inner wall would be turned out).
 fn facing_parts(points: &[DVec3], tris: &[[u32; 3]]) -> Option<Mended> {
