@@ -693,8 +693,8 @@ mod tests {
         );
     }
 
-    /// The codes and hints the app showed before this trait, for the cases it branches on or
-    /// that users see most.
+    /// The codes and hints the app relies on, for the cases it branches on or that users see
+    /// most.
     #[test]
     fn codes_and_hints_kept_from_the_facade() {
         let too_large = EvolveError::Field(FieldError::TooLarge {

@@ -56,9 +56,9 @@ where
 /// `f(k, chunk)` for the consecutive chunks of `chunk_len` items of `data` (the last may be
 /// shorter); `done(k)` hears, every `group` chunks and at the end, how many chunks are done. For
 /// loops that scatter into disjoint parts of one array. Natively the chunks are spread over the
-/// threads all at once — not group by group, which left a core idle whenever a group's busy
-/// chunks fell to one thread (a mesh's band: the surface fills a few slabs of the grid) — and the
-/// counts come to this thread as chunks finish; in wasm they run in order.
+/// threads all at once — not group by group, which would leave a core idle whenever a group's
+/// busy chunks fall to one thread (a mesh's band: the surface fills a few slabs of the grid) —
+/// and the counts come to this thread as chunks finish; in wasm they run in order.
 pub fn for_each_chunk_mut<T, F>(
     data: &mut [T],
     chunk_len: usize,

@@ -28,8 +28,9 @@ pub struct Target {
     /// Axis-aligned bounding box of `points`.
     pub bbox: Aabb,
     /// The triangles are a voxel volume's iso-surface (see [`Target::from_volume`]): their
-    /// dihedral angles are the sampling's, not the object's, so they have no creases (gm_half's
-    /// showed 148 711 edges turning by more than 40°, and the crease fit spent 20 s on them).
+    /// dihedral angles are the sampling's, not the object's, so they have no creases (a voxel
+    /// staircase turns by more than any crease angle at countless edges, and the crease fit
+    /// would spend its time on them).
     pub sampled: bool,
 }
 
@@ -79,8 +80,8 @@ pub enum TargetError {
     },
     /// The target lies so far from the origin, for its size, that 32-bit coordinates (what every
     /// output format stores, and what the wrap is checked with) cannot resolve it: the wrap's
-    /// vertices would collapse onto a few representable positions (a bunny 2.5e-4 across at
-    /// 2e4 from the origin made every face meet every other). Fix: move it near the origin.
+    /// vertices would collapse onto a few representable positions, and every face would meet
+    /// every other. Fix: move it near the origin.
     #[error("the target lies {distance:.3e} from the origin but is only {size:.3e} across: 32-bit output coordinates cannot resolve it (steps of {step:.1e}); move it near the origin")]
     FarFromOrigin { distance: f64, size: f64, step: f64 },
     /// A mesh whose triangles all have zero area.
@@ -214,13 +215,13 @@ impl Target {
     }
 
     /// Refuses targets no wrap can make sense of, before any work: fewer than 4 distinct points,
-    /// all points on a line or in a plane (relative tolerance 1e-9 of the diagonal, measured
+    /// all points on a line or in a plane (relative tolerance 1e-9 of the diagonal, taken
     /// along the principal axes so a tilted plane counts too), a target so far from the origin for
     /// its size that 32-bit coordinates cannot resolve it, a mesh of zero total area.
     pub fn check_wrappable(&self) -> Result<(), TargetError> {
         let total = self.points.len();
         // Four distinct points are enough to go on, a cloud's [`MIN_CLOUD_POINTS`] (and below
-        // that, these are all of them): no sort of every point (0.1 s on a million).
+        // that, these are all of them): no sort of every point.
         let enough = match self.triangles.is_empty() {
             true => MIN_CLOUD_POINTS,
             false => 4,
@@ -282,8 +283,8 @@ impl Target {
                 step,
             });
         }
-        // A handful of points outlines no surface: wraps of 5 to 8 points ran for 1.5 to 3
-        // minutes (rolled back over and over) or diverged, and 12 gave a 139 K-vertex blob.
+        // A handful of points outlines no surface: wraps of so few points run for minutes
+        // (rolled back over and over), diverge, or end as a blob of far too many vertices.
         if distinct < enough {
             return Err(TargetError::SparseCloud {
                 distinct,

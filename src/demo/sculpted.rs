@@ -38,7 +38,7 @@ fn fin(p: DVec3, t: [DVec2; 3], half: f64) -> f64 {
 }
 
 /// A cartoon fish (1.5 × 0.35 × 0.7): an ellipsoid body, a forked-looking tail fin and a dorsal
-/// fin 0.024 thick (about 1.4 % of the diagonal) blended into the body with a small smooth
+/// fin 0.024 thick blended into the body with a small smooth
 /// minimum (concave creases), and two eye sockets cut into the head.
 pub fn fish() -> Shape {
     let v = DVec2::new;

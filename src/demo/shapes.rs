@@ -170,8 +170,8 @@ pub fn implicit_surface(sdf: impl Fn(DVec3) -> f64, lo: DVec3, hi: DVec3, cell: 
 
 /// A closed surface of genus `g` (at least 1): `g` tori (radii 0.5 and 0.2, centres 1.2 apart
 /// along x, so neighbours overlap) united by the minimum of their distance functions, scaled so
-/// that x spans [−1, 1]. The grid spacing grows with g^¼, giving ~15 K (g = 1) to ~29 K (g = 5)
-/// triangles.
+/// that x spans [−1, 1]. The grid spacing grows with g^¼, so the triangle count grows far
+/// slower than the genus.
 pub fn torus_chain(g: usize) -> Shape {
     let g = g.max(1);
     let (big, small, pitch) = (0.5, 0.2, 1.2);

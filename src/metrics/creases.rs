@@ -16,7 +16,7 @@ use serde::Serialize;
 pub const CREASE_OFFSET: f64 = 0.005;
 /// Default crease angle of the measurement, degrees (the fit's default).
 pub const CREASE_ANGLE_DEG: f64 = 40.0;
-/// The bar of issue 15: a crease is reproduced when its angle is within this many degrees.
+/// The acceptance bar: a crease is reproduced when its angle is within this many degrees.
 pub const CREASE_TOLERANCE_DEG: f64 = 10.0;
 
 /// Summary over the target's crease edges (angles in degrees).
@@ -33,7 +33,7 @@ pub struct CreaseFidelity {
     pub worst_at: [f64; 3],
 }
 
-/// The crease fidelity of mesh `(positions, triangles)` to `creases`, measured `offset` beside
+/// The crease fidelity of mesh `(positions, triangles)` to `creases`, read `offset` beside
 /// each edge; None when the target has no creases or the mesh no faces.
 pub fn crease_fidelity(
     positions: &[DVec3],

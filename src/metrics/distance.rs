@@ -2,8 +2,8 @@
 //! decision 7: every distance is an exact point–triangle (or point–point) distance found through a
 //! BVH, never a grid sample.
 //!
-//! One side is sampled at the *vertices* (or points) of the source and measured to the other
-//! side's *surface* — triangles when it has them, points for a cloud:
+//! One side is sampled at the *vertices* (or points) of the source, its distances taken to the
+//! other side's *surface* — triangles when it has them, points for a cloud:
 //! * `mesh_to_target`: mesh vertices → target triangles (mesh target) or nearest target point
 //!   (point-cloud target, the reference's "vertex → point" figure);
 //! * `target_to_mesh`: every target point (all vertices of a mesh target, also those no face

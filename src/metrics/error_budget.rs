@@ -1,4 +1,4 @@
-//! Where a wrap's remaining error comes from (issue 15, item 4): every target point's distance
+//! Where a wrap's remaining error comes from: every target point's distance
 //! to the wrap, and every wrap vertex's distance to the target, put in one class by its cause.
 //!
 //! * `features` — target points within one grid cell of a crease line or corner of a mesh

@@ -32,11 +32,10 @@ fn certainly_apart(t: [DVec3; 3], u: [DVec3; 3]) -> bool {
     (s[0] > eps && s[1] > eps && s[2] > eps) || (s[0] < -eps && s[1] < -eps && s[2] < -eps)
 }
 
-/// True when `p` and `q` lie strictly on the same side of the plane through `o` with normal `n`,
-/// by a margin far above rounding error.
 /// True when a plane through an edge of `t`, square to `t`, has all of `u` strictly on the far
-/// side (by a margin over rounding): then they cannot meet. Faces in one plane — a CAD part's
-/// flat sides — are never apart by [`certainly_apart`], and took the exact coplanar test.
+/// side (by a margin over rounding): then they cannot meet. Faces in one plane — a machined
+/// part's flat sides — are never apart by [`certainly_apart`], and would take the exact coplanar
+/// test.
 #[inline]
 fn apart_across_an_edge(t: [DVec3; 3], u: [DVec3; 3]) -> bool {
     let n = (t[1] - t[0]).cross(t[2] - t[0]);

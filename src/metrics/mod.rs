@@ -1,4 +1,4 @@
-//! Quality and accuracy metrics (method spec §9 with the project's decisions 3 and 7).
+//! Quality and accuracy metrics (docs/method.md §9 with the project's decisions 3 and 7).
 //!
 //! * [`quality`] — per-face κ(J_Δ) (equilateral = 1), the reference's κ variant, 2·r_in/r_circ,
 //!   minimum angle, summaries, co-volume statistics.

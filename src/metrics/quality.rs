@@ -1,4 +1,4 @@
-//! Per-face triangle quality (method spec §9.1–9.3, project decision 3) and co-volume statistics
+//! Per-face triangle quality (docs/method.md §9.1–9.3, project decision 3) and co-volume statistics
 //! (§9.4).
 //!
 //! * [`kappa`] — κ(J_Δ), the condition number of the map J from the unit equilateral triangle
@@ -29,7 +29,7 @@ pub fn kappa(a: DVec3, b: DVec3, c: DVec3) -> f64 {
     s2 / (2.0 * 3f64.sqrt() * twice_area)
 }
 
-/// The reference's κ(J_Δ) variant (spec §9.1) for a face listed as `[i0, i1, i2]`:
+/// The reference's κ(J_Δ) variant (docs/method.md §9.1) for a face listed as `[i0, i1, i2]`:
 /// apex `a = i0`, base `b0 = i2`, `b1 = i1`; `κ = ‖W‖_∞·‖W⁻¹‖_∞` with
 /// `W = [[2|e0|, e1·x̂], [0, e1·ŷ]]`. Equilateral → 2/√3 ≈ 1.1547, right isosceles (apex at the
 /// right angle) → 2. Degenerate → ∞ (the reference returns FLT_MAX).
@@ -173,8 +173,9 @@ pub fn quality_stats(positions: &[DVec3], triangles: &[[u32; 3]]) -> QualityStat
     }
 }
 
-/// Per-vertex mean of the incident faces' κ(J_Δ) (the remeshing trigger's input, spec §7.1);
-/// degenerate faces are left out of both the sum and the count (unlike the reference, §13.20).
+/// Per-vertex mean of the incident faces' κ(J_Δ) (the remeshing trigger's input, docs/method.md
+/// §7.1); degenerate faces are left out of both the sum and the count (unlike the reference,
+/// §13.20).
 pub fn vertex_kappa(mesh: &HalfedgeMesh) -> Vec<f64> {
     let mut sum = vec![0.0; mesh.n_vertices()];
     let mut cnt = vec![0u32; mesh.n_vertices()];
@@ -201,7 +202,7 @@ pub fn vertex_kappa(mesh: &HalfedgeMesh) -> Vec<f64> {
         .collect()
 }
 
-/// Co-volume (mixed Voronoi area A_i) statistics (spec §9.4).
+/// Co-volume (mixed Voronoi area A_i) statistics (docs/method.md §9.4).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct CovolumeStats {
     /// Summary of A_i over the vertices.
@@ -244,7 +245,7 @@ mod tests {
         assert!((radius_ratio(a, b, r) - 8.0 * 0.25 / (s * 2f64.sqrt())).abs() < 1e-14);
         assert!((radius_ratio(a, b, r) - 2.0 * (2f64.sqrt() - 1.0)).abs() < 1e-14);
         assert!((min_angle(a, b, r).to_degrees() - 45.0).abs() < 1e-12);
-        // Reference variant, apex at the right angle (i0 = a): 2.0 (spec §9.1 "facts").
+        // Reference variant, apex at the right angle (i0 = a): 2.0 (docs/method.md §9.1 "facts").
         assert!((kappa_reference(a, b, r) - 2.0).abs() < 1e-12);
         // Needle: height 1e-3 on base 1 → κ ≈ (1 + 2·0.25)/(4√3·5e-4) ≈ 433.
         let n = DVec3::new(0.5, 1e-3, 0.0);

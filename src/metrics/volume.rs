@@ -1,12 +1,12 @@
 //! Enclosed volume of a closed triangle mesh (divergence theorem), used to tell a solid wrap
-//! from a double-walled shell (issue 6's "volume ≤ 1.10 × the target's").
+//! from a double-walled shell (the acceptance bar "volume ≤ 1.10 × the target's").
 
 use glam::DVec3;
 
 /// Signed enclosed volume `Σ (a−o)·((b−o)×(c−o))/6` (positive for an outward-oriented closed
 /// surface), with the origin `o` at the mean of the vertices. For a closed surface `o` does not
-/// matter (up to rounding, which it keeps small far from the world origin); for an open scan such
-/// as `bunny.ply` it defines the value: the cone from the vertex centroid over the surface.
+/// matter (up to rounding, which it keeps small far from the world origin); for an open scan it
+/// defines the value: the cone from the vertex centroid over the surface.
 pub fn enclosed_volume(positions: &[DVec3], triangles: &[[u32; 3]]) -> f64 {
     if positions.is_empty() {
         return 0.0;

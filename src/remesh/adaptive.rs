@@ -1,5 +1,5 @@
 //! Adaptive isotropic remeshing after Dunyach et al. 2013 as implemented by PMP's
-//! `Remeshing::adaptive_remeshing` (method spec §7.3): split long edges, collapse short ones,
+//! `Remeshing::adaptive_remeshing` (docs/method.md §7.3): split long edges, collapse short ones,
 //! equalise valences by flips, smooth tangentially, remove caps — with a curvature-adaptive
 //! sizing field and locked / sliding feature vertices.
 //!
@@ -70,8 +70,8 @@ pub struct RemeshSettings {
     /// Splits insert the midpoint of the curve through the edge's ends along their normals
     /// ([`curved_midpoint`]) instead of the chord's (the reference's). Without projection the
     /// chord midpoints of a convex rim lie inside the surface, where the flow's positive support
-    /// never pushes them back: a thin plate's corners and a cube cloud's edges were shaved a
-    /// little at every remesh. Ignored with `use_projection` (the projection places the vertex).
+    /// never pushes them back: corners and sharp edges would be shaved a little at every
+    /// remesh. Ignored with `use_projection` (the projection places the vertex).
     /// A mesh with the vertex layer [`CURVED_SPLITS_LAYER`] gets them only on edges whose ends
     /// both have a value above ½ there. Default true.
     pub curved_splits: bool,
@@ -82,14 +82,15 @@ pub struct RemeshSettings {
     pub reorder: bool,
     /// Most splits per vertex of the input (plus [`SPLIT_ALLOWANCE`]) before the call gives up
     /// with [`RemeshError::Runaway`]. None: no limit (default). The final fit sets it: a fit
-    /// over 20 points crumpled the wrap, and each of its two remeshes churned through a million
-    /// splits and nearly as many collapses for 10 s, only to be undone for intersecting.
+    /// over too few points can crumple the wrap, and its remeshes would then churn through
+    /// millions of splits and nearly as many collapses, only to be undone for intersecting.
     pub max_splits_per_vertex: Option<f64>,
 }
 
 /// The vertex layer that limits [`RemeshSettings::curved_splits`] to part of a mesh (1 = curved,
 /// 0 = chord). The flow keeps chord midpoints away from the target: there the surface is still
-/// shrinking, and curved ones held membranes over a torus's holes apart (no surgery, genus lost).
+/// shrinking, and curved ones would hold membranes over a handle's hole apart (no surgery,
+/// genus lost).
 pub const CURVED_SPLITS_LAYER: &str = "curved_splits";
 
 impl Default for RemeshSettings {
@@ -803,7 +804,7 @@ fn tangential_smoothing(mesh: &mut HalfedgeMesh, w: &mut Work) -> bool {
     let nv = mesh.n_vertices();
     // (No projection before the passes: every vertex is on the reference already — the call's
     // own vertices are its vertices, a split projects the one it adds, and collapses and flips
-    // move none. Projecting them again cost the bunny cloud's fit a tenth of its remeshing.)
+    // move none. Projecting them again would only cost time.)
     build_rings(mesh, &mut w.ring_off, &mut w.ring);
     let tol = w.s.smoothing_tolerance.max(0.0);
     w.active.clear();

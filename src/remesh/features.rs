@@ -1,4 +1,4 @@
-//! Feature detection, re-derived (method spec §8.2, §13.8; project decision 4).
+//! Feature detection, re-derived (docs/method.md §8.2, §13.8; project decision 4).
 //!
 //! The reference's mean-curvature test marks a vertex when `γ = 4·l̄·H < γ_crit`, which selects
 //! flat and concave vertices (every vertex of a sphere) and then locks them against remeshing;
@@ -24,7 +24,7 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FeatureDetector {
-    /// No features (the reference's bunny experiment).
+    /// No features (as in the reference's experiments).
     #[default]
     Off,
     /// Mean-curvature-angle test on vertices only (every feature vertex is locked).

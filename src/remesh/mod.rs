@@ -1,4 +1,4 @@
-//! Adaptive remeshing (method spec §7) and feature detection (§8, re-derived).
+//! Adaptive remeshing (docs/method.md §7) and feature detection (§8, re-derived).
 //!
 //! * [`adaptive`] — one remesh call: split / collapse / flip / tangential smoothing / cap removal
 //!   with a curvature-adaptive sizing field ([`adaptive::remesh`]).

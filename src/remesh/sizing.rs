@@ -1,4 +1,4 @@
-//! Target edge lengths: the curvature-adaptive sizing field of one remesh call (method spec §7.3
+//! Target edge lengths: the curvature-adaptive sizing field of one remesh call (docs/method.md §7.3
 //! step 4) and the start-size rules and schedule of §7.2 / §6.6.
 
 use crate::geometry::operators::curvature::Curvatures;
@@ -17,7 +17,7 @@ pub struct EdgeSizes {
     pub approx_error: f64,
 }
 
-/// Start sizes for an icosphere start surface (spec §7.2, paper eq. 9):
+/// Start sizes for an icosphere start surface (docs/method.md §7.2, paper eq. 9):
 /// `l_min = λ_min·2·r_φ·sin(2π/10·2^{−s})`, `l_max = 4·l_min`, `ε_rem = 0.25·(l_min + l_max)`.
 ///
 /// `radius` is the (scaled) icosphere radius r_φ, `level` the subdivision level s and
@@ -28,7 +28,7 @@ pub fn icosphere_sizes(min_edge_multiplier: f64, radius: f64, level: u32) -> Edg
     from_min_edge(l_min)
 }
 
-/// Start sizes for a marching-cubes start surface (spec §7.2, paper eq. 10):
+/// Start sizes for a marching-cubes start surface (docs/method.md §7.2, paper eq. 10):
 /// `l_min = √2·c·φ·λ_min`, `l_max = 4·l_min`, `ε_rem = 0.25·(l_min + l_max)`, with `cell_size`
 /// the (resampled) grid cell size c, `scale` the stabilisation factor φ and `min_edge_multiplier`
 /// λ_min (0.4 in the genus tests).
@@ -46,8 +46,8 @@ pub fn from_min_edge(l_min: f64) -> EdgeSizes {
     }
 }
 
-/// One schedule adjustment (spec §6.6): `l_min, l_max ← λ_dec·l_min, λ_dec·l_max`,
-/// `ε_rem ← 0.1·(l_min + l_max)`. `decay` is λ_dec (0.7 in the bunny experiment).
+/// One schedule adjustment (docs/method.md §6.6): `l_min, l_max ← λ_dec·l_min, λ_dec·l_max`,
+/// `ε_rem ← 0.1·(l_min + l_max)`. `decay` is λ_dec (0.7 in the reference).
 pub fn decayed(sizes: EdgeSizes, decay: f64) -> EdgeSizes {
     let (l_min, l_max) = (decay * sizes.min_edge_length, decay * sizes.max_edge_length);
     EdgeSizes {
@@ -73,8 +73,8 @@ pub fn edge_length_for_radius(r: f64, eps: f64, l_min: f64, l_max: f64) -> f64 {
     }
 }
 
-/// The per-vertex sizing field of one remesh call (PMP's adaptive sizing, spec §7.3 step 4):
-/// `κ = max(|κ_min|, |κ_max|)`, −1 for `fixed` (boundary/feature) vertices, two in-place passes
+/// The per-vertex sizing field of one remesh call (PMP's adaptive sizing, docs/method.md §7.3 step
+/// 4): `κ = max(|κ_min|, |κ_max|)`, −1 for `fixed` (boundary/feature) vertices, two in-place passes
 /// replacing each value by the cotan-weighted mean of its neighbours' positive values, then
 /// [`edge_length_for_radius`] with `r = 1/κ`.
 pub fn curvature_sizing(

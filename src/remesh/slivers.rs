@@ -3,8 +3,8 @@
 //! one polyline (a *cap*: an angle near 180°, a chord across a bend of the rim of a hole) or two
 //! on one corner (a *needle*: an edge far shorter than the face's others). A cap spans the gap
 //! between its chord and the crease, which the crease metric reads as a bevel, and a folded one
-//! holds its neighbours off the target (the cube with a hole turned 40°/10°: one rim edge at
-//! 11.4° from a cap the guard would not let a neighbour flatten). A cap's long edge is flipped,
+//! holds its neighbours off the target (a rim edge beside it stays bent, since the guard does not
+//! let a neighbour flatten it). A cap's long edge is flipped,
 //! a needle's short edge collapsed: neither moves a vertex that stays.
 
 use super::adaptive::flip_geometry_ok;

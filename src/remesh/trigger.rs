@@ -1,4 +1,4 @@
-//! When to remesh (method spec §7.1, pitfall §13.7): the reference remeshes unless every
+//! When to remesh (docs/method.md §7.1, pitfall §13.7): the reference remeshes unless every
 //! vertex-averaged κ lies strictly inside (1, 1.5) in *its* κ, whose ideal is 2/√3 — so in effect
 //! every step. Here the same idea with the rotation-invariant κ(J_Δ) of
 //! [`crate::metrics::quality::kappa`] (ideal exactly 1): remesh when the worst vertex average

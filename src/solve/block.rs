@@ -6,8 +6,8 @@
 //! is Jacobi preconditioning without the two preconditioned vectors per iteration, and every
 //! vector update is fused with the dot products that read it (one pass instead of two or three).
 //! Convergence is still judged on the true residual `‖b − Ax‖ = ‖D·r‖`, whose norm falls out of
-//! the same passes. At 40 K vertices the sparse products dominate (about 15 instructions per
-//! stored entry); the vector passes take about a quarter of the time.
+//! the same passes. The sparse products dominate; the vector passes take a minor share of the
+//! time.
 
 use super::{ScaledRows, SolveError, SolveReport, SolverSettings};
 

@@ -3,7 +3,7 @@
 //!
 //! The LSW system `I + τ·ε·L` is non-symmetric (rows scaled by ε_i/A_i) but strongly diagonally
 //! dominant for the time steps used, so Jacobi-preconditioned BiCGStab converges in a handful of
-//! iterations (method spec §6.4).
+//! iterations (docs/method.md §6.4).
 
 mod bicgstab;
 mod block;
