@@ -9,6 +9,7 @@
 //! The core knows nothing of the browser; [`wasm`] is a thin facade over it. Every core error
 //! explains itself to users through [`error::Explain`] (a code and a hint).
 
+pub mod catalog;
 pub mod clock;
 pub mod demo;
 pub mod error;
@@ -20,6 +21,7 @@ pub mod io;
 pub mod mesh;
 pub mod metrics;
 pub mod parallel;
+pub mod pipeline;
 pub mod progress;
 pub mod remesh;
 pub mod solve;
@@ -27,6 +29,7 @@ pub mod target;
 
 #[cfg(not(target_arch = "wasm32"))]
 pub mod cli;
+#[cfg(target_arch = "wasm32")]
 pub mod wasm;
 
 pub use glam::DVec3;

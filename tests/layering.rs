@@ -15,6 +15,7 @@ const LAYERS: &[&[&str]] = &[
     &["metrics"],
     &["remesh"],
     &["flow"],
+    &["pipeline", "catalog"],
     &["demo"],
     &["error", "cli", "wasm", "bin", "lib"],
 ];

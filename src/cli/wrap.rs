@@ -1,9 +1,9 @@
 //! `lsw wrap INPUT -o OUTPUT`: the whole pipeline, read → field → start surface → evolve → write.
 
-use crate::flow::{Evolver, Preset, StepReport, WrapSettings};
+use crate::flow::{Preset, StepReport, WrapSettings};
 use crate::io::{read_path_with, write_path, WriteInput};
-use crate::metrics::certificate::{certify_against, CertificateTarget};
 use crate::metrics::error_budget::error_budget;
+use crate::pipeline::{wrap, Observer};
 use serde_json::{json, Value};
 use std::path::PathBuf;
 
@@ -75,7 +75,9 @@ pub fn apply_overrides(
 /// {valid, closed, manifold, oriented, finite, genus, components, euler_characteristic,
 /// self_intersections, degenerate_faces, distance_min, distance_max, problem, target_genus,
 /// target_components, target_points_outside, target_points_checked,
-/// target_part_outside}, warnings (what the certificate shows beside `valid`, in words: a
+/// target_part_outside}, verdict {state (valid, warning or invalid), certified, badge,
+/// headline, explanation, warnings, notes} (decided once in the core: see
+/// [`crate::pipeline::Verdict`]), warnings (what the certificate shows beside `valid`, in words: a
 /// genus or part count unlike the target's, a part of the target outside; also on stderr; see
 /// `Certificate::warnings`), contacts,
 /// surgery [{step, kind, position, genus_before, genus_after}], isolated_points_left_out (a
@@ -114,40 +116,26 @@ pub fn run(a: &WrapArgs) -> Result<String, super::Failure> {
     let read = read_path_with(&a.input, &a.volume.options()).map_err(super::explained)?;
     a.volume.write_isosurface(&read)?;
     let t_read = crate::clock::now_ms();
-    let mut ev = Evolver::new(&read.target, settings.clone()).map_err(super::explained)?;
-    let t_setup = crate::clock::now_ms();
-    let mut reports: Vec<StepReport> = Vec::new();
-    // The certificate's side of the target (a BVH, its topology) is built beside the steps, on
-    // a core that their sequential parts leave idle (the bust's 329 K faces: 0.2 s). (Not
-    // beside the setup: the field's band keeps both cores busy.)
-    // (Against the mesh as wrapped: without the specks it left out, which are reported.)
-    let despecked = ev.despecked_target().cloned();
-    let wrapped = despecked.as_ref().unwrap_or(&read.target);
-    let (against, _) = crate::parallel::beside(
-        || CertificateTarget::new(wrapped),
-        // A divergence rolls the surface back and ends the run; it is reported below, not
-        // written.
-        || ev.run(|r| reports.push(r.clone())),
-    );
+    let mut observer = Steps::default();
+    let w = wrap(&read.target, settings, &mut observer).map_err(super::explained)?;
+    let reports = observer.reports;
     let t_evolve = crate::clock::now_ms();
-    let (positions, triangles) = (ev.positions(), ev.triangles());
-    let distances = ev.vertex_distances();
-    let certificate = certify_against(&positions, &triangles, Some(&against));
-    let t_certify = crate::clock::now_ms();
-    let failure = match (ev.stop_reason(), certificate.valid) {
+    let failure = match (&w.stop_reason, w.verdict.certified) {
         (Some(why), _) => Some(format!("the wrap stopped early: {why}")),
         (None, false) => Some(format!(
             "the result is not valid: {}",
-            certificate.problem.as_deref().unwrap_or("unknown problem")
+            w.certificate
+                .problem
+                .as_deref()
+                .unwrap_or("unknown problem")
         )),
         (None, true) => None,
     };
-    let settings = ev.settings().clone();
-    let settings_json = serde_json::to_string(&settings).expect("settings serialise");
-    let scalars = [("distance", distances.as_slice())];
+    let settings_json = serde_json::to_string(&w.settings).expect("settings serialise");
+    let scalars = [("distance", w.distances.as_slice())];
     let input = WriteInput {
-        positions: &positions,
-        triangles: &triangles,
+        positions: &w.positions,
+        triangles: &w.triangles,
         scalars: &scalars,
         settings_json: Some(&settings_json),
     };
@@ -157,18 +145,19 @@ pub fn run(a: &WrapArgs) -> Result<String, super::Failure> {
     let t_write = crate::clock::now_ms();
     if let Some(path) = &a.stats {
         let text = serde_json::to_string_pretty(&json!({
-            "settings": settings,
-            "start": ev.start_surface(),
-            "stop_reason": ev.stop_reason(),
-            "isolated_points_left_out": ev.isolated_points(),
-            "specks_left_out": ev.specks(),
-            "certificate": certificate,
+            "settings": w.settings,
+            "start": w.start,
+            "stop_reason": w.stop_reason,
+            "isolated_points_left_out": w.left_out.strays,
+            "specks_left_out": w.left_out.specks,
+            "certificate": w.certificate,
+            "verdict": w.verdict,
             "error_budget": error_budget(
-                &positions,
-                &triangles,
+                &w.positions,
+                &w.triangles,
                 &read.target,
-                ev.field().cell_size() / ev.scale(),
-                settings.fit.crease_angle_deg,
+                w.cell_size,
+                w.settings.fit.crease_angle_deg,
             ),
             "steps": reports,
         }))
@@ -177,45 +166,45 @@ pub fn run(a: &WrapArgs) -> Result<String, super::Failure> {
     }
     let sum = |f: fn(&StepReport) -> f64| reports.iter().map(f).sum::<f64>();
     let last = reports.last();
-    let field = ev.field().timings();
     let mut report = json!({
         "input": a.input.display().to_string(),
         "output": a.output.display().to_string(),
         "preset": preset.name(),
-        "start": ev.start_surface(),
+        "start": w.start,
         "written": failure.is_none() || a.keep_invalid,
-        "stop_reason": ev.stop_reason(),
-        "certificate": certificate,
-        "warnings": certificate.warnings(),
+        "stop_reason": w.stop_reason,
+        "certificate": w.certificate,
+        "verdict": w.verdict,
+        "warnings": w.verdict.warnings,
         "contacts": {
             "steps_with_contact": reports.iter().filter(|r| r.contacts.pairs > 0).count(),
             "pairs_resolved": reports.iter().map(|r| r.contacts.pairs).sum::<usize>(),
             "remesh_reverted": reports.iter().filter(|r| r.remesh_reverted).count(),
         },
-        "surgery": ev.surgery_events(),
-        "isolated_points_left_out": ev.isolated_points(),
-        "specks_left_out": ev.specks(),
+        "surgery": w.surgery,
+        "isolated_points_left_out": w.left_out.strays,
+        "specks_left_out": w.left_out.specks,
         "repairs": read.repairs,
         "points_left_out": read.left_out,
-        "vertices": positions.len(),
-        "faces": triangles.len(),
-        "steps": ev.steps_done(),
-        "stopped_early": ev.steps_done() < settings.stop.steps,
-        "scale": ev.scale(),
-        "result_hash": crate::mesh::fingerprint::mesh_hash(&positions, &triangles),
-        "iso_level": ev.iso_level(),
-        "started_over": ev.started_over(),
+        "vertices": w.positions.len(),
+        "faces": w.triangles.len(),
+        "steps": w.steps,
+        "stopped_early": w.steps < w.settings.stop.steps,
+        "scale": w.scale,
+        "result_hash": w.hash,
+        "iso_level": w.iso_level,
+        "started_over": w.started_over,
         "distance_mean": last.map_or(0.0, |r| r.distance_mean),
         "distance_max": last.map_or(0.0, |r| r.distance_max),
         "iso": read.volume.as_ref().map(|v| v.iso),
         "volume": read.volume.as_deref().map(super::volume::volume_json),
-        "field_ms": field,
+        "field_ms": w.field_ms,
         "times_ms": {
             "read": t_read - t0,
-            "setup": t_setup - t_read,
-            "evolve": t_evolve - t_setup,
-            "certify": t_certify - t_evolve,
-            "write": t_write - t_certify,
+            "setup": w.times.setup,
+            "evolve": w.times.evolve,
+            "certify": t_evolve - t_read - w.times.setup - w.times.evolve,
+            "write": t_write - t_evolve,
             "total": t_write - t0,
         },
         "evolve_ms": {
@@ -249,6 +238,18 @@ pub fn run(a: &WrapArgs) -> Result<String, super::Failure> {
             ),
             report: Some(out),
         }),
+    }
+}
+
+/// Keeps every step's report for `--stats` and the phase sums.
+#[derive(Default)]
+struct Steps {
+    reports: Vec<StepReport>,
+}
+
+impl Observer for Steps {
+    fn step(&mut self, report: &StepReport) {
+        self.reports.push(report.clone());
     }
 }
 

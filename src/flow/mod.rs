@@ -20,7 +20,9 @@ pub mod surgery;
 pub mod tangential;
 
 pub use colour::{ColourMap, ColourMapInfo, COLOUR_MAPS, LESSON_COLOUR_MAPS};
-pub use evolver::{CreaseJob, EvolveError, Evolver, FitTimes, PhaseTimes, StartedOver, StepReport};
+pub use evolver::{
+    CreaseJob, EvolveError, Evolver, FitTimes, PhaseTimes, StartedOver, StepReport, ThirdPass,
+};
 pub use mcf::{exact_sphere_radius, mcf_step, McfSettings, McfStepReport, TauAdvice};
 pub use mcf_mesh::{LessonInfo, MeshFlow, MeshFlowStats, MeshMcfError, MeshTauAdvice, LESSONS};
 pub use settings::{

@@ -88,7 +88,7 @@ impl WrapSession {
     /// points, or the fit has found them already).
     #[wasm_bindgen(js_name = creaseJob)]
     pub fn crease_job(&self) -> Option<Float64Array> {
-        let job = self.evolver.crease_job()?;
+        let job = self.run.evolver().crease_job()?;
         let (points, order) = job.cell_order();
         let n = points.len();
         if n > HELPER_MAX_POINTS {
@@ -120,7 +120,8 @@ impl WrapSession {
         let creases =
             Creases::from_flat(flat).ok_or_else(|| bad_job("not creases from cloudCreases"))?;
         Ok(self
-            .evolver
+            .run
+            .evolver_mut()
             .supply_creases((!creases.is_empty()).then_some(creases)))
     }
 }

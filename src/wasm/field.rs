@@ -11,9 +11,9 @@ impl WrapSession {
     /// The session's field (built in the stabilised frame) seen in the target's units.
     fn field_view(&self) -> FieldView<'_> {
         FieldView::new(
-            self.evolver.field(),
+            self.run.evolver().field(),
             self.target.bbox.center(),
-            self.evolver.scale(),
+            self.run.evolver().scale(),
         )
     }
 }

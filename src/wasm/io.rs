@@ -32,8 +32,11 @@ impl WrapSession {
     /// record the settings).
     pub fn export(&self, format: &str) -> Result<Uint8Array, JsValue> {
         let fmt = export_format(format)?;
-        let (positions, triangles) = (self.evolver.positions(), self.evolver.triangles());
-        let values = crate::flow::colour::export_scalars(&self.evolver);
+        let (positions, triangles) = (
+            self.run.evolver().positions(),
+            self.run.evolver().triangles(),
+        );
+        let values = crate::flow::colour::export_scalars(self.run.evolver());
         let scalars: Vec<(&str, &[f64])> = values.iter().map(|(n, v)| (*n, v.as_slice())).collect();
         file_bytes(
             fmt,

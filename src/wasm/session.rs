@@ -5,8 +5,10 @@
 
 use super::errors::{ui_error, UiError};
 use super::{index_array, scalar_array, to_js, vec3_array};
-use crate::flow::{ColourMap, Evolver, StepReport, WrapSettings};
+use crate::flow::{ColourMap, StepReport, WrapSettings};
 use crate::io::Format;
+use crate::metrics::certificate::CertificateTarget;
+use crate::pipeline::{WrapResult, WrapRun};
 use crate::progress::Progress;
 use js_sys::{Float32Array, Uint32Array};
 use wasm_bindgen::prelude::*;
@@ -14,7 +16,7 @@ use wasm_bindgen::prelude::*;
 /// A wrap of a dropped file, advanced step by step from the worker.
 #[wasm_bindgen]
 pub struct WrapSession {
-    pub(super) evolver: Evolver,
+    pub(super) run: WrapRun,
     pub(super) target: crate::target::Target,
     format: Format,
     /// What reading mended in a mesh's indices (see [`crate::target::Target::repaired`]).
@@ -52,12 +54,12 @@ impl WrapSession {
         if target.triangles.is_empty() {
             check_cloud_size(target.points.len())?;
         }
-        let evolver = with_progress(progress.as_ref(), |p| {
-            Evolver::new_with_progress(&target, settings.clone(), p)
+        let run = with_progress(progress.as_ref(), |p| {
+            WrapRun::new(&target, settings.clone(), p)
         })
         .map_err(ui_error)?;
         Ok(WrapSession {
-            evolver,
+            run,
             target,
             format,
             repairs,
@@ -66,6 +68,14 @@ impl WrapSession {
             progress,
             last: None,
         })
+    }
+}
+
+impl WrapSession {
+    /// The current surface as a result: certified against the target as wrapped.
+    fn result(&self) -> WrapResult {
+        let against = CertificateTarget::new(self.run.certified_target(&self.target));
+        self.run.result(&against)
     }
 }
 
@@ -130,20 +140,20 @@ impl WrapSession {
     /// Runs up to `n` steps; returns true when the wrap is done.
     pub fn step(&mut self, n: u32) -> Result<bool, JsValue> {
         for _ in 0..n {
-            if self.evolver.is_done() {
+            if self.run.is_done() {
                 break;
             }
-            let ev = &mut self.evolver;
-            let report = with_progress(self.progress.as_ref(), |p| ev.step_with_progress(p));
+            let run = &mut self.run;
+            let report = with_progress(self.progress.as_ref(), |p| run.step(p));
             self.last = Some(report.map_err(ui_error)?);
         }
-        Ok(self.evolver.is_done())
+        Ok(self.run.is_done())
     }
 
     /// True when the stopping rule or the step limit has been reached.
     #[wasm_bindgen(js_name = isDone)]
     pub fn is_done(&self) -> bool {
-        self.evolver.is_done()
+        self.run.is_done()
     }
 
     /// The last step's report (see `StepReport`), or null before the first step.
@@ -183,19 +193,19 @@ impl WrapSession {
 
     /// Surface positions (target units).
     pub fn positions(&self) -> Float32Array {
-        vec3_array(&self.evolver.positions())
+        vec3_array(&self.run.evolver().positions())
     }
 
     /// Angle-weighted unit vertex normals.
     pub fn normals(&self) -> Float32Array {
         vec3_array(
-            &crate::geometry::operators::normals::angle_weighted_normals(self.evolver.mesh()),
+            &crate::geometry::operators::normals::angle_weighted_normals(self.run.evolver().mesh()),
         )
     }
 
     /// Surface triangles as a flat `Uint32Array`.
     pub fn indices(&self) -> Uint32Array {
-        index_array(&self.evolver.triangles())
+        index_array(&self.run.evolver().triangles())
     }
 
     /// A per-vertex scalar for colouring, by the name of a colour map of the catalog (see
@@ -207,17 +217,27 @@ impl WrapSession {
             let names: Vec<&str> = ColourMap::all().map(ColourMap::name).collect();
             UiError::unknown("unknown scalar", name, &names)
         })?;
-        Ok(scalar_array(&map.values(&self.evolver)))
+        Ok(scalar_array(&map.values(self.run.evolver())))
     }
 
     /// The certificate of the current surface against the target (see
     /// [`crate::metrics::certificate::Certificate`]; keys in snake_case).
     pub fn certificate(&self) -> Result<JsValue, JsValue> {
-        to_js(&crate::metrics::certificate::certify(
-            &self.evolver.positions(),
-            &self.evolver.triangles(),
-            Some(self.evolver.despecked_target().unwrap_or(&self.target)),
-        ))
+        to_js(&self.result().certificate)
+    }
+
+    /// The current surface certified, with the core's verdict on it:
+    /// `{certificate, verdict, hash, stop_reason, started_over}` (keys in snake_case; see
+    /// [`crate::pipeline::Verdict`]). The page shows the verdict as it is.
+    pub fn outcome(&self) -> Result<JsValue, JsValue> {
+        let r = self.result();
+        to_js(&serde_json::json!({
+            "certificate": r.certificate,
+            "verdict": r.verdict,
+            "hash": r.hash,
+            "stop_reason": r.stop_reason,
+            "started_over": r.started_over,
+        }))
     }
 
     /// Histogram of the per-triangle κ(J_Δ) (equilateral = 1) of the current surface over
@@ -226,8 +246,8 @@ impl WrapSession {
     #[wasm_bindgen(js_name = kappaHistogram)]
     pub fn kappa_histogram(&self, bins: u32, hi: f64) -> Result<JsValue, JsValue> {
         to_js(&crate::metrics::histogram::kappa_histogram(
-            &self.evolver.positions(),
-            &self.evolver.triangles(),
+            &self.run.evolver().positions(),
+            &self.run.evolver().triangles(),
             bins as usize,
             hi,
         ))
@@ -236,38 +256,38 @@ impl WrapSession {
     /// The step limit in force (the start's own when `auto` resolved to the isosurface start).
     #[wasm_bindgen(js_name = stepLimit)]
     pub fn step_limit(&self) -> u32 {
-        self.evolver.settings().stop.steps
+        self.run.evolver().settings().stop.steps
     }
 
     /// Why the wrap stopped before its rule said so (divergence, solver failure), or null.
     #[wasm_bindgen(js_name = stopReason)]
     pub fn stop_reason(&self) -> Option<String> {
-        self.evolver.stop_reason().map(str::to_owned)
+        self.run.evolver().stop_reason().map(str::to_owned)
     }
 
     /// How many stray points of a cloud the wrap left out (`field.outlier_spacings`).
     #[wasm_bindgen(js_name = isolatedPoints)]
     pub fn isolated_points(&self) -> u32 {
-        self.evolver.isolated_points() as u32
+        self.run.evolver().isolated_points() as u32
     }
 
     /// Null, or how a target that the first pass left partly outside was wrapped a second time
     /// (see `flow::StartedOver`).
     #[wasm_bindgen(js_name = startedOver)]
     pub fn started_over(&self) -> Result<JsValue, JsValue> {
-        to_js(&self.evolver.started_over())
+        to_js(&self.run.evolver().started_over())
     }
 
     /// How many specks of a mesh (small closed parts floating apart) the wrap left out.
     #[wasm_bindgen(js_name = specksLeftOut)]
     pub fn specks_left_out(&self) -> u32 {
-        self.evolver.specks() as u32
+        self.run.evolver().specks() as u32
     }
 
     /// The start surface actually used ("icosphere" or "isosurface").
     #[wasm_bindgen(js_name = startSurface)]
     pub fn start_surface(&self) -> String {
-        serde_json::to_value(self.evolver.start_surface())
+        serde_json::to_value(self.run.evolver().start_surface())
             .ok()
             .and_then(|v| v.as_str().map(str::to_owned))
             .unwrap_or_default()
@@ -276,6 +296,9 @@ impl WrapSession {
     /// Fingerprint of the current surface (see [`crate::mesh::fingerprint::mesh_hash`]).
     #[wasm_bindgen(js_name = resultHash)]
     pub fn result_hash(&self) -> String {
-        crate::mesh::fingerprint::mesh_hash(&self.evolver.positions(), &self.evolver.triangles())
+        crate::mesh::fingerprint::mesh_hash(
+            &self.run.evolver().positions(),
+            &self.run.evolver().triangles(),
+        )
     }
 }

@@ -1,8 +1,8 @@
 // The last completed wrap, kept in this thread: a cancelled or failed run shows it again, export
 // writes it, and #hash / the health badge describe what is on screen.
 import { byId } from './dom';
-import { explain, showCertificate } from './health';
-import type { Certificate, Draw, FromWorker } from './protocol';
+import { showVerdict } from './health';
+import type { Certificate, Draw, FromWorker, Verdict } from './protocol';
 
 /** A target as drawn: positions and triangle indices (none for a point cloud). */
 export interface TargetMesh {
@@ -22,6 +22,8 @@ export interface Kept {
   /** What is wrong (or right) with it, in one sentence. */
   why: string;
   certificate: Certificate;
+  /** The core's verdict on it, shown as it is. */
+  verdict: Verdict;
   stopReason: string | null;
 }
 
@@ -37,9 +39,9 @@ export class KeptResult {
 
   /** Keeps a completed wrap (with the target it was wrapped around) and shows its certificate and hash. */
   keep(msg: Extract<FromWorker, { type: 'result' }>, target: TargetMesh | null): void {
-    const valid = msg.certificate.valid && !msg.stopReason;
-    this.kept = { positions: msg.positions, normals: msg.normals, indices: msg.indices, hash: msg.hash, name: msg.name, target, valid, why: explain(msg.certificate, msg.stopReason, msg.startedOver), certificate: msg.certificate, stopReason: msg.stopReason };
-    showCertificate(this.health, msg.certificate, msg.stopReason);
+    const v = msg.verdict;
+    this.kept = { positions: msg.positions, normals: msg.normals, indices: msg.indices, hash: msg.hash, name: msg.name, target, valid: v.certified, why: v.explanation, certificate: msg.certificate, verdict: v, stopReason: msg.stopReason };
+    showVerdict(this.health, v, msg.certificate);
     this.hashEl.textContent = `result ${msg.hash.slice(0, 12)}`;
     this.hashEl.dataset.hash = msg.hash;
   }
@@ -58,6 +60,6 @@ export class KeptResult {
     this.hashEl.textContent = `result ${k.hash.slice(0, 12)}`;
     this.hashEl.dataset.hash = k.hash;
     // The badge certifies what is on screen: the kept result again.
-    showCertificate(this.health, k.certificate, k.stopReason);
+    showVerdict(this.health, k.verdict, k.certificate);
   }
 }

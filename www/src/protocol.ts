@@ -50,6 +50,24 @@ export interface Certificate {
   target_part_outside: boolean;
 }
 
+/** The core's verdict on a result (Rust `pipeline::Verdict`, snake_case keys): the page shows it
+ * as it is and decides nothing. `valid`: certified and like the target; `warning`: certified, but
+ * another topology or a part of the target outside; `invalid`: not certified or stopped early. */
+export interface Verdict {
+  state: 'valid' | 'warning' | 'invalid';
+  /** Certified and not stopped: exported under its plain name. */
+  certified: boolean;
+  /** The badge's parts, most important first. */
+  badge: string[];
+  /** The status line's lead for a finished run. */
+  headline: string;
+  /** What is wrong (or right) and what to try, in one sentence. */
+  explanation: string;
+  warnings: string[];
+  /** What the run left out or did again, in words. */
+  notes: string[];
+}
+
 /** An error as produced by the Rust facade: stable code, message naming the problem, and a hint. */
 export interface UiError {
   code: string;
@@ -425,7 +443,7 @@ export type FromWorker =
   /** The worker stopped stepping: paused, finished, cancelled, or loaded and `ready` to play (no autoplay). */
   | { type: 'stopped'; reason: StopReason }
   /** `phases`: `elapsedMs` by phase, [name, ms] in the order they first ran (see Stopwatch). */
-  | { type: 'result'; run: number; hash: string; name: string; positions: Float32Array; normals: Float32Array; indices: Uint32Array; elapsedMs: number; phases: [string, number][]; steps: number; certificate: Certificate; stopReason: string | null; start: string; wasmBytes: number; isolated: number; specks: number; startedOver: StartedOver | null }
+  | { type: 'result'; run: number; hash: string; name: string; positions: Float32Array; normals: Float32Array; indices: Uint32Array; elapsedMs: number; phases: [string, number][]; steps: number; certificate: Certificate; verdict: Verdict; stopReason: string | null; start: string; wasmBytes: number; isolated: number; specks: number; startedOver: StartedOver | null }
   | { type: 'exported'; bytes: Uint8Array; format: string }
   | { type: 'curves'; curves: ControlCurves }
   /** The field view asked for (neither slice nor iso: nothing to show). `label` describes it. */

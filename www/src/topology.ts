@@ -2,8 +2,8 @@
 // changed it, as marks on the time scrubber and a line under it. Scrubbing back shows the genus
 // of the frame on screen in the health badge; the end of the timeline shows the certificate again.
 import { byId } from './dom';
-import { showCertificate } from './health';
-import type { Certificate, StartedOver, StepReport, SurgeryEvent } from './protocol';
+import { showVerdict } from './health';
+import type { Certificate, StartedOver, StepReport, SurgeryEvent, Verdict } from './protocol';
 
 /** One line per event, in words; `n` events alike in one step (two handles opened at once) as one. */
 function describe(e: SurgeryEvent, n = 1): string {
@@ -107,10 +107,10 @@ export class TopologyTimeline {
     this.marks.replaceChildren(...[...new Set(ticks)].map((i) => Object.assign(document.createElement('option'), { value: String(i) })));
   }
 
-  /** A frame of `step` is on screen (null: the live end): its genus, or the result's certificate. */
-  show(health: HTMLElement, step: number | null, certificate: Certificate | null, stopReason: string | null): void {
+  /** A frame of `step` is on screen (null: the live end): its genus, or the result's verdict. */
+  show(health: HTMLElement, step: number | null, result: { verdict: Verdict; certificate: Certificate } | null): void {
     if (step === null) {
-      if (certificate) showCertificate(health, certificate, stopReason);
+      if (result) showVerdict(health, result.verdict, result.certificate);
       return;
     }
     const g = this.genus(step);

@@ -5,7 +5,7 @@ import init, {
   McfSession, WrapSession, presetSettings, settingsDocs, settingsEnums, settingAliases, catalog, demoShape, demoMesh, controlCurves, exportMesh,
   VolumeView, phantomVolume,
 } from '../pkg/lsw.js';
-import type { Catalog, Certificate, ColourMap, CreaseReply, CreaseRequest, FieldView, FromWorker, Histogram, McfStats, MeshTauAdvice, Source, StartedOver, StepReport, TargetInfo, TauAdvice, ToWorker, VolumeInfo } from './protocol';
+import type { Catalog, Certificate, ColourMap, CreaseReply, CreaseRequest, FieldView, FromWorker, Histogram, McfStats, MeshTauAdvice, Source, StartedOver, StepReport, TargetInfo, TauAdvice, ToWorker, Verdict, VolumeInfo } from './protocol';
 import { failureError } from './protocol';
 import { batchSize } from './schedule';
 import { colorize, robustRange } from './colormap';
@@ -293,12 +293,12 @@ function finish(session: WrapSession): void {
   const indices = session.indices();
   const report = session.report() as StepReport | null;
   post({ type: 'loading', what: 'Checking the result (certificate)…' });
-  const certificate = plain(session.certificate()) as Certificate;
+  const outcome = plain(session.outcome()) as { certificate: Certificate; verdict: Verdict };
   clock.pause();
   post(
     {
       type: 'result', run: pageRun, hash: session.resultHash(), name: source?.name ?? 'result', positions, normals, indices, elapsedMs: clock.ms, phases: clock.phases(), steps: report?.step ?? 0,
-      certificate, stopReason: session.stopReason() ?? null, start: session.startSurface(), wasmBytes: wasmMemory?.buffer.byteLength ?? 0,
+      certificate: outcome.certificate, verdict: outcome.verdict, stopReason: session.stopReason() ?? null, start: session.startSurface(), wasmBytes: wasmMemory?.buffer.byteLength ?? 0,
       isolated: session.isolatedPoints(),
       specks: session.specksLeftOut(),
       startedOver: plain(session.startedOver()) as StartedOver | null,

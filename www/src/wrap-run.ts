@@ -3,12 +3,12 @@
 // the worker's answers that belong to it (target, frames, volume, result, stop).
 import { byId } from './dom';
 import type { FieldControls } from './field-view';
-import { firstKeptOverFewerOutside, partLeftOut, showPending, topologyDiffers } from './health';
+import { showPending } from './health';
 import { revealView } from './layout';
 import type { KeptResult, TargetMesh } from './kept';
 import type { ModeSwitch } from './mode';
 import type { RunSettings } from './panel';
-import type { Draw, Frame, FromWorker, Send, Source, StartedOver, StopReason, TargetInfo } from './protocol';
+import type { Draw, Frame, FromWorker, Send, Source, StopReason, TargetInfo } from './protocol';
 import { leftOutNote, repairsNote } from './protocol';
 import { describeFile, sameFile, validDataset, type FileStamp } from './share';
 import { stampFile } from './share-link';
@@ -58,11 +58,6 @@ export class WrapRun {
   private startedAt = 0;
   /** Working time of the last completed wrap (pauses excluded), as the worker measured it. */
   private workMs = 0;
-  /** Stray points of the last result's cloud that the wrap left out. */
-  private isolated = 0;
-  private startedOver: StartedOver | null = null;
-  /** Specks (small closed parts floating apart) of the last result's mesh that the wrap left out. */
-  private specks = 0;
   /** The last completed run's working time by phase (see Stopwatch). */
   phases: [string, number][] = [];
   private input: Input | null = null;
@@ -255,7 +250,7 @@ export class WrapRun {
   scrubbed(step: number | null): void {
     if (this.d.mode.current !== 'wrap') return; // the lesson's frames have no certificate
     const k = this.d.kept.result;
-    this.d.readout.topology.show(this.d.health, step, k?.certificate ?? null, k?.stopReason ?? null);
+    this.d.readout.topology.show(this.d.health, step, k ?? null);
   }
 
   /** The input is a voxel volume: show its panel (histogram, slices, iso-value). */
@@ -275,9 +270,6 @@ export class WrapRun {
     this.workMs = msg.elapsedMs;
     this.phases = msg.phases;
     this.d.readout.timed(msg.elapsedMs, msg.phases);
-    this.isolated = msg.isolated;
-    this.specks = msg.specks;
-    this.startedOver = msg.startedOver;
     this.d.readout.topology.result(msg.startedOver);
     this.lastDoneMs = performance.now() - this.startedAt;
     byId('hash').dataset.ms = String(Math.round(this.lastDoneMs));
@@ -289,11 +281,10 @@ export class WrapRun {
     const { status, kept } = this.d;
     if (this.replacing) return;
     const k = kept.result;
-    if (reason === 'finished' && k && !k.valid) status.set('invalid', `Not valid — ${k.why}`);
-    else if (reason === 'finished' && k && topologyDiffers(k.certificate)) status.set('invalid', `Done, but not the target's topology — ${k.why}`);
-    else if (reason === 'finished' && k && partLeftOut(k.certificate)) status.set('invalid', `Done, but part of the target lies outside the wrap — ${k.why}`);
+    if (reason === 'finished' && k && k.verdict.state !== 'valid') status.set('invalid', `${k.verdict.headline} — ${k.why}`);
     else if (reason === 'finished') {
-      status.set('done', `Done — ${this.name} wrapped in ${(this.workMs / 1000).toFixed(1)} s${leftOut(this.isolated, this.specks)}${secondPass(this.startedOver)}`);
+      const notes = k && k.verdict.notes.length > 0 ? `; ${k.verdict.notes.join('; ')}` : '';
+      status.set('done', `Done — ${this.name} wrapped in ${(this.workMs / 1000).toFixed(1)} s${notes}`);
     }
     else if (reason === 'cancelled') {
       this.live = false;
@@ -302,29 +293,4 @@ export class WrapRun {
     } else if (reason === 'ready') status.set('idle', `Ready — ${this.name} is loaded: Play wraps it`);
     else status.set('idle', 'Paused');
   }
-}
-
-/** What the second pass over a cloud the first left partly outside did (and a third, where the
- * second ended far off the data), for the done line. */
-export function secondPass(s: StartedOver | null): string {
-  if (!s) return '';
-  const first = `the first pass left ${s.outside_before} of ${s.checked} checked points outside (an open rim or gaps in the sampling)`;
-  if (s.third?.kept) {
-    return `; wrapped three times: ${first}, the second ${s.outside_after} but ended far off the data, the third ${s.third.outside}`;
-  }
-  const third = s.third ? ' (a third pass did no better)' : '';
-  if (s.kept) return `; wrapped twice: ${first}, the second ${s.outside_after}${third}`;
-  return firstKeptOverFewerOutside(s)
-    ? `; a second pass left fewer points outside but ended far off the data, so the first is shown${third}`
-    : `; a second pass left more points outside, so the first is shown${third}`;
-}
-
-/** What the wrap left out of the target, for the done line: "" or " (3 stray points left out)". */
-
-export function leftOut(strays: number, specks: number): string {
-  const parts = [
-    strays > 0 ? `${strays} stray point${strays === 1 ? '' : 's'}` : '',
-    specks > 0 ? `${specks} small loose part${specks === 1 ? '' : 's'}` : '',
-  ].filter((p) => p !== '');
-  return parts.length > 0 ? ` (${parts.join(' and ')} left out)` : '';
 }

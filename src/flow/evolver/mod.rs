@@ -19,7 +19,7 @@ mod fit;
 pub use fit::FitTimes;
 mod forces;
 mod second_pass;
-pub use second_pass::{StartedOver, SECOND_PASS_PHASE};
+pub use second_pass::{StartedOver, ThirdPass, SECOND_PASS_PHASE};
 mod remeshing;
 mod schedule;
 mod solve;
