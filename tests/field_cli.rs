@@ -7,10 +7,12 @@ mod field_data;
 use lsw::cli::sdf::{run, SdfArgs};
 
 #[test]
+#[cfg_attr(
+    not(shared_data),
+    ignore = "needs the shared test data (LSW_SHARED_DATA)"
+)]
 fn sdf_prints_json_and_writes_vtk() {
-    let Some(dir) = field_data::data_dir("sdf_prints_json_and_writes_vtk") else {
-        return;
-    };
+    let dir = field_data::data_dir("sdf_prints_json_and_writes_vtk");
     let out = std::env::temp_dir().join(format!("lsw_field_cli_{}.vtk", std::process::id()));
     let args = SdfArgs {
         input: dir.join("spot.obj"),

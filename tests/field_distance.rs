@@ -418,10 +418,12 @@ fn check_against_brute(f: &DistanceField, exact: &dyn Fn(DVec3) -> f64, name: &s
 }
 
 #[test]
+#[cfg_attr(
+    not(shared_data),
+    ignore = "needs the shared test data (LSW_SHARED_DATA)"
+)]
 fn bunny_point_cloud_band_is_exact() {
-    let Some(dir) = data_dir("bunny_point_cloud_band_is_exact") else {
-        return;
-    };
+    let dir = data_dir("bunny_point_cloud_band_is_exact");
     let t = load(&dir.join("bunnyPts_3.ply"));
     let f = field(&t);
     assert_eq!(f.dims(), [133, 133, 121]);
@@ -429,10 +431,12 @@ fn bunny_point_cloud_band_is_exact() {
 }
 
 #[test]
+#[cfg_attr(
+    not(shared_data),
+    ignore = "needs the shared test data (LSW_SHARED_DATA)"
+)]
 fn spot_mesh_band_is_exact_and_signed() {
-    let Some(dir) = data_dir("spot_mesh_band_is_exact_and_signed") else {
-        return;
-    };
+    let dir = data_dir("spot_mesh_band_is_exact_and_signed");
     let t = load(&dir.join("spot.obj"));
     let f = field(&t);
     assert_eq!(f.signedness(), Signedness::Signed);
@@ -452,10 +456,12 @@ fn spot_mesh_band_is_exact_and_signed() {
 }
 
 #[test]
+#[cfg_attr(
+    not(shared_data),
+    ignore = "needs the shared test data (LSW_SHARED_DATA)"
+)]
 fn bunny_mesh_with_holes_is_signed() {
-    let Some(dir) = data_dir("bunny_mesh_with_holes_is_signed") else {
-        return;
-    };
+    let dir = data_dir("bunny_mesh_with_holes_is_signed");
     // bunny.ply has 5 holes in its base (223 boundary edges of 104 288): the band seals them.
     let t = load(&dir.join("bunny.ply"));
     let f = field(&t);

@@ -70,6 +70,7 @@ fn measured(
 }
 
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn sculpted_shapes_meet_the_detail_bar() {
     let refine = WrapSettings::default().fit.refine_error_cells;
     for name in ["creature", "fish", "bust"] {
@@ -85,6 +86,7 @@ fn sculpted_shapes_meet_the_detail_bar() {
 /// times as sharply as the sphere) and a torus with a thin tube (radii 0.5 and 0.1, tilted by
 /// 45° so its grid is not set by its thickness alone), each meeting the bar with its genus.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn shapes_of_known_curvature_meet_the_detail_bar() {
     let bump = |p: DVec3| {
         let r = p.length();

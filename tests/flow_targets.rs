@@ -1,5 +1,5 @@
-//! The evolution on real scans and volumes from `LSW_SHARED_DATA` (native only; skipped with a
-//! notice when the variable is unset), and the tangential term on a distorted sphere.
+//! The evolution on real scans and volumes from `LSW_SHARED_DATA` (native only; ignored when the
+//! build had none), and the tangential term on a distorted sphere.
 
 #![cfg(not(target_arch = "wasm32"))]
 
@@ -11,21 +11,23 @@ use lsw::geometry::operators::CotanLaplacian;
 use lsw::metrics::distance::two_sided_distances;
 use lsw::DVec3;
 
-fn shared(name: &str) -> Option<std::path::PathBuf> {
-    match std::env::var("LSW_SHARED_DATA") {
-        Ok(dir) => Some(std::path::Path::new(&dir).join(name)),
-        Err(_) => {
-            println!("LSW_SHARED_DATA is not set: skipping the test on {name}");
-            None
-        }
-    }
+/// A file of the shared test data (the tests reading it are ignored without it).
+fn shared(name: &str) -> std::path::PathBuf {
+    let dir = std::env::var("LSW_SHARED_DATA").expect("LSW_SHARED_DATA (the build had it)");
+    std::path::Path::new(&dir).join(name)
 }
 
 #[test]
+#[cfg_attr(
+    not(shared_data),
+    ignore = "needs the shared test data (LSW_SHARED_DATA)"
+)]
+#[cfg_attr(
+    shared_data,
+    ignore = "corpus tier (whole wraps): cargo test -- --ignored"
+)]
 fn full_wrap_gets_closer_than_obstacle_on_spot() {
-    let Some(path) = shared("spotPts_4.ply") else {
-        return;
-    };
+    let path = shared("spotPts_4.ply");
     let target = lsw::io::read_path(&path).unwrap().target;
     let diag = target.bbox.diagonal();
     let mut means = vec![];
@@ -72,10 +74,16 @@ fn full_wrap_gets_closer_than_obstacle_on_spot() {
 /// benches/RESULTS.md holds the tight ones): default settings on bunnyPts_3, scored against the
 /// scanned mesh bunny.ply.
 #[test]
+#[cfg_attr(
+    not(shared_data),
+    ignore = "needs the shared test data (LSW_SHARED_DATA)"
+)]
+#[cfg_attr(
+    shared_data,
+    ignore = "corpus tier (whole wraps): cargo test -- --ignored"
+)]
 fn bunny_wrap_meets_the_bar() {
-    let (Some(cloud), Some(reference)) = (shared("bunnyPts_3.ply"), shared("bunny.ply")) else {
-        return;
-    };
+    let (cloud, reference) = (shared("bunnyPts_3.ply"), shared("bunny.ply"));
     let target = lsw::io::read_path(&cloud).unwrap().target;
     let mesh = lsw::io::read_path(&reference).unwrap().target;
     let mut ev = Evolver::new(&target, WrapSettings::default()).unwrap();
@@ -119,10 +127,16 @@ fn bunny_wrap_meets_the_bar() {
 /// good at each retry, down a thousandfold, and the curved splits' reach in the input's units).
 /// It must come out valid, with τ not frozen.
 #[test]
+#[cfg_attr(
+    not(shared_data),
+    ignore = "needs the shared test data (LSW_SHARED_DATA)"
+)]
+#[cfg_attr(
+    shared_data,
+    ignore = "corpus tier (whole wraps): cargo test -- --ignored"
+)]
 fn a_noisy_volume_wraps_valid() {
-    let Some(path) = shared("example_nifti2.nii.gz") else {
-        return;
-    };
+    let path = shared("example_nifti2.nii.gz");
     assert!(path.exists(), "{path:?} is missing");
     let dir = std::env::temp_dir().join(format!("lsw_noisy_volume_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

@@ -1,6 +1,6 @@
 //! Every file in the shared test-data folder (`LSW_SHARED_DATA`) reads with the right format,
 //! kind and counts, and the closed meshes have the Euler characteristic of their genus.
-//! Native only (reads files); prints a notice and passes when the variable is unset.
+//! Native only (reads files); ignored when the build had no `LSW_SHARED_DATA`.
 #![cfg(not(target_arch = "wasm32"))]
 
 use lsw::io::{read_path, Format};
@@ -104,16 +104,24 @@ const EXPECTED: &[Expected] = &[
     ),
 ];
 
+/// The shared test-data folder (the tests reading it are ignored without it).
+fn shared_dir() -> std::path::PathBuf {
+    std::env::var_os("LSW_SHARED_DATA")
+        .expect("LSW_SHARED_DATA (the build had it)")
+        .into()
+}
+
 fn euler(points: usize, tris: &[[u32; 3]]) -> i64 {
     points as i64 - lsw::mesh::edge_counts(tris).edges as i64 + tris.len() as i64
 }
 
 #[test]
+#[cfg_attr(
+    not(shared_data),
+    ignore = "needs the shared test data (LSW_SHARED_DATA)"
+)]
 fn every_shared_file_reads_with_the_right_kind_and_counts() {
-    let Some(dir) = std::env::var_os("LSW_SHARED_DATA") else {
-        println!("io_data: LSW_SHARED_DATA is not set; skipping the real-data check");
-        return;
-    };
+    let dir = shared_dir();
     let mut seen = 0;
     let mut entries: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
@@ -169,12 +177,12 @@ fn every_shared_file_reads_with_the_right_kind_and_counts() {
 }
 
 #[test]
+#[cfg_attr(
+    not(shared_data),
+    ignore = "needs the shared test data (LSW_SHARED_DATA)"
+)]
 fn bunny_bbox_diagonals_match_the_readme() {
-    let Some(dir) = std::env::var_os("LSW_SHARED_DATA") else {
-        println!("io_data: LSW_SHARED_DATA is not set; skipping");
-        return;
-    };
-    let dir = std::path::PathBuf::from(dir);
+    let dir = shared_dir();
     let d = read_path(dir.join("bunnyPts_3.ply"))
         .unwrap()
         .target
@@ -190,12 +198,12 @@ fn bunny_bbox_diagonals_match_the_readme() {
 }
 
 #[test]
+#[cfg_attr(
+    not(shared_data),
+    ignore = "needs the shared test data (LSW_SHARED_DATA)"
+)]
 fn info_cli_reports_topology() {
-    let Some(dir) = std::env::var_os("LSW_SHARED_DATA") else {
-        println!("io_data: LSW_SHARED_DATA is not set; skipping");
-        return;
-    };
-    let dir = std::path::PathBuf::from(dir);
+    let dir = shared_dir();
     let run = |f: &str| {
         let a = lsw::cli::info::InfoArgs {
             file: dir.join(f),

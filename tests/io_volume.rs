@@ -628,10 +628,12 @@ fn malformed_files_give_clear_typed_errors() {
 /// The shared brain files and nibabel's test volumes (native only).
 #[cfg(not(target_arch = "wasm32"))]
 #[test]
+#[cfg_attr(
+    not(shared_data),
+    ignore = "needs the shared test data (LSW_SHARED_DATA)"
+)]
 fn shared_volumes_read_and_the_half_resolution_copies_agree() {
-    let Some(dir) = field_data::data_dir("io_volume") else {
-        return;
-    };
+    let dir = field_data::data_dir("io_volume");
     let read = |name: &str, frame: usize| {
         lsw::io::read_volume_path(
             dir.join(name),

@@ -1,6 +1,6 @@
 //! Remeshing the closed meshes of the shared test-data folder (`LSW_SHARED_DATA`): validity,
 //! genus, quality and fidelity (with back-projection the result stays on the input surface).
-//! Native only (reads files); prints a notice and passes when the variable is unset.
+//! Native only (reads files); ignored when the build had no `LSW_SHARED_DATA`.
 #![cfg(not(target_arch = "wasm32"))]
 
 use lsw::io::read_path;
@@ -9,21 +9,23 @@ use lsw::metrics::distance::two_sided_distances;
 use lsw::metrics::quality::quality_stats;
 use lsw::remesh::{remesh, RemeshSettings};
 
-fn load(name: &str) -> Option<HalfedgeMesh> {
-    let Ok(dir) = std::env::var("LSW_SHARED_DATA") else {
-        eprintln!("LSW_SHARED_DATA unset: skipping {name}");
-        return None;
-    };
+/// A closed mesh of the shared test data (the tests reading it are ignored without it).
+fn load(name: &str) -> HalfedgeMesh {
+    let dir = std::env::var("LSW_SHARED_DATA").expect("LSW_SHARED_DATA (the build had it)");
     let t = read_path(std::path::Path::new(&dir).join(name))
         .unwrap()
         .target;
-    Some(HalfedgeMesh::from_triangles(t.points, &t.triangles).unwrap())
+    HalfedgeMesh::from_triangles(t.points, &t.triangles).unwrap()
 }
 
 #[test]
+#[cfg_attr(
+    not(shared_data),
+    ignore = "needs the shared test data (LSW_SHARED_DATA)"
+)]
 fn shared_closed_meshes_remesh_cleanly() {
     for (name, genus) in [("3Torus.obj", 3), ("spot.obj", 0)] {
-        let Some(mut m) = load(name) else { return };
+        let mut m = load(name);
         let original = (m.positions().to_vec(), m.triangles());
         let diag = lsw::geometry::aabb::Aabb::from_points(m.positions()).diagonal();
         let s = RemeshSettings {
@@ -67,56 +69,4 @@ fn shared_closed_meshes_remesh_cleanly() {
         // level.
         assert!(d.hausdorff < 0.5, "{name}: {d:?}");
     }
-}
-
-/// Timing probe (ignored): the same mesh in scattered vs spatial vertex order.
-#[test]
-#[ignore]
-fn probe_locality() {
-    let Ok(path) = std::env::var("LSW_PROBE_MESH") else {
-        return;
-    };
-    let t = read_path(&path).unwrap().target;
-    let n = t.points.len();
-    // Scatter: a fixed pseudo-random permutation.
-    let mut perm: Vec<u32> = (0..n as u32).collect();
-    let mut s = 12345u64;
-    for i in (1..n).rev() {
-        s = s
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        perm.swap(i, (s >> 33) as usize % (i + 1));
-    }
-    let mut pts = vec![t.points[0]; n];
-    for (old, &new) in perm.iter().enumerate() {
-        pts[new as usize] = t.points[old];
-    }
-    let tris: Vec<[u32; 3]> = t
-        .triangles
-        .iter()
-        .map(|f| f.map(|v| perm[v as usize]))
-        .collect();
-    let scattered = HalfedgeMesh::from_triangles(pts, &tris).unwrap();
-    let mut ordered = scattered.clone();
-    ordered.reorder_spatially();
-    let diag = lsw::geometry::aabb::Aabb::from_points(scattered.positions()).diagonal();
-    let s = RemeshSettings {
-        min_edge_length: 0.004 * diag,
-        max_edge_length: 0.016 * diag,
-        approx_error: 0.0005 * diag,
-        reorder: false,
-        ..Default::default()
-    };
-    let mut best = [f64::INFINITY; 2];
-    for _ in 0..5 {
-        for (k, m) in [&scattered, &ordered].into_iter().enumerate() {
-            let mut m = m.clone();
-            let r = remesh(&mut m, &s).unwrap();
-            best[k] = best[k].min(r.time_ms.total);
-        }
-    }
-    eprintln!(
-        "{n} vertices: scattered {:.1} ms, spatial {:.1} ms",
-        best[0], best[1]
-    );
 }

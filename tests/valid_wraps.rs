@@ -4,6 +4,9 @@
 //! valid — closed, manifold, oriented, 0 intersecting face pairs by exact predicates — and
 //! degenerate inputs are refused by name. Runs natively and in headless Chromium (a subset there).
 //!
+//! Most of these are the corpus tier (`cargo test -- --ignored`, which `.ci/test` runs); the
+//! default tier keeps the units and pinch-apart properties.
+//!
 //! The wraps use the defaults except a coarser grid (24 cells per minimum side instead of 40) and
 //! coarser final edges (λ_min 0.3 instead of 0.14, about 4× fewer vertices) to keep the suite
 //! fast; the start surfaces and guards are the same.
@@ -69,6 +72,7 @@ fn assert_valid(name: &str, c: &Certificate) {
 }
 
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn closed_meshes_keep_their_genus_with_the_auto_start() {
     for (name, genus, components) in [
         ("torus-g1", 1, 1),
@@ -93,6 +97,7 @@ fn closed_meshes_keep_their_genus_with_the_auto_start() {
 }
 
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn clouds_and_open_inputs_wrap_valid() {
     for name in [
         // Merged into one component by the start surface (a 1 % gap is below d_iso): still valid.
@@ -117,6 +122,7 @@ fn clouds_and_open_inputs_wrap_valid() {
 /// wrap is valid with the torus's genus and stays on it. (With every point kept, the bunny
 /// cloud with 0.5 % strays diverged at step 98.)
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_cloud_with_stray_points_wraps_without_them() {
     let clean = target("torus-g3-cloud");
     let (lo, size) = (clean.bbox.min, clean.bbox.size());
@@ -170,6 +176,7 @@ fn a_cloud_with_stray_points_wraps_without_them() {
 /// open half-shell and diverged (benches/RESULTS.md, twenty-first session). Now nearly all stay,
 /// and the wrap with the defaults is valid, genus 0, and covers the sparse side.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_cloud_sampled_sparsely_on_one_side_keeps_that_side() {
     let mut rng = lsw::demo::Rng::new(11);
     let mut points = Vec::new();
@@ -205,6 +212,7 @@ fn a_cloud_sampled_sparsely_on_one_side_keeps_that_side() {
 /// the cloud is sparser than its median needs a hole that is empty at the local spacing, and
 /// both keep their genus.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_cloud_sampled_more_sparsely_towards_one_end_keeps_its_genus() {
     for (name, low, genus) in [("torus-g1-cloud", 0.05, 1), ("sphere-cut-cloud", 0.1, 0)] {
         let (points, _) = generate(name).unwrap();
@@ -228,6 +236,7 @@ fn a_cloud_sampled_more_sparsely_towards_one_end_keeps_its_genus() {
 /// `flow::regrow` the corners stayed cut (704 of the 20 000 points outside the wrap, a Hausdorff
 /// distance of 5.2 % of the diagonal). Now the wrap goes round the rim.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_thin_plate_cloud_keeps_its_rim_and_corners() {
     let target = target("thin-plate-cloud");
     let (_, _, c) = wrap_target("thin-plate-cloud", &target, WrapSettings::default());
@@ -310,6 +319,7 @@ fn square_frame_cloud() -> Vec<DVec3> {
 /// meeting inside for membranes (genus 3). The cloud's field is now negative deep inside the bars
 /// (`field.enclosed_cells`), so such a vertex is held and regrown out past the surface.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_square_frame_cloud_keeps_its_corners() {
     let target = Target::new(square_frame_cloud(), Vec::new()).unwrap();
     let (_, _, c) = wrap_target("square frame", &target, WrapSettings::default());
@@ -327,6 +337,7 @@ fn a_square_frame_cloud_keeps_its_corners() {
 /// none. Now a vertex in reach of an opened hole is in it only with no data (a rail) on the
 /// straight way to the tube's centre.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_ladder_back_chair_cloud_gets_a_handle_per_hole() {
     let b = |c: [f64; 3], h: [f64; 3]| (DVec3::from_array(c), DVec3::from_array(h));
     let mut boxes = vec![b([0.0, 0.0, 0.5], [0.5, 0.5, 0.04])];
@@ -374,6 +385,7 @@ fn cube_frame_cloud(h: f64) -> Target {
 /// membrane whose tube crossed the surface at its rim (3 to 5 pairs of faces) and was never
 /// cut (genus 4, 0.30 from the data); the tube a ring further in fits (genus 5, 0.057).
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_cube_drilled_along_three_axes_gets_five_handles() {
     assert_frame_wrapped("drilled cube", 0.14);
 }
@@ -383,6 +395,7 @@ fn a_cube_drilled_along_three_axes_gets_five_handles() {
 /// against the curvature flow (genus 4, 0.49 from the data, with `flow.deflate_far` 0), until
 /// the surface far from the data with the data in front of it deflated once the surgery had cut.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_cube_frame_cloud_is_wrapped_bar_by_bar() {
     assert_frame_wrapped("cube frame", 0.04);
 }
@@ -443,6 +456,7 @@ fn a_wrap_does_not_depend_on_the_units() {
 /// around it. Wrapped, five such cubes already left 18 intersecting face pairs, and a hundred made
 /// the evolution diverge. The specks are left out and counted, and the wrap is valid.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_mesh_with_floating_debris_wraps_without_it() {
     let (mut points, mut triangles) = generate("cube").unwrap();
     let (lo, hi) = points.iter().fold(
@@ -494,6 +508,7 @@ fn a_mesh_with_floating_debris_wraps_without_it() {
 }
 
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn every_start_is_valid_on_a_genus_two_torus() {
     for start in [StartSurface::Icosphere, StartSurface::Isosurface] {
         let (_, c) = wrap("torus-g2", start);
@@ -557,6 +572,7 @@ fn browser_subset_is_valid() {
 /// stop with "the isosurface start is not usable"); an explicit isosurface start is refused by
 /// name.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn auto_start_falls_back_to_the_icosphere_on_a_noisy_volume() {
     use lsw::demo::phantom::phantom_volume;
     use lsw::demo::Rng;
@@ -593,6 +609,7 @@ fn auto_start_falls_back_to_the_icosphere_on_a_noisy_volume() {
 /// 25 s to open the nine handles). The start has the plate's genus. A coarser start with
 /// another topology than the target's is not taken.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn auto_retries_the_isosurface_start_with_coarser_edges() {
     use lsw::io::volume::{Inside, ScalarType, VoxelVolume};
     let dims = [84, 84, 16];
@@ -670,6 +687,7 @@ fn auto_retries_the_isosurface_start_with_coarser_edges() {
 /// 120³ genus 2 in 4). `auto` now takes the start of a 1.5× finer grid, which has the knot's
 /// topology, when a volume's one-part iso-surface and its start differ.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_voxel_knot_keeps_its_strands_apart() {
     use lsw::io::volume::{Inside, ScalarType, VoxelVolume};
     let (n, ext, r) = (96usize, 1.1, 0.12);
@@ -728,6 +746,7 @@ fn a_voxel_knot_keeps_its_strands_apart() {
 /// icosphere taken after it wrapped over the hole (genus 0, 70 K vertices). `auto` now takes the
 /// isosurface start of a finer grid, which keeps the bore.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_narrow_bore_gets_a_finer_isosurface_start() {
     let bead = |p: DVec3| (p.length() - 0.8).max(0.07 - (p.x * p.x + p.y * p.y).sqrt());
     let (p, t) =
@@ -757,6 +776,7 @@ const DROPPED: [usize; 71] = [
 /// still met as written: 12 pairs, and the result was refused. The redo now puts them back as
 /// written, and a surface the passes leave intersecting gives way to the settled one.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_mesh_with_dropped_faces_wraps_valid_at_the_defaults() {
     let (p, t) = generate("cube-hole").unwrap();
     assert_eq!(t.len(), 2192);
@@ -779,6 +799,7 @@ fn a_mesh_with_dropped_faces_wraps_valid_at_the_defaults() {
 /// isosurface with the target's genus. (Before, the field was unsigned and the icosphere
 /// wrapped it: ~97 K vertices in 15 s at the full defaults, against 6.7 K for the clean file.)
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_mesh_with_split_flipped_and_repeated_faces_wraps_like_the_clean_one() {
     let (p, t) = generate("cube-hole").unwrap();
     let mut obj = String::new();
@@ -824,6 +845,7 @@ fn a_mesh_with_split_flipped_and_repeated_faces_wraps_like_the_clean_one() {
 /// pairs the faces around the edge and splits its vertices: two closed boxes, a signed field, the
 /// isosurface start.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn boxes_touching_along_an_edge_wrap_from_their_isosurface() {
     // The app's box soup (two unit cubes side by side, every face with its own corners), its
     // second cube moved up by one: the cubes now touch along the edge x = y = 1.
@@ -850,6 +872,7 @@ fn boxes_touching_along_an_edge_wrap_from_their_isosurface() {
 /// faces), so the field is signed and the wrap starts from the isosurface with the target's
 /// genus (from the icosphere it took 118 K vertices and 16 s at the full defaults).
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_mesh_read_with_dropped_faces_has_its_holes_closed() {
     let (p, t) = generate("cube-hole").unwrap();
     let mut obj: String = p
@@ -876,6 +899,7 @@ fn a_mesh_read_with_dropped_faces_has_its_holes_closed() {
 /// them (`surgery.tunnel_ratio`). Without it (`surgery.tunnel_ratio=0`) this cloud's wrap has
 /// genus 1: both smaller holes stay closed.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_turned_plate_cloud_opens_its_narrow_through_holes() {
     let (p, t) = lsw::demo::sculpted::plate_holes();
     let turn = glam::DQuat::from_euler(glam::EulerRot::XYZ, 0.4, -1.0, 2.0);
@@ -897,6 +921,7 @@ fn a_turned_plate_cloud_opens_its_narrow_through_holes() {
 /// other sheets of 3 000, 10 000 and 30 000). A tunnel's wall also runs along the path; a sheet's
 /// gap has none.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_randomly_sampled_sheet_gets_no_handles_through_its_sampling_gaps() {
     let target = random_wavy_sheet(3000, 3009);
     let (_, _, c) = wrap_target("random sheet", &target, WrapSettings::default());
@@ -951,6 +976,7 @@ fn assert_rim_brought_in(name: &str, sheet: &Target) -> Certificate {
 /// 10 000 points outside. The wrap then starts over with a d₀ that covers the gaps
 /// (`flow.cover_gaps`), which keeps the rim: none outside.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_randomly_sampled_open_sheet_keeps_its_rim_inside() {
     let c = assert_rim_brought_in("random sheet rim", &random_wavy_sheet(10_000, 3011));
     let outside = c.target_points_outside.unwrap();
@@ -962,6 +988,7 @@ fn a_randomly_sampled_open_sheet_keeps_its_rim_inside() {
 /// pass leaves 4 965 of 20 000 checked points of this dome outside, a second pass with only d₀
 /// grown 2 447, and the second pass without that push (`flow.second_pass_d2` = 0) 37.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_densely_sampled_open_dome_keeps_its_rim_inside() {
     let dome = random_sheet(100_000, 3013, |x, y| 0.25 * (1.0 - 0.5 * (x * x + y * y)));
     assert_rim_brought_in("dense dome", &dome);
@@ -973,6 +1000,7 @@ fn a_densely_sampled_open_dome_keeps_its_rim_inside() {
 /// (the first pass's farthest vertex: 0.04). A third pass halfway between the two D₂ is the
 /// result: the whole band inside, 0.04 off.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_twisted_band_is_wrapped_close_to_its_data() {
     let mut rng = lsw::demo::Rng::new(5);
     let points: Vec<DVec3> = (0..10_000)
@@ -998,6 +1026,7 @@ fn a_twisted_band_is_wrapped_close_to_its_data() {
 /// of the wavy sheet has 2 811 of its 14 641 vertices outside after the first pass, 31 after the
 /// second (D₂ = 0).
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn an_open_single_layer_mesh_keeps_its_rim_inside() {
     let n = 120;
     let at = |i: usize, j: usize| j * (n + 1) + i;
@@ -1022,6 +1051,7 @@ fn an_open_single_layer_mesh_keeps_its_rim_inside() {
 /// A closed cloud whose sampling has the same gaps keeps its first pass: its wrap only sags into
 /// them, nothing is left outside, and nothing starts over.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_randomly_sampled_closed_cloud_is_wrapped_once() {
     let sphere = Target::new(lsw::demo::noisy_sphere_cloud(3000, 0.0, 3011), vec![]).unwrap();
     let (c, again) = wrap_with_passes("random sphere", &sphere);
@@ -1036,6 +1066,7 @@ fn a_randomly_sampled_closed_cloud_is_wrapped_once() {
 /// surgery's resolution and stayed closed (genus 2). The grid now follows the plate's principal
 /// box.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_turned_noisy_plate_cloud_gets_the_grid_of_a_flat_one() {
     let (p, t) = lsw::demo::sculpted::plate_holes();
     let flat = lsw::demo::sample_mesh(&p, &t, 30_000, 5).unwrap();
@@ -1073,6 +1104,7 @@ fn a_turned_noisy_plate_cloud_gets_the_grid_of_a_flat_one() {
 /// isosurface start whose topology differs from a closed mesh's; it took the icosphere, and now
 /// takes the isosurface start of a finer grid, whose offset keeps the parts apart.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn a_closed_mesh_is_not_started_with_a_handle_it_lacks() {
     let (p, t) = lsw::demo::sculpted::creature();
     let turn = glam::DQuat::from_xyzw(0.675_56, -0.503_35, 0.536_32, 0.051_18).normalize();
@@ -1098,6 +1130,7 @@ fn a_closed_mesh_is_not_started_with_a_handle_it_lacks() {
 /// stumps), and the wrap stayed one part, 0.48 from the data, with under 700 vertices. Each
 /// part lying apart now gets its own sphere.
 #[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn two_spheres_apart_turned_wrap_as_two_parts() {
     let (p, _) = generate("two-spheres-apart-cloud").unwrap();
     // (w, x, y, z) of the turns.

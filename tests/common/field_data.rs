@@ -5,14 +5,12 @@
 use lsw::target::Target;
 use lsw::DVec3;
 
-/// The shared test-data folder from `LSW_SHARED_DATA`, or `None` with a notice.
-pub fn data_dir(test: &str) -> Option<std::path::PathBuf> {
+/// The shared test-data folder from `LSW_SHARED_DATA`. Tests that read it are ignored unless the
+/// build saw the folder (`cfg(shared_data)`, set by build.rs), so this finds it when it runs.
+pub fn data_dir(test: &str) -> std::path::PathBuf {
     match std::env::var_os("LSW_SHARED_DATA") {
-        Some(d) => Some(std::path::PathBuf::from(d)),
-        None => {
-            println!("{test}: LSW_SHARED_DATA is not set; skipping the real-data check");
-            None
-        }
+        Some(d) => std::path::PathBuf::from(d),
+        None => panic!("{test}: LSW_SHARED_DATA is not set (the build had it: rebuild)"),
     }
 }
 

@@ -1,0 +1,106 @@
+//! The pipeline's properties (the default test tier): `wrap` returns a certified result whose
+//! verdict follows from its certificate, the observer hears every step, the same input gives the
+//! same mesh, the Euler characteristic matches the genus, and a target that cannot be wrapped is
+//! an error, not a result.
+
+use lsw::demo::shapes::generate;
+use lsw::flow::{StepReport, WrapSettings};
+use lsw::pipeline::{wrap, Observer, Verdict, VerdictState};
+use lsw::target::Target;
+use wasm_bindgen_test::*;
+
+wasm_bindgen_test_configure!(run_in_browser);
+
+fn target(name: &str) -> Target {
+    let (p, t) = generate(name).unwrap_or_else(|e| panic!("{name}: {e}"));
+    Target::new(p, t).unwrap()
+}
+
+/// The defaults on a coarser grid with coarser final edges (as the corpus tier's wraps).
+fn coarse() -> WrapSettings {
+    let mut settings = WrapSettings::default();
+    settings.remesh.min_edge_multiplier = 0.3;
+    settings.field.cells_per_min_dimension = 24;
+    settings
+}
+
+#[derive(Default)]
+struct Heard {
+    steps: Vec<u32>,
+    phases: Vec<String>,
+}
+
+impl Observer for Heard {
+    fn progress(&mut self, phase: &str, _fraction: f64) {
+        if self.phases.last().map(String::as_str) != Some(phase) {
+            self.phases.push(phase.to_owned());
+        }
+    }
+    fn step(&mut self, report: &StepReport) {
+        self.steps.push(report.step);
+    }
+}
+
+#[wasm_bindgen_test(unsupported = test)]
+fn a_wrap_returns_its_certificate_verdict_and_steps_and_repeats_exactly() {
+    let t = target("torus-g1-cloud");
+    let mut heard = Heard::default();
+    let r = wrap(&t, coarse(), &mut heard).unwrap();
+    let c = &r.certificate;
+    assert!(c.valid && c.self_intersections == 0, "{c:?}");
+    assert_eq!(c.genus, Some(1));
+    assert_eq!(c.euler_characteristic, Some(2 - 2 * c.genus.unwrap()));
+    assert_eq!(
+        r.verdict,
+        Verdict::of(c, None, r.started_over.as_ref(), r.left_out)
+    );
+    assert_eq!(r.verdict.state, VerdictState::Valid);
+    assert!(r.verdict.certified && r.stop_reason.is_none());
+    assert_eq!(heard.steps, (1..=r.steps).collect::<Vec<_>>());
+    assert!(
+        heard.phases.iter().any(|p| p.starts_with("distance field")),
+        "{:?}",
+        heard.phases
+    );
+    assert_eq!(r.positions.len(), r.distances.len());
+    assert!(r.positions.iter().all(|p| p.is_finite()));
+    let again = wrap(&t, coarse(), &mut ()).unwrap();
+    assert_eq!(
+        again.hash, r.hash,
+        "the same input and settings gave another mesh"
+    );
+    assert_eq!(again.triangles, r.triangles);
+}
+
+#[wasm_bindgen_test(unsupported = test)]
+fn a_closed_mesh_wrapped_with_another_genus_is_a_warning() {
+    // An icosphere stopped after a few steps has not reached the torus's handles.
+    let t = target("torus-g2");
+    let mut settings = coarse();
+    settings.start.surface = lsw::flow::StartSurface::Icosphere;
+    settings.stop.steps = 3;
+    let r = wrap(&t, settings, &mut ()).unwrap();
+    assert!(r.certificate.valid, "{:?}", r.certificate);
+    assert_eq!(
+        (r.certificate.target_genus, r.certificate.genus),
+        (Some(2), Some(0))
+    );
+    assert_eq!(r.verdict.state, VerdictState::Warning);
+    assert!(r.verdict.certified);
+    assert_eq!(r.verdict.headline, "Done, but not the target's topology");
+}
+
+#[wasm_bindgen_test(unsupported = test)]
+fn a_target_that_cannot_be_wrapped_is_an_error() {
+    let flat = Target::new(
+        vec![
+            glam::DVec3::ZERO,
+            glam::DVec3::X,
+            glam::DVec3::Y,
+            glam::DVec3::new(1.0, 1.0, 0.0),
+        ],
+        vec![],
+    )
+    .unwrap();
+    assert!(wrap(&flat, coarse(), &mut ()).is_err());
+}
