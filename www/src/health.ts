@@ -19,5 +19,6 @@ export function showVerdict(el: HTMLElement, v: Verdict, c: Certificate): void {
   el.dataset.si = String(c.self_intersections);
   el.dataset.state = v.state;
   el.textContent = v.badge.join(' · ');
-  el.title = [v.explanation, ...v.warnings, ...v.notes].join('\n');
+  // The badge may be cut to fit the header: its tooltip repeats it whole.
+  el.title = [el.textContent, v.explanation, ...v.warnings, ...v.notes].join('\n');
 }

@@ -421,8 +421,11 @@ test('a wrap that cuts off part of a thin cloud says so (amber badge, not "Done"
   await page.waitForSelector('[data-testid=status][data-state=invalid]', { timeout: 120000 });
   const status = await page.textContent('[data-testid=status]');
   assert(/part of the target lies outside the wrap/.test(status), `status: "${status}"`);
-  const outside = await page.getAttribute('[data-testid=health]', 'data-outside');
-  assert(Number(outside) > 100, `data-outside = ${outside}`);
+  // The badge renders the core's verdict: certified, but a warning (amber), with the count.
+  const state = await page.getAttribute('[data-testid=health]', 'data-state');
+  const badge = await page.textContent('[data-testid=health]');
+  const outside = Number(/⚠ (\d+) target points outside/.exec(badge ?? '')?.[1]);
+  assert(state === 'warning' && outside > 100, `badge: state ${state}, "${badge}"`);
   const h = await health(page);
   assert(h.valid === 'true' && h.si === '0', `badge: ${JSON.stringify(h)}`);
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
