@@ -199,6 +199,41 @@ pub type Resolver<'r> = &'r dyn Fn(&str) -> Option<Vec<u8>>;
 pub fn read_with(bytes: &[u8], resolve: Resolver) -> Result<RawGeometry, IoError> {
     let is_glb = bytes.starts_with(b"glTF");
     let format = if is_glb { Format::Glb } else { Format::Gltf };
+    let (doc, bin) = parse_document(bytes, is_glb, format)?;
+    let buffers = load_buffers(&doc, bin, resolve, format)?;
+    let instances = collect_instances(&doc, bytes.len(), format)?;
+    let mut out = Emitted {
+        tri_points: Vec::new(),
+        tris: Vec::new(),
+        cloud: Vec::new(),
+        max_points: MAX_INSTANCING * (bytes.len() / 12 + 1),
+    };
+    for (mesh, world) in &instances {
+        for prim in mesh.primitives() {
+            emit_primitive(&mut out, mesh, &prim, world, &buffers, format)?;
+        }
+    }
+    let enc = if is_glb {
+        Encoding::BinaryLe
+    } else {
+        Encoding::Ascii
+    };
+    if out.tris.is_empty() {
+        Ok((out.cloud, out.tris, enc))
+    } else {
+        Ok((out.tri_points, out.tris, enc))
+    }
+}
+
+/// Buffer contents by buffer index (`None` where a buffer could not be loaded).
+type Buffers<'b> = Vec<Option<Cow<'b, [u8]>>>;
+
+/// A validated document and the GLB binary chunk (if any).
+type ParsedDoc<'b> = (::gltf::Document, Option<Cow<'b, [u8]>>);
+
+/// Parses the GLB container (if any) and the JSON into a validated document and the GLB binary
+/// chunk.
+fn parse_document(bytes: &[u8], is_glb: bool, format: Format) -> Result<ParsedDoc<'_>, IoError> {
     if is_glb {
         check_glb_container(bytes)?;
     }
@@ -216,6 +251,13 @@ pub fn read_with(bytes: &[u8], resolve: Resolver) -> Result<RawGeometry, IoError
             e.to_string(),
         )
     })?;
+    check_attribute_accessors(&root, format)?;
+    let doc = ::gltf::Document::from_json(root).map_err(|e| gltf_err(format, e))?;
+    Ok((doc, bin))
+}
+
+/// Rejects a primitive attribute that refers to a missing accessor.
+fn check_attribute_accessors(root: &::gltf::json::Root, format: Format) -> Result<(), IoError> {
     // gltf-json 1.4.1's validation indexes `accessors[POSITION]` before checking the index and
     // panics on a dangling one; check it here first.
     for (m, mesh) in root.meshes.iter().enumerate() {
@@ -238,9 +280,18 @@ pub fn read_with(bytes: &[u8], resolve: Resolver) -> Result<RawGeometry, IoError
             }
         }
     }
-    let doc = ::gltf::Document::from_json(root).map_err(|e| gltf_err(format, e))?;
-    let mut bin = bin;
-    let mut buffers: Vec<Option<Cow<[u8]>>> = Vec::new();
+    Ok(())
+}
+
+/// Loads every buffer: the GLB binary chunk, a base64 `data:` URI, or an external file through
+/// `resolve`.
+fn load_buffers<'b>(
+    doc: &::gltf::Document,
+    mut bin: Option<Cow<'b, [u8]>>,
+    resolve: Resolver,
+    format: Format,
+) -> Result<Buffers<'b>, IoError> {
+    let mut buffers: Buffers<'b> = Vec::new();
     for b in doc.buffers() {
         buffers.push(match b.source() {
             ::gltf::buffer::Source::Bin => bin.take(),
@@ -258,8 +309,16 @@ pub fn read_with(bytes: &[u8], resolve: Resolver) -> Result<RawGeometry, IoError
             ::gltf::buffer::Source::Uri(uri) => resolve(uri).map(Cow::Owned),
         });
     }
+    Ok(buffers)
+}
 
-    // (mesh, world matrix) instances to emit.
+/// The (mesh, world matrix) instances to emit, walking the node hierarchy from its roots in
+/// document order; the walk is bounded by `input_len`.
+fn collect_instances(
+    doc: &::gltf::Document,
+    input_len: usize,
+    format: Format,
+) -> Result<Vec<(::gltf::Mesh<'_>, DMat4)>, IoError> {
     let mut instances: Vec<(::gltf::Mesh, DMat4)> = Vec::new();
     let roots: Vec<::gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
         Some(s) => s.nodes().collect(),
@@ -284,7 +343,7 @@ pub fn read_with(bytes: &[u8], resolve: Resolver) -> Result<RawGeometry, IoError
     let mut visits = 0usize;
     while let Some((node, parent, depth)) = stack.pop() {
         visits += 1;
-        if depth > MAX_DEPTH || visits > 1 + bytes.len() {
+        if depth > MAX_DEPTH || visits > 1 + input_len {
             return Err(gltf_err(
                 format,
                 format!(
@@ -300,7 +359,7 @@ pub fn read_with(bytes: &[u8], resolve: Resolver) -> Result<RawGeometry, IoError
         }
         // Bound the work and the stack by the input size: a small file whose nodes list the
         // same child many times would otherwise expand exponentially.
-        if visits + stack.len() + node.children().len() > 1 + bytes.len() {
+        if visits + stack.len() + node.children().len() > 1 + input_len {
             return Err(gltf_err(
                 format,
                 format!(
@@ -313,156 +372,209 @@ pub fn read_with(bytes: &[u8], resolve: Resolver) -> Result<RawGeometry, IoError
         let children: Vec<_> = node.children().collect();
         stack.extend(children.into_iter().rev().map(|c| (c, world, depth + 1)));
     }
+    Ok(instances)
+}
 
+/// The geometry gathered from the primitives so far.
+struct Emitted {
+    /// Vertices of triangle primitives.
+    tri_points: Vec<DVec3>,
+    tris: Vec<[u32; 3]>,
+    /// Vertices of POINTS primitives.
+    cloud: Vec<DVec3>,
+    /// Bound on the vertices (and half the index count) of either kind.
+    max_points: usize,
+}
+
+/// Adds one primitive of a mesh instance placed by `world` (lines are skipped).
+fn emit_primitive(
+    out: &mut Emitted,
+    mesh: &::gltf::Mesh,
+    prim: &::gltf::Primitive,
+    world: &DMat4,
+    buffers: &[Option<Cow<[u8]>>],
+    format: Format,
+) -> Result<(), IoError> {
+    let mode = prim.mode();
+    let is_tri = matches!(
+        mode,
+        Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+    );
+    if !is_tri && mode != Mode::Points {
+        return Ok(());
+    }
+    let pos = position_accessor(mesh, prim, buffers, format)?;
+    let points = if is_tri {
+        &mut out.tri_points
+    } else {
+        &mut out.cloud
+    };
+    if points.len() + pos.count() > out.max_points {
+        return Err(gltf_err(
+            format,
+            "instanced geometry is too large for the file size",
+        ));
+    }
+    let base = points.len();
     let get = |b: ::gltf::Buffer| buffers.get(b.index()).and_then(|d| d.as_deref());
-    let max_points = MAX_INSTANCING * (bytes.len() / 12 + 1);
-    let mut tri_points: Vec<DVec3> = Vec::new();
-    let mut tris: Vec<[u32; 3]> = Vec::new();
-    let mut cloud: Vec<DVec3> = Vec::new();
-    for (mesh, world) in &instances {
-        for prim in mesh.primitives() {
-            let mode = prim.mode();
-            let is_tri = matches!(
-                mode,
-                Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
-            );
-            if !is_tri && mode != Mode::Points {
-                continue;
-            }
-            let Some(pos) = prim.get(&::gltf::Semantic::Positions) else {
+    let reader = prim.reader(get);
+    let positions = reader
+        .read_positions()
+        .ok_or_else(|| gltf_err(format, "unreadable POSITION data"))?;
+    push_points(points, positions, world, format)?;
+    if !is_tri {
+        return Ok(());
+    }
+    let n = pos.count();
+    let idx: Vec<u32> = match prim.indices() {
+        Some(acc) => {
+            check_index_accessor(format, &acc, buffers)?;
+            reader
+                .read_indices()
+                .ok_or_else(|| gltf_err(format, "unreadable index data"))?
+                .into_u32()
+                .collect()
+        }
+        None => (0..n as u32).collect(),
+    };
+    if let Some(&bad) = idx.iter().find(|&&i| i as usize >= n) {
+        return Err(IoError::IndexOutOfRange {
+            format,
+            at: Location::Byte(0),
+            face: out.tris.len(),
+            index: bad as i64,
+            count: n,
+        });
+    }
+    if out.tris.len() + idx.len() > 2 * out.max_points {
+        return Err(gltf_err(
+            format,
+            "instanced geometry is too large for the file size",
+        ));
+    }
+    let first = out.tris.len();
+    push_triangles(&mut out.tris, mode, &idx, base as u32, mesh, prim, format)?;
+    // A mirroring node (negative determinant) reverses the winding (glTF 2.0 §3.7.2.1):
+    // its faces are turned back, or a mirrored half of a model points inwards.
+    if DMat3::from_mat4(*world).determinant() < 0.0 {
+        out.tris[first..].iter_mut().for_each(|t| t.swap(1, 2));
+    }
+    Ok(())
+}
+
+/// The primitive's POSITION accessor, checked to be float VEC3 inside its buffer.
+fn position_accessor<'d>(
+    mesh: &::gltf::Mesh,
+    prim: &::gltf::Primitive<'d>,
+    buffers: &[Option<Cow<[u8]>>],
+    format: Format,
+) -> Result<::gltf::Accessor<'d>, IoError> {
+    let Some(pos) = prim.get(&::gltf::Semantic::Positions) else {
+        return Err(gltf_err(
+            format,
+            format!(
+                "mesh {} primitive {} has no POSITION",
+                mesh.index(),
+                prim.index()
+            ),
+        ));
+    };
+    if pos.data_type() != DataType::F32 || pos.dimensions() != Dimensions::Vec3 {
+        return Err(IoError::Unsupported {
+            format,
+            what: format!("POSITION accessor {} that is not float VEC3", pos.index()),
+        });
+    }
+    check_accessor(format, &pos, buffers)?;
+    Ok(pos)
+}
+
+/// Transforms `positions` by `world` onto `out`, rejecting non-finite results.
+fn push_points(
+    out: &mut Vec<DVec3>,
+    positions: impl Iterator<Item = [f32; 3]>,
+    world: &DMat4,
+    format: Format,
+) -> Result<(), IoError> {
+    for p in positions {
+        let q = world.transform_point3(DVec3::from_array(p.map(|c| c as f64)));
+        if !q.is_finite() {
+            return Err(IoError::NonFinite {
+                format,
+                at: Location::Byte(0),
+                index: out.len(),
+                x: q.x,
+                y: q.y,
+                z: q.z,
+            });
+        }
+        out.push(q);
+    }
+    Ok(())
+}
+
+/// Checks that an index accessor is an unsigned scalar lying inside its buffer.
+fn check_index_accessor(
+    format: Format,
+    acc: &::gltf::Accessor,
+    buffers: &[Option<Cow<[u8]>>],
+) -> Result<(), IoError> {
+    if acc.dimensions() != Dimensions::Scalar
+        || !matches!(
+            acc.data_type(),
+            DataType::U8 | DataType::U16 | DataType::U32
+        )
+    {
+        return Err(gltf_err(
+            format,
+            format!("index accessor {} is not an unsigned scalar", acc.index()),
+        ));
+    }
+    check_accessor(format, acc, buffers)
+}
+
+/// Turns the indices of a triangle list, strip or fan (offset by `b`) into triangles.
+fn push_triangles(
+    tris: &mut Vec<[u32; 3]>,
+    mode: Mode,
+    idx: &[u32],
+    b: u32,
+    mesh: &::gltf::Mesh,
+    prim: &::gltf::Primitive,
+    format: Format,
+) -> Result<(), IoError> {
+    match mode {
+        Mode::Triangles => {
+            if idx.len() % 3 != 0 {
                 return Err(gltf_err(
                     format,
                     format!(
-                        "mesh {} primitive {} has no POSITION",
+                        "mesh {} primitive {}: {} indices is not a multiple of 3",
                         mesh.index(),
-                        prim.index()
+                        prim.index(),
+                        idx.len()
                     ),
                 ));
-            };
-            if pos.data_type() != DataType::F32 || pos.dimensions() != Dimensions::Vec3 {
-                return Err(IoError::Unsupported {
-                    format,
-                    what: format!("POSITION accessor {} that is not float VEC3", pos.index()),
-                });
             }
-            check_accessor(format, &pos, &buffers)?;
-            let out = if is_tri { &mut tri_points } else { &mut cloud };
-            if out.len() + pos.count() > max_points {
-                return Err(gltf_err(
-                    format,
-                    "instanced geometry is too large for the file size",
-                ));
+            tris.extend(idx.chunks_exact(3).map(|t| [b + t[0], b + t[1], b + t[2]]));
+        }
+        Mode::TriangleStrip => {
+            for k in 0..idx.len().saturating_sub(2) {
+                let (i, j) = if k % 2 == 0 {
+                    (k + 1, k + 2)
+                } else {
+                    (k + 2, k + 1)
+                };
+                tris.push([b + idx[k], b + idx[i], b + idx[j]]);
             }
-            let base = out.len();
-            let reader = prim.reader(get);
-            let positions = reader
-                .read_positions()
-                .ok_or_else(|| gltf_err(format, "unreadable POSITION data"))?;
-            for p in positions {
-                let q = world.transform_point3(DVec3::from_array(p.map(|c| c as f64)));
-                if !q.is_finite() {
-                    return Err(IoError::NonFinite {
-                        format,
-                        at: Location::Byte(0),
-                        index: out.len(),
-                        x: q.x,
-                        y: q.y,
-                        z: q.z,
-                    });
-                }
-                out.push(q);
-            }
-            if !is_tri {
-                continue;
-            }
-            let n = pos.count();
-            let idx: Vec<u32> = match prim.indices() {
-                Some(acc) => {
-                    if acc.dimensions() != Dimensions::Scalar
-                        || !matches!(
-                            acc.data_type(),
-                            DataType::U8 | DataType::U16 | DataType::U32
-                        )
-                    {
-                        return Err(gltf_err(
-                            format,
-                            format!("index accessor {} is not an unsigned scalar", acc.index()),
-                        ));
-                    }
-                    check_accessor(format, &acc, &buffers)?;
-                    reader
-                        .read_indices()
-                        .ok_or_else(|| gltf_err(format, "unreadable index data"))?
-                        .into_u32()
-                        .collect()
-                }
-                None => (0..n as u32).collect(),
-            };
-            if let Some(&bad) = idx.iter().find(|&&i| i as usize >= n) {
-                return Err(IoError::IndexOutOfRange {
-                    format,
-                    at: Location::Byte(0),
-                    face: tris.len(),
-                    index: bad as i64,
-                    count: n,
-                });
-            }
-            if tris.len() + idx.len() > 2 * max_points {
-                return Err(gltf_err(
-                    format,
-                    "instanced geometry is too large for the file size",
-                ));
-            }
-            let b = base as u32;
-            let first = tris.len();
-            match mode {
-                Mode::Triangles => {
-                    if idx.len() % 3 != 0 {
-                        return Err(gltf_err(
-                            format,
-                            format!(
-                                "mesh {} primitive {}: {} indices is not a multiple of 3",
-                                mesh.index(),
-                                prim.index(),
-                                idx.len()
-                            ),
-                        ));
-                    }
-                    tris.extend(idx.chunks_exact(3).map(|t| [b + t[0], b + t[1], b + t[2]]));
-                }
-                Mode::TriangleStrip => {
-                    for k in 0..idx.len().saturating_sub(2) {
-                        let (i, j) = if k % 2 == 0 {
-                            (k + 1, k + 2)
-                        } else {
-                            (k + 2, k + 1)
-                        };
-                        tris.push([b + idx[k], b + idx[i], b + idx[j]]);
-                    }
-                }
-                _ => {
-                    for k in 1..idx.len().saturating_sub(1) {
-                        tris.push([b + idx[0], b + idx[k], b + idx[k + 1]]);
-                    }
-                }
-            }
-            // A mirroring node (negative determinant) reverses the winding (glTF 2.0 §3.7.2.1):
-            // its faces are turned back, or a mirrored half of a model points inwards.
-            if DMat3::from_mat4(*world).determinant() < 0.0 {
-                tris[first..].iter_mut().for_each(|t| t.swap(1, 2));
+        }
+        _ => {
+            for k in 1..idx.len().saturating_sub(1) {
+                tris.push([b + idx[0], b + idx[k], b + idx[k + 1]]);
             }
         }
     }
-    let enc = if is_glb {
-        Encoding::BinaryLe
-    } else {
-        Encoding::Ascii
-    };
-    if tris.is_empty() {
-        Ok((cloud, tris, enc))
-    } else {
-        Ok((tri_points, tris, enc))
-    }
+    Ok(())
 }
 
 #[cfg(test)]
