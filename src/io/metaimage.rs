@@ -60,6 +60,54 @@ struct Field {
     value: String,
 }
 
+/// The header's `Key = Value` fields in file order, and where it ends.
+struct Header {
+    fields: Vec<(String, Field)>,
+    /// Byte offset just after the `ElementDataFile` line.
+    data_start: usize,
+    /// Line number of the `ElementDataFile` line.
+    last_line: usize,
+}
+
+impl Header {
+    /// The first field named by any of `keys` (tried in order).
+    fn get(&self, keys: &[&str]) -> Option<&Field> {
+        keys.iter()
+            .find_map(|k| self.fields.iter().find(|(f, _)| f == k).map(|(_, v)| v))
+    }
+
+    /// The field `key`, or an error naming it as required.
+    fn need(&self, key: &str) -> Result<&Field, IoError> {
+        self.get(&[key]).ok_or_else(|| {
+            IoError::syntax(
+                F,
+                Location::Line(1),
+                format!("the required key {key}"),
+                "a header without it",
+            )
+        })
+    }
+
+    /// True when the first field named by `keys` says `True` (any case).
+    fn yes(&self, keys: &[&str]) -> bool {
+        self.get(keys)
+            .is_some_and(|f| f.value.eq_ignore_ascii_case("true"))
+    }
+}
+
+/// The volume's shape and sample layout as the header gives them.
+struct Layout {
+    ndims: usize,
+    /// Line of `DimSize` (where count errors point).
+    sizes_line: usize,
+    ty: ScalarType,
+    dims3: [usize; 3],
+    frames: usize,
+    big: bool,
+    compressed: bool,
+    binary: bool,
+}
+
 /// Reads a MetaImage; `resolve` fetches a separate `ElementDataFile` by its name relative to the
 /// header (none in memory).
 pub fn read_with(
@@ -67,10 +115,53 @@ pub fn read_with(
     opts: &VolumeOptions,
     resolve: &dyn Fn(&str) -> Option<Vec<u8>>,
 ) -> Result<(VoxelVolume, Encoding), IoError> {
+    let h = parse_header(bytes)?;
+    let l = parse_layout(&h, opts)?;
+    let (cols, origin) = world_axes(&h, l.ndims)?;
+    let orientation = h
+        .get(&["AnatomicalOrientation"])
+        .map(|f| f.value.clone())
+        .unwrap_or_else(|| "unspecified".into());
+    let frame = format!(
+        "MetaImage world frame as written (Offset/ElementSpacing/TransformMatrix; \
+         AnatomicalOrientation {orientation})"
+    );
+    // The data.
+    let owned;
+    let (data, data_at): (&[u8], usize) = match load_data(&h, resolve)? {
+        Some(d) => {
+            owned = d;
+            (&owned, 0)
+        }
+        None => (&bytes[h.data_start..], h.data_start),
+    };
+    let values = read_values(&h, &l, data, data_at, opts.frame)?;
+    Ok((
+        VoxelVolume {
+            dims: l.dims3,
+            values,
+            index_to_world: affine(cols, origin),
+            datatype: l.ty,
+            frame,
+            frames: l.frames,
+            frame_index: opts.frame,
+        },
+        if !l.binary {
+            Encoding::Ascii
+        } else if l.big {
+            Encoding::BinaryBe
+        } else {
+            Encoding::BinaryLe
+        },
+    ))
+}
+
+/// Reads the `Key = Value` lines up to and including `ElementDataFile`.
+fn parse_header(bytes: &[u8]) -> Result<Header, IoError> {
     let mut fields: Vec<(String, Field)> = Vec::new();
     let mut pos = 0;
     let mut line = 0;
-    let data_start = loop {
+    loop {
         line += 1;
         if pos >= bytes.len() {
             return Err(IoError::truncated(
@@ -103,46 +194,42 @@ pub fn read_with(
         let last = key == "ElementDataFile";
         fields.push((key, Field { line, value }));
         if last {
-            break pos;
+            return Ok(Header {
+                fields,
+                data_start: pos,
+                last_line: line,
+            });
         }
-    };
-    let get = |keys: &[&str]| {
-        keys.iter()
-            .find_map(|k| fields.iter().find(|(f, _)| f == k).map(|(_, v)| v))
-    };
-    let need = |key: &str| {
-        get(&[key]).ok_or_else(|| {
+    }
+}
+
+/// At least `n` finite numbers from the field `f` (`what` names it in the error).
+fn floats(f: &Field, n: usize, what: &str) -> Result<Vec<f64>, IoError> {
+    f.value
+        .split_whitespace()
+        .map(|t| parse_f64(t.as_bytes()).filter(|v| v.is_finite()))
+        .collect::<Option<Vec<f64>>>()
+        .filter(|v| v.len() >= n)
+        .ok_or_else(|| {
             IoError::syntax(
                 F,
-                Location::Line(1),
-                format!("the required key {key}"),
-                "a header without it",
+                Location::Line(f.line),
+                format!("{n} numbers ({what})"),
+                &f.value,
             )
         })
-    };
-    let floats = |f: &Field, n: usize, what: &str| -> Result<Vec<f64>, IoError> {
-        f.value
-            .split_whitespace()
-            .map(|t| parse_f64(t.as_bytes()).filter(|v| v.is_finite()))
-            .collect::<Option<Vec<f64>>>()
-            .filter(|v| v.len() >= n)
-            .ok_or_else(|| {
-                IoError::syntax(
-                    F,
-                    Location::Line(f.line),
-                    format!("{n} numbers ({what})"),
-                    &f.value,
-                )
-            })
-    };
-    let nd_f = need("NDims")?;
+}
+
+/// Reads the dimensions, sizes, sample type and byte layout, and checks the requested frame.
+fn parse_layout(h: &Header, opts: &VolumeOptions) -> Result<Layout, IoError> {
+    let nd_f = h.need("NDims")?;
     let ndims: usize = nd_f
         .value
         .parse()
         .ok()
         .filter(|d| (1..=4).contains(d))
         .ok_or_else(|| IoError::syntax(F, Location::Line(nd_f.line), "NDims 1…4", &nd_f.value))?;
-    let ds_f = need("DimSize")?;
+    let ds_f = h.need("DimSize")?;
     let sizes = parse_sizes(
         &ds_f.value,
         ndims,
@@ -150,12 +237,12 @@ pub fn read_with(
         ds_f.line,
         format!("{ndims} sizes ≥ 1 (DimSize)"),
     )?;
-    let et_f = need("ElementType")?;
+    let et_f = h.need("ElementType")?;
     let ty = scalar_type(&et_f.value).ok_or_else(|| IoError::Unsupported {
         format: F,
         what: format!("ElementType {} (line {})", et_f.value, et_f.line),
     })?;
-    if let Some(f) = get(&["ElementNumberOfChannels"]) {
+    if let Some(f) = h.get(&["ElementNumberOfChannels"]) {
         if f.value != "1" {
             return Err(IoError::Unsupported {
                 format: F,
@@ -179,24 +266,37 @@ pub fn read_with(
             ),
         });
     }
-    let yes = |keys: &[&str]| get(keys).is_some_and(|f| f.value.eq_ignore_ascii_case("true"));
-    let big = yes(&["BinaryDataByteOrderMSB", "ElementByteOrderMSB"]);
-    let compressed = yes(&["CompressedData"]);
-    let binary = get(&["BinaryData"]).is_none_or(|f| f.value.eq_ignore_ascii_case("true"));
+    Ok(Layout {
+        ndims,
+        sizes_line: ds_f.line,
+        ty,
+        dims3,
+        frames,
+        big: h.yes(&["BinaryDataByteOrderMSB", "ElementByteOrderMSB"]),
+        compressed: h.yes(&["CompressedData"]),
+        binary: h
+            .get(&["BinaryData"])
+            .is_none_or(|f| f.value.eq_ignore_ascii_case("true")),
+    })
+}
+
+/// The index → world columns (direction times spacing) and the origin.
+fn world_axes(h: &Header, ndims: usize) -> Result<([DVec3; 3], DVec3), IoError> {
+    let nsp = ndims.min(3);
     let mut spacing = [1.0f64; 3];
-    if let Some(f) = get(&["ElementSpacing", "ElementSize"]) {
+    if let Some(f) = h.get(&["ElementSpacing", "ElementSize"]) {
         let v = floats(f, ndims, "ElementSpacing")?;
         spacing[..nsp].copy_from_slice(&v[..nsp]);
     }
     let mut origin = DVec3::ZERO;
-    if let Some(f) = get(&["Offset", "Position", "Origin"]) {
+    if let Some(f) = h.get(&["Offset", "Position", "Origin"]) {
         let v = floats(f, ndims, "Offset")?;
         for (j, x) in v.iter().take(nsp).enumerate() {
             origin[j] = *x;
         }
     }
     let mut dirs = [DVec3::X, DVec3::Y, DVec3::Z];
-    if let Some(f) = get(&["TransformMatrix", "Rotation", "Orientation"]) {
+    if let Some(f) = h.get(&["TransformMatrix", "Rotation", "Orientation"]) {
         let v = floats(f, ndims * ndims, "TransformMatrix")?;
         for (k, d) in dirs.iter_mut().enumerate().take(nsp) {
             let mut c = DVec3::ZERO;
@@ -206,37 +306,46 @@ pub fn read_with(
             *d = c;
         }
     }
-    let cols = [0, 1, 2].map(|k| dirs[k] * spacing[k]);
-    let orientation = get(&["AnatomicalOrientation"])
-        .map(|f| f.value.clone())
-        .unwrap_or_else(|| "unspecified".into());
-    let frame = format!(
-        "MetaImage world frame as written (Offset/ElementSpacing/TransformMatrix; \
-         AnatomicalOrientation {orientation})"
-    );
-    // The data.
-    let df = need("ElementDataFile")?;
-    let owned;
-    let (data, data_at): (&[u8], usize) = if df.value == "LOCAL" {
-        (&bytes[data_start..], data_start)
-    } else {
-        if df.value.starts_with("LIST") || df.value.contains('%') {
-            return Err(IoError::Unsupported {
-                format: F,
-                what: format!("ElementDataFile lists or patterns (line {})", df.line),
-            });
-        }
-        owned = resolve(&df.value).ok_or_else(|| IoError::Unsupported {
+    Ok(([0, 1, 2].map(|k| dirs[k] * spacing[k]), origin))
+}
+
+/// The separate data file's bytes, or `None` when the data is `LOCAL` (after the header).
+fn load_data(
+    h: &Header,
+    resolve: &dyn Fn(&str) -> Option<Vec<u8>>,
+) -> Result<Option<Vec<u8>>, IoError> {
+    let df = h.need("ElementDataFile")?;
+    if df.value == "LOCAL" {
+        return Ok(None);
+    }
+    if df.value.starts_with("LIST") || df.value.contains('%') {
+        return Err(IoError::Unsupported {
+            format: F,
+            what: format!("ElementDataFile lists or patterns (line {})", df.line),
+        });
+    }
+    resolve(&df.value)
+        .map(Some)
+        .ok_or_else(|| IoError::Unsupported {
             format: F,
             what: format!(
                 "the data file \"{}\" (line {}) could not be read; keep it next to the .mhd, or \
                  use a single-file .mha",
                 df.value, df.line
             ),
-        })?;
-        (&owned, 0)
-    };
-    let header_size: i64 = match get(&["HeaderSize"]) {
+        })
+}
+
+/// Decodes the samples of frame `frame` from `data` (ASCII, compressed or raw with `HeaderSize`).
+fn read_values(
+    h: &Header,
+    l: &Layout,
+    data: &[u8],
+    data_at: usize,
+    frame: usize,
+) -> Result<Vec<f32>, IoError> {
+    let ty = l.ty;
+    let header_size: i64 = match h.get(&["HeaderSize"]) {
         Some(f) => f.value.parse().map_err(|_| {
             IoError::syntax(
                 F,
@@ -247,22 +356,17 @@ pub fn read_with(
         })?,
         None => 0,
     };
-    let all = [dims3[0], dims3[1], dims3[2], frames];
-    let n: usize = dims3.iter().product();
-    let first = opts.frame * n;
-    let values = if !binary {
-        checked_count(&all, 2, data.len() + 1, 1, F, Location::Line(ds_f.line))?;
-        let v = parse_ascii_samples(data, first + n, F, line + 1, 1.0, 0.0)?;
-        v[first..].to_vec()
-    } else if compressed {
-        checked_count(
-            &all,
-            ty.size(),
-            data.len(),
-            MAX_INFLATE_RATIO,
-            F,
-            Location::Line(ds_f.line),
-        )?;
+    let at = Location::Line(l.sizes_line);
+    let all = [l.dims3[0], l.dims3[1], l.dims3[2], l.frames];
+    let n: usize = l.dims3.iter().product();
+    let first = frame * n;
+    if !l.binary {
+        checked_count(&all, 2, data.len() + 1, 1, F, at)?;
+        let v = parse_ascii_samples(data, first + n, F, h.last_line + 1, 1.0, 0.0)?;
+        return Ok(v[first..].to_vec());
+    }
+    if l.compressed {
+        checked_count(&all, ty.size(), data.len(), MAX_INFLATE_RATIO, F, at)?;
         let packing = if is_gzip(data) {
             Packing::Gzip
         } else {
@@ -270,44 +374,30 @@ pub fn read_with(
         };
         let want = (first + n) * ty.size();
         let raw = inflate_prefix(data, packing, want, true, F, data_at)?;
-        decode_samples(&raw[first * ty.size()..want], ty, big, 1.0, 0.0)
+        return Ok(decode_samples(
+            &raw[first * ty.size()..want],
+            ty,
+            l.big,
+            1.0,
+            0.0,
+        ));
+    }
+    let total = checked_count(&all, ty.size(), data.len(), 1, F, at)? * ty.size();
+    let skip = if header_size == -1 {
+        data.len() - total
     } else {
-        let total = checked_count(&all, ty.size(), data.len(), 1, F, Location::Line(ds_f.line))?
-            * ty.size();
-        let skip = if header_size == -1 {
-            data.len() - total
-        } else {
-            usize::try_from(header_size).unwrap_or(usize::MAX)
-        };
-        let begin = skip.saturating_add(first * ty.size());
-        let end = begin.saturating_add(n * ty.size());
-        if end > data.len() {
-            return Err(IoError::truncated(
-                F,
-                Location::Byte(data_at + data.len()),
-                format!("{} bytes of samples", n * ty.size()),
-            ));
-        }
-        decode_samples(&data[begin..end], ty, big, 1.0, 0.0)
+        usize::try_from(header_size).unwrap_or(usize::MAX)
     };
-    Ok((
-        VoxelVolume {
-            dims: dims3,
-            values,
-            index_to_world: affine(cols, origin),
-            datatype: ty,
-            frame,
-            frames,
-            frame_index: opts.frame,
-        },
-        if !binary {
-            Encoding::Ascii
-        } else if big {
-            Encoding::BinaryBe
-        } else {
-            Encoding::BinaryLe
-        },
-    ))
+    let begin = skip.saturating_add(first * ty.size());
+    let end = begin.saturating_add(n * ty.size());
+    if end > data.len() {
+        return Err(IoError::truncated(
+            F,
+            Location::Byte(data_at + data.len()),
+            format!("{} bytes of samples", n * ty.size()),
+        ));
+    }
+    Ok(decode_samples(&data[begin..end], ty, l.big, 1.0, 0.0))
 }
 
 /// Reads a single-file MetaImage (`.mha`) from memory.

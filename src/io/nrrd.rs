@@ -72,6 +72,40 @@ impl Header {
     fn get(&self, key: &str) -> Option<&Field> {
         self.fields.iter().find(|(k, _)| k == key).map(|(_, f)| f)
     }
+
+    /// The field `key`, or an error naming it as required.
+    fn need(&self, key: &str) -> Result<&Field, IoError> {
+        self.get(key).ok_or_else(|| {
+            IoError::syntax(
+                F,
+                Location::Line(1),
+                format!("the required field \"{key}\""),
+                "a header without it",
+            )
+        })
+    }
+}
+
+/// The sample type and the axes: which are spatial, the volume's size and its frame count.
+struct Axes {
+    ty: ScalarType,
+    /// Line of `sizes` (where count errors point).
+    sizes_line: usize,
+    /// Per-axis `space directions` (`None` entries for non-spatial axes), when given.
+    directions: Option<Vec<Option<Vec<f64>>>>,
+    spatial: Vec<usize>,
+    dims3: [usize; 3],
+    frames: usize,
+}
+
+/// The sample bytes after `line skip`, where they start, and the `byte skip` to apply.
+struct Data<'a> {
+    bytes: &'a [u8],
+    /// Byte offset of `bytes` in its file (for errors).
+    at: usize,
+    /// Line number of the first data line (for ASCII errors).
+    line: usize,
+    byte_skip: i64,
 }
 
 fn parse_header(bytes: &[u8]) -> Result<Header, IoError> {
@@ -210,22 +244,63 @@ pub fn read_with(
     resolve: &dyn Fn(&str) -> Option<Vec<u8>>,
 ) -> Result<(VoxelVolume, Encoding), IoError> {
     let h = parse_header(bytes)?;
-    let need = |key: &str| {
-        h.get(key).ok_or_else(|| {
-            IoError::syntax(
+    let ax = parse_axes(&h, opts)?;
+    let (flip, frame) = space_frame(&h);
+    let (cols, origin) = world_axes(&h, &ax, flip)?;
+    // Data location and encoding.
+    let enc_f = h.need("encoding")?;
+    let encoding = enc_f.value.to_ascii_lowercase();
+    let big = match h.get("endian") {
+        Some(f) if f.value.eq_ignore_ascii_case("big") => true,
+        Some(f) if f.value.eq_ignore_ascii_case("little") => false,
+        Some(f) => {
+            return Err(IoError::syntax(
                 F,
-                Location::Line(1),
-                format!("the required field \"{key}\""),
-                "a header without it",
-            )
-        })
+                Location::Line(f.line),
+                "endian: little or big",
+                &f.value,
+            ))
+        }
+        None => false,
     };
-    let tf = need("type")?;
+    let owned;
+    let (data, data_at, data_line): (&[u8], usize, usize) = match load_detached(&h, resolve)? {
+        Some(d) => {
+            owned = d;
+            (&owned, 0, 1)
+        }
+        None => (&bytes[h.data_start..], h.data_start, h.data_line),
+    };
+    let data = skip_data(&h, data, data_at, data_line)?;
+    let values = decode_values(&encoding, enc_f.line, &ax, &data, big, opts.frame)?;
+    Ok((
+        VoxelVolume {
+            dims: ax.dims3,
+            values,
+            index_to_world: affine(cols, origin),
+            datatype: ax.ty,
+            frame,
+            frames: ax.frames,
+            frame_index: opts.frame,
+        },
+        if encoding.starts_with("ascii") || encoding.starts_with("t") {
+            Encoding::Ascii
+        } else if big {
+            Encoding::BinaryBe
+        } else {
+            Encoding::BinaryLe
+        },
+    ))
+}
+
+/// Reads the type, dimension, sizes and space directions, and checks the requested frame.
+fn parse_axes(h: &Header, opts: &VolumeOptions) -> Result<Axes, IoError> {
+    let tf = h.need("type")?;
     let ty = scalar_type(&tf.value).ok_or_else(|| IoError::Unsupported {
         format: F,
         what: format!("type \"{}\" (line {})", tf.value, tf.line),
     })?;
-    let df = need("dimension")?;
+    let df = h.need("dimension")?;
     let dim: usize = df
         .value
         .parse()
@@ -234,27 +309,10 @@ pub fn read_with(
         .ok_or_else(|| {
             IoError::syntax(F, Location::Line(df.line), "a dimension in 1…16", &df.value)
         })?;
-    let sf = need("sizes")?;
+    let sf = h.need("sizes")?;
     let sizes = parse_sizes(&sf.value, dim, F, sf.line, format!("{dim} sizes ≥ 1"))?;
     // Spatial axes: those with a space direction (or, without directions, the first three).
-    let directions: Option<Vec<Option<Vec<f64>>>> = match h.get("space directions") {
-        None => None,
-        Some(f) => {
-            let v = split_vectors(&f.value)
-                .iter()
-                .map(|s| parse_vector(s, f.line))
-                .collect::<Result<Vec<_>, _>>()?;
-            if v.len() != dim {
-                return Err(IoError::syntax(
-                    F,
-                    Location::Line(f.line),
-                    format!("{dim} space directions (one per axis, \"none\" for non-spatial)"),
-                    &f.value,
-                ));
-            }
-            Some(v)
-        }
-    };
+    let directions = space_directions(h, dim)?;
     let spatial: Vec<usize> = match &directions {
         Some(d) => (0..dim).filter(|&i| d[i].is_some()).collect(),
         None => (0..dim.min(3)).collect(),
@@ -280,9 +338,40 @@ pub fn read_with(
             ),
         });
     }
-    // Space (world frame) and its conversion to RAS.
+    Ok(Axes {
+        ty,
+        sizes_line: sf.line,
+        directions,
+        spatial,
+        dims3,
+        frames,
+    })
+}
+
+/// The `space directions` field, one entry per axis (`None` for "none"), when present.
+fn space_directions(h: &Header, dim: usize) -> Result<Option<Vec<Option<Vec<f64>>>>, IoError> {
+    let Some(f) = h.get("space directions") else {
+        return Ok(None);
+    };
+    let v = split_vectors(&f.value)
+        .iter()
+        .map(|s| parse_vector(s, f.line))
+        .collect::<Result<Vec<_>, _>>()?;
+    if v.len() != dim {
+        return Err(IoError::syntax(
+            F,
+            Location::Line(f.line),
+            format!("{dim} space directions (one per axis, \"none\" for non-spatial)"),
+            &f.value,
+        ));
+    }
+    Ok(Some(v))
+}
+
+/// The sign flips that take the header's `space` to RAS, and the frame's description.
+fn space_frame(h: &Header) -> (DVec3, String) {
     let space = h.get("space").map(|f| f.value.to_ascii_lowercase());
-    let (flip, frame) = match space.as_deref() {
+    match space.as_deref() {
         None => (
             DVec3::ONE,
             "NRRD index space scaled by spacings (no space field)".to_string(),
@@ -300,11 +389,15 @@ pub fn read_with(
             "RAS (converted from NRRD space left-posterior-superior: x and y negated)".to_string(),
         ),
         Some(s) => (DVec3::ONE, format!("NRRD space {s} (kept as is)")),
-    };
+    }
+}
+
+/// The index → world columns and origin (from space directions and origin, else spacings).
+fn world_axes(h: &Header, ax: &Axes, flip: DVec3) -> Result<([DVec3; 3], DVec3), IoError> {
     let mut cols = [DVec3::X, DVec3::Y, DVec3::Z];
     let mut origin = DVec3::ZERO;
-    if let Some(d) = &directions {
-        for (k, &i) in spatial.iter().enumerate() {
+    if let Some(d) = &ax.directions {
+        for (k, &i) in ax.spatial.iter().enumerate() {
             let v = d[i].as_ref().expect("spatial axis");
             let mut c = DVec3::ZERO;
             for (j, x) in v.iter().take(3).enumerate() {
@@ -326,48 +419,41 @@ pub fn read_with(
             }
         }
     }
-    // Data location and encoding.
-    let enc_f = need("encoding")?;
-    let encoding = enc_f.value.to_ascii_lowercase();
-    let big = match h.get("endian") {
-        Some(f) if f.value.eq_ignore_ascii_case("big") => true,
-        Some(f) if f.value.eq_ignore_ascii_case("little") => false,
-        Some(f) => {
-            return Err(IoError::syntax(
-                F,
-                Location::Line(f.line),
-                "endian: little or big",
-                &f.value,
-            ))
-        }
-        None => false,
+    Ok((cols, origin))
+}
+
+/// The detached data file's bytes, or `None` when the data is attached.
+fn load_detached(
+    h: &Header,
+    resolve: &dyn Fn(&str) -> Option<Vec<u8>>,
+) -> Result<Option<Vec<u8>>, IoError> {
+    let Some(f) = h.get("data file").or_else(|| h.get("datafile")) else {
+        return Ok(None);
     };
-    let detached = h.get("data file").or_else(|| h.get("datafile"));
-    let owned;
-    let (data, data_at, data_line): (&[u8], usize, usize) = match detached {
-        Some(f) => {
-            let name = f.value.trim();
-            if name.starts_with("LIST") || name.split_whitespace().count() > 1 {
-                return Err(IoError::Unsupported {
-                    format: F,
-                    what: format!("data file lists or patterns (line {})", f.line),
-                });
-            }
-            owned = resolve(name).ok_or_else(|| IoError::Unsupported {
-                format: F,
-                what: format!(
-                    "the detached data file \"{name}\" (line {}) could not be read; keep it next \
-                     to the header, or use an attached .nrrd",
-                    f.line
-                ),
-            })?;
-            (&owned, 0, 1)
-        }
-        None => (&bytes[h.data_start..], h.data_start, h.data_line),
-    };
-    // line skip / byte skip apply to the data file.
-    let mut data = data;
-    let mut data_at = data_at;
+    let name = f.value.trim();
+    if name.starts_with("LIST") || name.split_whitespace().count() > 1 {
+        return Err(IoError::Unsupported {
+            format: F,
+            what: format!("data file lists or patterns (line {})", f.line),
+        });
+    }
+    resolve(name).map(Some).ok_or_else(|| IoError::Unsupported {
+        format: F,
+        what: format!(
+            "the detached data file \"{name}\" (line {}) could not be read; keep it next \
+             to the header, or use an attached .nrrd",
+            f.line
+        ),
+    })
+}
+
+/// Applies `line skip` to the data file and reads `byte skip` (applied when decoding).
+fn skip_data<'a>(
+    h: &Header,
+    mut data: &'a [u8],
+    mut data_at: usize,
+    line: usize,
+) -> Result<Data<'a>, IoError> {
     if let Some(f) = h.get("line skip").or_else(|| h.get("lineskip")) {
         let n: usize = f
             .value
@@ -387,24 +473,42 @@ pub fn read_with(
         })?,
         None => 0,
     };
-    let all = [dims3[0], dims3[1], dims3[2], frames];
-    let start_sample = opts.frame * dims3.iter().product::<usize>();
+    Ok(Data {
+        bytes: data,
+        at: data_at,
+        line,
+        byte_skip,
+    })
+}
+
+/// Decodes the samples of frame `frame` in the lower-cased `encoding` (raw, gzip/zlib, ASCII).
+fn decode_values(
+    encoding: &str,
+    enc_line: usize,
+    ax: &Axes,
+    d: &Data,
+    big: bool,
+    frame: usize,
+) -> Result<Vec<f32>, IoError> {
+    let (ty, dims3, data) = (ax.ty, ax.dims3, d.bytes);
+    let at = Location::Line(ax.sizes_line);
+    let all = [dims3[0], dims3[1], dims3[2], ax.frames];
+    let start_sample = frame * dims3.iter().product::<usize>();
     let n = dims3.iter().product::<usize>();
-    let values = match encoding.as_str() {
+    Ok(match encoding {
         "raw" => {
-            let total = checked_count(&all, ty.size(), data.len(), 1, F, Location::Line(sf.line))?
-                * ty.size();
-            let skip = if byte_skip == -1 {
+            let total = checked_count(&all, ty.size(), data.len(), 1, F, at)? * ty.size();
+            let skip = if d.byte_skip == -1 {
                 data.len() - total
             } else {
-                usize::try_from(byte_skip).unwrap_or(usize::MAX)
+                usize::try_from(d.byte_skip).unwrap_or(usize::MAX)
             };
             let begin = skip.saturating_add(start_sample * ty.size());
             let end = begin.saturating_add(n * ty.size());
             if end > data.len() {
                 return Err(IoError::truncated(
                     F,
-                    Location::Byte(data_at + data.len()),
+                    Location::Byte(d.at + data.len()),
                     format!("{} bytes of raw samples", n * ty.size()),
                 ));
             }
@@ -416,53 +520,25 @@ pub fn read_with(
             } else {
                 Packing::Gzip
             };
-            checked_count(
-                &all,
-                ty.size(),
-                data.len(),
-                MAX_INFLATE_RATIO,
-                F,
-                Location::Line(sf.line),
-            )?;
-            let skip = usize::try_from(byte_skip.max(0)).unwrap_or(usize::MAX);
+            checked_count(&all, ty.size(), data.len(), MAX_INFLATE_RATIO, F, at)?;
+            let skip = usize::try_from(d.byte_skip.max(0)).unwrap_or(usize::MAX);
             let begin = skip.saturating_add(start_sample * ty.size());
             let want = begin + n * ty.size();
-            let raw = inflate_prefix(data, packing, want, true, F, data_at)?;
+            let raw = inflate_prefix(data, packing, want, true, F, d.at)?;
             decode_samples(&raw[begin..want], ty, big, 1.0, 0.0)
         }
         "ascii" | "text" | "txt" => {
-            checked_count(&all, 2, data.len() + 1, 1, F, Location::Line(sf.line))?;
-            let v = parse_ascii_samples(data, start_sample + n, F, data_line, 1.0, 0.0)?;
+            checked_count(&all, 2, data.len() + 1, 1, F, at)?;
+            let v = parse_ascii_samples(data, start_sample + n, F, d.line, 1.0, 0.0)?;
             v[start_sample..].to_vec()
         }
         other => {
             return Err(IoError::Unsupported {
                 format: F,
-                what: format!(
-                    "encoding \"{other}\" (line {}); use raw, gzip or ascii",
-                    enc_f.line
-                ),
+                what: format!("encoding \"{other}\" (line {enc_line}); use raw, gzip or ascii"),
             })
         }
-    };
-    Ok((
-        VoxelVolume {
-            dims: dims3,
-            values,
-            index_to_world: affine(cols, origin),
-            datatype: ty,
-            frame,
-            frames,
-            frame_index: opts.frame,
-        },
-        if encoding.starts_with("ascii") || encoding.starts_with("t") {
-            Encoding::Ascii
-        } else if big {
-            Encoding::BinaryBe
-        } else {
-            Encoding::BinaryLe
-        },
-    ))
+    })
 }
 
 /// Reads an attached NRRD from memory (a detached data file is an error here).

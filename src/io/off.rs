@@ -26,6 +26,17 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
     let mut lines = Lines::new(bytes, 0, 1)
         .map(|(n, l)| (n, strip(l)))
         .filter(|(_, l)| !l.trim_ascii().is_empty());
+    let (count_line, nv, nf) = read_header(&mut lines, bytes.len())?;
+    let points = read_vertices(&mut lines, nv, count_line)?;
+    let tris = read_faces(&mut lines, bytes, nv, nf)?;
+    Ok((points, tris, Encoding::Ascii))
+}
+
+/// Reads the keyword line and the counts; returns the counts' line, the vertex and face counts.
+fn read_header<'a>(
+    lines: &mut impl Iterator<Item = (usize, &'a [u8])>,
+    available: usize,
+) -> Result<(usize, u64, u64), IoError> {
     let Some((n0, first)) = lines.next() else {
         return Err(IoError::truncated(F, Location::Line(1), "an OFF header"));
     };
@@ -64,7 +75,12 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
         count_line = n;
         rest = words(l).collect();
     }
-    let at = Location::Line(count_line);
+    let (nv, nf) = parse_counts(&rest, Location::Line(count_line), available)?;
+    Ok((count_line, nv, nf))
+}
+
+/// Parses the vertex and face counts and checks them against the file size.
+fn parse_counts(rest: &[&[u8]], at: Location, available: usize) -> Result<(u64, u64), IoError> {
     let count = |i: usize| -> Result<u64, IoError> {
         let t = rest.get(i).copied().unwrap_or(b"");
         parse_i64(t)
@@ -74,7 +90,6 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
     };
     let (nv, nf) = (count(0)?, count(1)?);
     // Each vertex line holds at least "x y z\n" (6 bytes), each face line "3 a b c\n" (8).
-    let available = bytes.len();
     let needed = nv as u128 * 6 + nf as u128 * 8;
     if needed > available as u128 + 1 || nv > u32::MAX as u64 {
         return Err(IoError::CountTooLarge {
@@ -86,6 +101,15 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
             needed,
         });
     }
+    Ok((nv, nf))
+}
+
+/// Reads `nv` vertex lines (x y z first; the rest of each line is skipped).
+fn read_vertices<'a>(
+    lines: &mut impl Iterator<Item = (usize, &'a [u8])>,
+    nv: u64,
+    count_line: usize,
+) -> Result<Vec<DVec3>, IoError> {
     let mut points = Vec::with_capacity(nv as usize);
     for i in 0..nv as usize {
         let Some((n, l)) = lines.next() else {
@@ -116,6 +140,16 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
         }
         points.push(p);
     }
+    Ok(points)
+}
+
+/// Reads `nf` face lines and fan-triangulates them.
+fn read_faces<'a>(
+    lines: &mut impl Iterator<Item = (usize, &'a [u8])>,
+    bytes: &[u8],
+    nv: u64,
+    nf: u64,
+) -> Result<Vec<[u32; 3]>, IoError> {
     let mut tris = Vec::with_capacity(nf as usize);
     let mut idx: Vec<u32> = Vec::new();
     for f in 0..nf as usize {
@@ -126,40 +160,50 @@ pub fn read(bytes: &[u8]) -> Result<RawGeometry, IoError> {
                 format!("face {f} of {nf}"),
             ));
         };
-        let at = Location::Line(n);
-        let mut ws = words(l);
-        let t = ws.next().unwrap_or(b"");
-        let k = parse_i64(t).filter(|&k| k >= 3).ok_or_else(|| {
-            IoError::syntax(F, at, format!("face {f}: a vertex count ≥ 3"), show(t))
-        })?;
-        idx.clear();
-        for _ in 0..k {
-            let t = ws.next().ok_or_else(|| {
-                IoError::syntax(
-                    F,
-                    at,
-                    format!("face {f}: {k} vertex indices"),
-                    format!("{}", idx.len()),
-                )
-            })?;
-            let i =
-                parse_i64(t).ok_or_else(|| IoError::syntax(F, at, "a vertex index", show(t)))?;
-            if i < 0 || i as u64 >= nv {
-                return Err(IoError::IndexOutOfRange {
-                    format: F,
-                    at,
-                    face: f,
-                    index: i,
-                    count: nv as usize,
-                });
-            }
-            idx.push(i as u32);
-        }
+        face_indices(l, Location::Line(n), f, nv, &mut idx)?;
         for j in 1..idx.len() - 1 {
             tris.push([idx[0], idx[j], idx[j + 1]]);
         }
     }
-    Ok((points, tris, Encoding::Ascii))
+    Ok(tris)
+}
+
+/// Parses one face line's vertex count and indices into `idx`, checking each index.
+fn face_indices(
+    l: &[u8],
+    at: Location,
+    f: usize,
+    nv: u64,
+    idx: &mut Vec<u32>,
+) -> Result<(), IoError> {
+    let mut ws = words(l);
+    let t = ws.next().unwrap_or(b"");
+    let k = parse_i64(t)
+        .filter(|&k| k >= 3)
+        .ok_or_else(|| IoError::syntax(F, at, format!("face {f}: a vertex count ≥ 3"), show(t)))?;
+    idx.clear();
+    for _ in 0..k {
+        let t = ws.next().ok_or_else(|| {
+            IoError::syntax(
+                F,
+                at,
+                format!("face {f}: {k} vertex indices"),
+                format!("{}", idx.len()),
+            )
+        })?;
+        let i = parse_i64(t).ok_or_else(|| IoError::syntax(F, at, "a vertex index", show(t)))?;
+        if i < 0 || i as u64 >= nv {
+            return Err(IoError::IndexOutOfRange {
+                format: F,
+                at,
+                face: f,
+                index: i,
+                count: nv as usize,
+            });
+        }
+        idx.push(i as u32);
+    }
+    Ok(())
 }
 
 #[cfg(test)]

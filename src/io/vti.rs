@@ -250,12 +250,81 @@ fn unpack(
     Ok(out)
 }
 
+/// How the binary blocks are laid out: byte order, header integer width, zlib compression.
+#[derive(Clone, Copy)]
+struct BlockLayout {
+    big: bool,
+    wide: bool,
+    compressed: bool,
+}
+
+/// The `<ImageData>` grid: its tag, voxel counts and the index → world columns and origin.
+struct Grid<'a> {
+    image: Tag<'a>,
+    dims: [usize; 3],
+    cols: [DVec3; 3],
+    origin: DVec3,
+}
+
 /// Reads a `.vti` document.
 pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding), IoError> {
     let appended = find(bytes, b"<AppendedData");
     let limit = appended.unwrap_or(bytes.len());
     let file = find_tag(bytes, 0, limit, "VTKFile")?
         .ok_or_else(|| IoError::syntax(F, Location::Byte(0), "a <VTKFile> element", "none"))?;
+    let layout = block_layout(&file)?;
+    let grid = read_grid(bytes, file.end, limit)?;
+    let (pd, arrays) = point_arrays(bytes, grid.image.end, limit)?;
+    let arr = pick_array(&pd, &arrays, opts)?;
+    let ty_name = arr.attr("type").unwrap_or("");
+    let ty = scalar_type(ty_name).ok_or_else(|| IoError::Unsupported {
+        format: F,
+        what: format!("DataArray type \"{ty_name}\" (byte {})", arr.start),
+    })?;
+    if let Some(nc) = arr.attr("NumberOfComponents") {
+        if nc != "1" {
+            return Err(IoError::Unsupported {
+                format: F,
+                what: format!(
+                    "{nc} components per point (array \"{}\"); LSW reads scalar volumes",
+                    arr.attr("Name").unwrap_or("")
+                ),
+            });
+        }
+    }
+    let dims = grid.dims;
+    let n = checked_count(
+        &dims,
+        1,
+        usize::MAX / 16,
+        1,
+        F,
+        Location::Byte(grid.image.start),
+    )?;
+    let src = Source {
+        bytes,
+        limit,
+        appended,
+        dims,
+        layout,
+    };
+    let (values, encoding) = read_values(&src, arr, ty, n)?;
+    Ok((
+        VoxelVolume {
+            dims,
+            values,
+            index_to_world: affine(grid.cols, grid.origin),
+            datatype: ty,
+            frame: "VTK world frame as written (Origin/Spacing/Direction)".into(),
+            frames: 1,
+            frame_index: 0,
+        },
+        encoding,
+    ))
+}
+
+/// Reads `byte_order`, `header_type` and `compressor` from the `<VTKFile>` tag, checking the type.
+fn block_layout(file: &Tag) -> Result<BlockLayout, IoError> {
     if file.attr("type") != Some("ImageData") {
         return Err(IoError::Unsupported {
             format: F,
@@ -288,41 +357,51 @@ pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding
             })
         }
     };
-    let image = find_tag(bytes, file.end, limit, "ImageData")?.ok_or_else(|| {
-        IoError::syntax(
-            F,
-            Location::Byte(file.end),
-            "an <ImageData> element",
-            "none",
-        )
+    Ok(BlockLayout {
+        big,
+        wide,
+        compressed,
+    })
+}
+
+/// The attribute `name` of `tag` as `n` finite numbers (or `default` when it is absent).
+fn tag_numbers(
+    tag: &Tag,
+    name: &str,
+    n: usize,
+    default: Option<Vec<f64>>,
+) -> Result<Vec<f64>, IoError> {
+    match tag.attr(name) {
+        None => default.ok_or_else(|| {
+            IoError::syntax(
+                F,
+                Location::Byte(tag.start),
+                format!("the attribute {name}"),
+                "none",
+            )
+        }),
+        Some(s) => s
+            .split_whitespace()
+            .map(|t| parse_f64(t.as_bytes()).filter(|v| v.is_finite()))
+            .collect::<Option<Vec<_>>>()
+            .filter(|v| v.len() == n)
+            .ok_or_else(|| {
+                IoError::syntax(
+                    F,
+                    Location::Byte(tag.start),
+                    format!("{n} numbers in {name}"),
+                    s,
+                )
+            }),
+    }
+}
+
+/// Finds `<ImageData>` after `from` and reads its extent, origin, spacing and direction.
+fn read_grid(bytes: &[u8], from: usize, limit: usize) -> Result<Grid<'_>, IoError> {
+    let image = find_tag(bytes, from, limit, "ImageData")?.ok_or_else(|| {
+        IoError::syntax(F, Location::Byte(from), "an <ImageData> element", "none")
     })?;
-    let nums =
-        |tag: &Tag, name: &str, n: usize, default: Option<Vec<f64>>| -> Result<Vec<f64>, IoError> {
-            match tag.attr(name) {
-                None => default.ok_or_else(|| {
-                    IoError::syntax(
-                        F,
-                        Location::Byte(tag.start),
-                        format!("the attribute {name}"),
-                        "none",
-                    )
-                }),
-                Some(s) => s
-                    .split_whitespace()
-                    .map(|t| parse_f64(t.as_bytes()).filter(|v| v.is_finite()))
-                    .collect::<Option<Vec<_>>>()
-                    .filter(|v| v.len() == n)
-                    .ok_or_else(|| {
-                        IoError::syntax(
-                            F,
-                            Location::Byte(tag.start),
-                            format!("{n} numbers in {name}"),
-                            s,
-                        )
-                    }),
-            }
-        };
-    let ext = nums(&image, "WholeExtent", 6, None)?;
+    let ext = tag_numbers(&image, "WholeExtent", 6, None)?;
     if ext.iter().any(|e| e.fract() != 0.0 || e.abs() > 1e12)
         || (0..3).any(|k| ext[2 * k + 1] < ext[2 * k])
     {
@@ -334,9 +413,9 @@ pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding
         ));
     }
     let dims = [0, 1, 2].map(|k| ((ext[2 * k + 1] - ext[2 * k]) as usize).saturating_add(1));
-    let origin = nums(&image, "Origin", 3, Some(vec![0.0; 3]))?;
-    let spacing = nums(&image, "Spacing", 3, Some(vec![1.0; 3]))?;
-    let dir = nums(
+    let origin = tag_numbers(&image, "Origin", 3, Some(vec![0.0; 3]))?;
+    let spacing = tag_numbers(&image, "Spacing", 3, Some(vec![1.0; 3]))?;
+    let dir = tag_numbers(
         &image,
         "Direction",
         9,
@@ -344,9 +423,22 @@ pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding
     )?;
     let cols = [0, 1, 2].map(|k| DVec3::new(dir[k], dir[3 + k], dir[6 + k]) * spacing[k]);
     let o = DVec3::from_slice(&origin) + cols[0] * ext[0] + cols[1] * ext[2] + cols[2] * ext[4];
-    let piece = find_tag(bytes, image.end, limit, "Piece")?.ok_or_else(|| {
-        IoError::syntax(F, Location::Byte(image.end), "a <Piece> element", "none")
-    })?;
+    Ok(Grid {
+        image,
+        dims,
+        cols,
+        origin: o,
+    })
+}
+
+/// Finds the single `<Piece>` after `from` and its `<PointData>`; returns that tag and its arrays.
+fn point_arrays(
+    bytes: &[u8],
+    from: usize,
+    limit: usize,
+) -> Result<(Tag<'_>, Vec<Tag<'_>>), IoError> {
+    let piece = find_tag(bytes, from, limit, "Piece")?
+        .ok_or_else(|| IoError::syntax(F, Location::Byte(from), "a <Piece> element", "none"))?;
     if find_tag(bytes, piece.end, limit, "Piece")?.is_some() {
         return Err(IoError::Unsupported {
             format: F,
@@ -372,8 +464,17 @@ pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding
         at = t.end;
         arrays.push(t);
     }
+    Ok((pd, arrays))
+}
+
+/// The array named by the options, else the active `Scalars`, else the first one.
+fn pick_array<'t, 'a>(
+    pd: &Tag,
+    arrays: &'t [Tag<'a>],
+    opts: &VolumeOptions,
+) -> Result<&'t Tag<'a>, IoError> {
     let wanted = opts.array.as_deref().or(pd.attr("Scalars"));
-    let arr = match wanted {
+    match wanted {
         Some(name) => arrays
             .iter()
             .find(|a| a.attr("Name") == Some(name))
@@ -385,50 +486,62 @@ pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding
                     format!("a point array named \"{name}\""),
                     format!("arrays {names:?}"),
                 )
-            })?,
+            }),
         None => arrays.first().ok_or_else(|| {
             IoError::syntax(F, Location::Byte(pd.start), "a point DataArray", "none")
-        })?,
-    };
-    let ty_name = arr.attr("type").unwrap_or("");
-    let ty = scalar_type(ty_name).ok_or_else(|| IoError::Unsupported {
-        format: F,
-        what: format!("DataArray type \"{ty_name}\" (byte {})", arr.start),
-    })?;
-    if let Some(nc) = arr.attr("NumberOfComponents") {
-        if nc != "1" {
-            return Err(IoError::Unsupported {
-                format: F,
-                what: format!(
-                    "{nc} components per point (array \"{}\"); LSW reads scalar volumes",
-                    arr.attr("Name").unwrap_or("")
-                ),
-            });
-        }
+        }),
     }
-    let n = checked_count(&dims, 1, usize::MAX / 16, 1, F, Location::Byte(image.start))?;
-    let content = |t: &Tag| -> Result<&[u8], IoError> {
+}
+
+/// The document and what the array's data reading needs to know about it.
+struct Source<'a> {
+    bytes: &'a [u8],
+    /// End of the XML part (the `<AppendedData>` offset, else the length).
+    limit: usize,
+    appended: Option<usize>,
+    dims: [usize; 3],
+    layout: BlockLayout,
+}
+
+impl Source<'_> {
+    /// The text between a `<DataArray>` tag and its `</DataArray>` (empty when self-closing).
+    fn content(&self, t: &Tag) -> Result<&[u8], IoError> {
         if t.self_closing {
             return Ok(&[]);
         }
-        let end = find(&bytes[t.end..limit], b"</DataArray")
-            .ok_or_else(|| IoError::truncated(F, Location::Byte(limit), "</DataArray>"))?;
-        Ok(&bytes[t.end..t.end + end])
-    };
+        let end = find(&self.bytes[t.end..self.limit], b"</DataArray")
+            .ok_or_else(|| IoError::truncated(F, Location::Byte(self.limit), "</DataArray>"))?;
+        Ok(&self.bytes[t.end..t.end + end])
+    }
+}
+
+/// Reads the `n` samples of `arr` in its `format` (ascii, inline binary or appended).
+fn read_values(
+    src: &Source,
+    arr: &Tag,
+    ty: ScalarType,
+    n: usize,
+) -> Result<(Vec<f32>, Encoding), IoError> {
+    let BlockLayout {
+        big,
+        wide,
+        compressed,
+    } = src.layout;
+    let dims = src.dims;
     let want = n * ty.size();
     let format = arr.attr("format").unwrap_or("ascii");
-    let (values, encoding) = match format {
+    Ok(match format {
         "ascii" => {
-            let text = content(arr)?;
+            let text = src.content(arr)?;
             checked_count(&dims, 2, text.len() + 1, 1, F, Location::Byte(arr.start))?;
-            let line0 = bytes[..arr.end].iter().filter(|&&b| b == b'\n').count() + 1;
+            let line0 = src.bytes[..arr.end].iter().filter(|&&b| b == b'\n').count() + 1;
             (
                 parse_ascii_samples(text, n, F, line0, 1.0, 0.0)?,
                 Encoding::Ascii,
             )
         }
         "binary" => {
-            let text = content(arr)?;
+            let text = src.content(arr)?;
             checked_count(
                 &dims,
                 ty.size(),
@@ -445,58 +558,7 @@ pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding
             )
         }
         "appended" => {
-            let app_at = appended.ok_or_else(|| {
-                IoError::syntax(
-                    F,
-                    Location::Byte(arr.start),
-                    "an <AppendedData> section",
-                    "none",
-                )
-            })?;
-            let app = find_tag(bytes, app_at, bytes.len(), "AppendedData")?.ok_or_else(|| {
-                IoError::truncated(F, Location::Byte(app_at), "the <AppendedData> tag")
-            })?;
-            let underscore = bytes[app.end..]
-                .iter()
-                .position(|&b| b == b'_')
-                .ok_or_else(|| {
-                    IoError::truncated(
-                        F,
-                        Location::Byte(app.end),
-                        "the '_' that starts appended data",
-                    )
-                })?;
-            let base = app.end + underscore + 1;
-            let off_s = arr.attr("offset").unwrap_or("0");
-            let off: usize = off_s.trim().parse().map_err(|_| {
-                IoError::syntax(F, Location::Byte(arr.start), "a byte offset", off_s)
-            })?;
-            let start = base
-                .checked_add(off)
-                .filter(|&s| s <= bytes.len())
-                .ok_or_else(|| {
-                    IoError::truncated(
-                        F,
-                        Location::Byte(bytes.len()),
-                        format!("appended data at offset {off}"),
-                    )
-                })?;
-            let d = &bytes[start..];
-            let raw = if app.attr("encoding") == Some("base64") {
-                let stop = d.iter().position(|&b| b == b'<').unwrap_or(d.len());
-                let decoded = decode_base64(&d[..stop], start)?;
-                unpack(&decoded, want, wide, big, compressed, start)?
-            } else {
-                checked_count(
-                    &dims,
-                    ty.size(),
-                    d.len(),
-                    1100,
-                    F,
-                    Location::Byte(arr.start),
-                )?;
-                unpack(d, want, wide, big, compressed, start)?
-            };
+            let raw = appended_raw(src, arr, ty, want)?;
             (
                 decode_samples(&raw, ty, big, 1.0, 0.0),
                 binary_encoding(big),
@@ -510,19 +572,69 @@ pub fn read(bytes: &[u8], opts: &VolumeOptions) -> Result<(VoxelVolume, Encoding
                 show(other.as_bytes()),
             ))
         }
-    };
-    Ok((
-        VoxelVolume {
-            dims,
-            values,
-            index_to_world: affine(cols, o),
-            datatype: ty,
-            frame: "VTK world frame as written (Origin/Spacing/Direction)".into(),
-            frames: 1,
-            frame_index: 0,
-        },
-        encoding,
-    ))
+    })
+}
+
+/// The `want` sample bytes of `arr` from the `<AppendedData>` section (raw or base64).
+fn appended_raw(src: &Source, arr: &Tag, ty: ScalarType, want: usize) -> Result<Vec<u8>, IoError> {
+    let BlockLayout {
+        big,
+        wide,
+        compressed,
+    } = src.layout;
+    let bytes = src.bytes;
+    let app_at = src.appended.ok_or_else(|| {
+        IoError::syntax(
+            F,
+            Location::Byte(arr.start),
+            "an <AppendedData> section",
+            "none",
+        )
+    })?;
+    let app = find_tag(bytes, app_at, bytes.len(), "AppendedData")?
+        .ok_or_else(|| IoError::truncated(F, Location::Byte(app_at), "the <AppendedData> tag"))?;
+    let underscore = bytes[app.end..]
+        .iter()
+        .position(|&b| b == b'_')
+        .ok_or_else(|| {
+            IoError::truncated(
+                F,
+                Location::Byte(app.end),
+                "the '_' that starts appended data",
+            )
+        })?;
+    let base = app.end + underscore + 1;
+    let off_s = arr.attr("offset").unwrap_or("0");
+    let off: usize = off_s
+        .trim()
+        .parse()
+        .map_err(|_| IoError::syntax(F, Location::Byte(arr.start), "a byte offset", off_s))?;
+    let start = base
+        .checked_add(off)
+        .filter(|&s| s <= bytes.len())
+        .ok_or_else(|| {
+            IoError::truncated(
+                F,
+                Location::Byte(bytes.len()),
+                format!("appended data at offset {off}"),
+            )
+        })?;
+    let d = &bytes[start..];
+    if app.attr("encoding") == Some("base64") {
+        let stop = d.iter().position(|&b| b == b'<').unwrap_or(d.len());
+        let decoded = decode_base64(&d[..stop], start)?;
+        unpack(&decoded, want, wide, big, compressed, start)
+    } else {
+        checked_count(
+            &src.dims,
+            ty.size(),
+            d.len(),
+            1100,
+            F,
+            Location::Byte(arr.start),
+        )?;
+        unpack(d, want, wide, big, compressed, start)
+    }
 }
 
 fn binary_encoding(big: bool) -> Encoding {

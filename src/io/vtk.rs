@@ -61,6 +61,62 @@ impl<'a> Reader<'a> {
 /// Reads legacy ASCII VTK polydata: points, triangles (polygons and strips triangulated) and the
 /// per-vertex scalars.
 pub fn read(bytes: &[u8]) -> Result<(RawMesh, Scalars), IoError> {
+    let mut r = read_preamble(bytes)?;
+    let mut points: Vec<DVec3> = Vec::new();
+    let mut tris: Vec<[u32; 3]> = Vec::new();
+    let mut scalars: Scalars = Vec::new();
+    let mut point_data: Option<usize> = None;
+    let mut idx: Vec<u32> = Vec::new();
+    while let Some(kw) = r.t.next_token() {
+        let at = r.at();
+        match kw {
+            // After POINT_DATA only attributes follow; the ones not read here (vectors,
+            // normals, cell data, fields) end the geometry. (A second POINTS/POLYGONS after
+            // POINT_DATA would make the scalars disagree with the points.)
+            _ if point_data.is_some() && kw != b"SCALARS" => break,
+            b"POINTS" if !points.is_empty() => {
+                return Err(IoError::syntax(
+                    F,
+                    at,
+                    "a single POINTS section",
+                    "a second POINTS",
+                ))
+            }
+            b"POINTS" => r.points(&mut points)?,
+            b"POLYGONS" | b"TRIANGLE_STRIPS" | b"VERTICES" | b"LINES" => {
+                r.cells(kw, points.len(), &mut idx, &mut tris)?
+            }
+            b"POINT_DATA" => {
+                let n = r.count("point data values", 2)?;
+                if n != points.len() {
+                    return Err(IoError::syntax(
+                        F,
+                        at,
+                        format!("POINT_DATA {}", points.len()),
+                        n.to_string(),
+                    ));
+                }
+                point_data = Some(n);
+            }
+            b"SCALARS" if point_data.is_some() => {
+                scalars.push(r.scalars(point_data.unwrap_or(0))?);
+            }
+            b"CELL_DATA" | b"FIELD" | b"METADATA" => break,
+            other => {
+                return Err(IoError::syntax(
+                    F,
+                    at,
+                    "POINTS, POLYGONS, TRIANGLE_STRIPS, VERTICES, LINES or POINT_DATA",
+                    show(other),
+                ))
+            }
+        }
+    }
+    Ok(((points, tris), scalars))
+}
+
+/// Checks the version, title and ASCII lines and `DATASET POLYDATA`; returns a reader after them.
+fn read_preamble(bytes: &[u8]) -> Result<Reader<'_>, IoError> {
     let mut lines = Lines::new(bytes, 0, 1);
     match lines.next() {
         Some((_, l)) if l.starts_with(b"# vtk DataFile") => {}
@@ -104,152 +160,125 @@ pub fn read(bytes: &[u8]) -> Result<(RawMesh, Scalars), IoError> {
             what: format!("dataset {} (only DATASET POLYDATA is read)", show(ds)),
         });
     }
-    let mut points: Vec<DVec3> = Vec::new();
-    let mut tris: Vec<[u32; 3]> = Vec::new();
-    let mut scalars: Scalars = Vec::new();
-    let mut point_data: Option<usize> = None;
-    let mut idx: Vec<u32> = Vec::new();
-    while let Some(kw) = r.t.next_token() {
-        let at = r.at();
-        match kw {
-            // After POINT_DATA only attributes follow; the ones not read here (vectors,
-            // normals, cell data, fields) end the geometry. (A second POINTS/POLYGONS after
-            // POINT_DATA would make the scalars disagree with the points.)
-            _ if point_data.is_some() && kw != b"SCALARS" => break,
-            b"POINTS" if !points.is_empty() => {
-                return Err(IoError::syntax(
-                    F,
-                    at,
-                    "a single POINTS section",
-                    "a second POINTS",
-                ))
+    Ok(r)
+}
+
+impl Reader<'_> {
+    /// Reads a POINTS section (after its keyword) into `points`.
+    fn points(&mut self, points: &mut Vec<DVec3>) -> Result<(), IoError> {
+        let n = self.count("points", 6)?;
+        let _type = self.token("a data type")?;
+        points.reserve(n);
+        for i in 0..n {
+            let p = DVec3::new(self.float("x")?, self.float("y")?, self.float("z")?);
+            if !p.is_finite() {
+                return Err(IoError::NonFinite {
+                    format: F,
+                    at: self.at(),
+                    index: i,
+                    x: p.x,
+                    y: p.y,
+                    z: p.z,
+                });
             }
-            b"POINTS" => {
-                let n = r.count("points", 6)?;
-                let _type = r.token("a data type")?;
-                points.reserve(n);
-                for i in 0..n {
-                    let p = DVec3::new(r.float("x")?, r.float("y")?, r.float("z")?);
-                    if !p.is_finite() {
-                        return Err(IoError::NonFinite {
-                            format: F,
-                            at: r.at(),
-                            index: i,
-                            x: p.x,
-                            y: p.y,
-                            z: p.z,
-                        });
-                    }
-                    points.push(p);
+            points.push(p);
+        }
+        Ok(())
+    }
+
+    /// Reads a cell section `kw` (after its keyword), triangulating polygons and strips into
+    /// `tris` and checking every index against `npoints`.
+    fn cells(
+        &mut self,
+        kw: &[u8],
+        npoints: usize,
+        idx: &mut Vec<u32>,
+        tris: &mut Vec<[u32; 3]>,
+    ) -> Result<(), IoError> {
+        let cells = self.count("cells", 4)?;
+        let _size = self.count("cell list entries", 2)?;
+        for c in 0..cells {
+            let k = self.int("a cell size")?;
+            if k < 0 || k as u128 * 2 > self.t.remaining() as u128 + 1 {
+                return Err(IoError::syntax(F, self.at(), "a cell size", k.to_string()));
+            }
+            idx.clear();
+            for _ in 0..k {
+                let i = self.int("a point index")?;
+                if i < 0 || i as usize >= npoints {
+                    return Err(IoError::IndexOutOfRange {
+                        format: F,
+                        at: self.at(),
+                        face: c,
+                        index: i,
+                        count: npoints,
+                    });
                 }
+                idx.push(i as u32);
             }
-            b"POLYGONS" | b"TRIANGLE_STRIPS" | b"VERTICES" | b"LINES" => {
-                let cells = r.count("cells", 4)?;
-                let _size = r.count("cell list entries", 2)?;
-                for c in 0..cells {
-                    let k = r.int("a cell size")?;
-                    if k < 0 || k as u128 * 2 > r.t.remaining() as u128 + 1 {
-                        return Err(IoError::syntax(F, r.at(), "a cell size", k.to_string()));
+            match kw {
+                b"POLYGONS" => {
+                    if idx.len() < 3 {
+                        return Err(IoError::syntax(
+                            F,
+                            self.at(),
+                            "a polygon with at least 3 points",
+                            format!("{}", idx.len()),
+                        ));
                     }
-                    idx.clear();
-                    for _ in 0..k {
-                        let i = r.int("a point index")?;
-                        if i < 0 || i as usize >= points.len() {
-                            return Err(IoError::IndexOutOfRange {
-                                format: F,
-                                at: r.at(),
-                                face: c,
-                                index: i,
-                                count: points.len(),
-                            });
-                        }
-                        idx.push(i as u32);
-                    }
-                    match kw {
-                        b"POLYGONS" => {
-                            if idx.len() < 3 {
-                                return Err(IoError::syntax(
-                                    F,
-                                    r.at(),
-                                    "a polygon with at least 3 points",
-                                    format!("{}", idx.len()),
-                                ));
-                            }
-                            for j in 1..idx.len() - 1 {
-                                tris.push([idx[0], idx[j], idx[j + 1]]);
-                            }
-                        }
-                        b"TRIANGLE_STRIPS" => {
-                            for j in 0..idx.len().saturating_sub(2) {
-                                let (a, b) = if j % 2 == 0 {
-                                    (j + 1, j + 2)
-                                } else {
-                                    (j + 2, j + 1)
-                                };
-                                tris.push([idx[j], idx[a], idx[b]]);
-                            }
-                        }
-                        _ => {}
+                    for j in 1..idx.len() - 1 {
+                        tris.push([idx[0], idx[j], idx[j + 1]]);
                     }
                 }
-            }
-            b"POINT_DATA" => {
-                let n = r.count("point data values", 2)?;
-                if n != points.len() {
-                    return Err(IoError::syntax(
-                        F,
-                        at,
-                        format!("POINT_DATA {}", points.len()),
-                        n.to_string(),
-                    ));
-                }
-                point_data = Some(n);
-            }
-            b"SCALARS" if point_data.is_some() => {
-                let name = String::from_utf8_lossy(r.token("a scalar name")?).into_owned();
-                let _type = r.token("a data type")?;
-                // Optional component count, then LOOKUP_TABLE name.
-                let mut t = r.token("LOOKUP_TABLE")?;
-                let mut comps = 1usize;
-                if t != b"LOOKUP_TABLE" {
-                    comps = parse_i64(t)
-                        .filter(|c| (1..=4).contains(c))
-                        .ok_or_else(|| {
-                            IoError::syntax(
-                                F,
-                                r.at(),
-                                "a component count 1–4 or LOOKUP_TABLE",
-                                show(t),
-                            )
-                        })? as usize;
-                    t = r.token("LOOKUP_TABLE")?;
-                }
-                if t != b"LOOKUP_TABLE" {
-                    return Err(IoError::syntax(F, r.at(), "LOOKUP_TABLE", show(t)));
-                }
-                let _table = r.token("a lookup table name")?;
-                let n = point_data.unwrap_or(0);
-                let mut v = Vec::with_capacity(n);
-                for _ in 0..n {
-                    v.push(r.float("a scalar value")?);
-                    for _ in 1..comps {
-                        r.float("a scalar value")?;
+                b"TRIANGLE_STRIPS" => {
+                    for j in 0..idx.len().saturating_sub(2) {
+                        let (a, b) = if j % 2 == 0 {
+                            (j + 1, j + 2)
+                        } else {
+                            (j + 2, j + 1)
+                        };
+                        tris.push([idx[j], idx[a], idx[b]]);
                     }
                 }
-                scalars.push((name, v));
-            }
-            b"CELL_DATA" | b"FIELD" | b"METADATA" => break,
-            other => {
-                return Err(IoError::syntax(
-                    F,
-                    at,
-                    "POINTS, POLYGONS, TRIANGLE_STRIPS, VERTICES, LINES or POINT_DATA",
-                    show(other),
-                ))
+                _ => {}
             }
         }
+        Ok(())
     }
-    Ok(((points, tris), scalars))
+
+    /// Reads a SCALARS section (after its keyword) of `n` points: its name and first components.
+    fn scalars(&mut self, n: usize) -> Result<(String, Vec<f64>), IoError> {
+        let name = String::from_utf8_lossy(self.token("a scalar name")?).into_owned();
+        let _type = self.token("a data type")?;
+        // Optional component count, then LOOKUP_TABLE name.
+        let mut t = self.token("LOOKUP_TABLE")?;
+        let mut comps = 1usize;
+        if t != b"LOOKUP_TABLE" {
+            comps = parse_i64(t)
+                .filter(|c| (1..=4).contains(c))
+                .ok_or_else(|| {
+                    IoError::syntax(
+                        F,
+                        self.at(),
+                        "a component count 1–4 or LOOKUP_TABLE",
+                        show(t),
+                    )
+                })? as usize;
+            t = self.token("LOOKUP_TABLE")?;
+        }
+        if t != b"LOOKUP_TABLE" {
+            return Err(IoError::syntax(F, self.at(), "LOOKUP_TABLE", show(t)));
+        }
+        let _table = self.token("a lookup table name")?;
+        let mut v = Vec::with_capacity(n);
+        for _ in 0..n {
+            v.push(self.float("a scalar value")?);
+            for _ in 1..comps {
+                self.float("a scalar value")?;
+            }
+        }
+        Ok((name, v))
+    }
 }
 
 /// Writes legacy ASCII VTK polydata with the scalars as POINT_DATA (ParaView opens it directly).
