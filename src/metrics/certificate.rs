@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 /// The certificate of a triangle mesh (keys are a stable interface: `certificate` in
 /// `lsw wrap --stats`, `lsw wrap`'s output and `lsw metrics`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct Certificate {
     /// Closed, manifold, oriented, finite, no intersecting face pair.
     pub valid: bool,

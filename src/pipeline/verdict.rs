@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 /// What a result is, most severe first is `Invalid`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub enum VerdictState {
     /// Certified (closed, manifold, oriented, finite, no intersecting faces), the target's own
     /// topology where it has one, and no part of the target left outside.
@@ -22,6 +23,7 @@ pub enum VerdictState {
 /// The verdict on one result (keys are a stable interface: `verdict` in `lsw wrap`'s output and
 /// the app's result message).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct Verdict {
     pub state: VerdictState,
     /// The mesh is certified and the run was not stopped: it may be written and exported under
@@ -274,7 +276,7 @@ fn significant(x: f64, digits: usize) -> String {
     if x == 0.0 || !x.is_finite() {
         return format!("{x}");
     }
-    let exponent = x.abs().log10().floor() as i32;
+    let exponent = crate::fmath::log10(x.abs()).floor() as i32;
     if exponent < -6 || exponent >= digits as i32 {
         return format!("{:.*e}", digits - 1, x);
     }

@@ -15,7 +15,7 @@ export function showPending(el: HTMLElement, text: string): void {
 /** Shows a verdict: data-state / data-valid / data-genus / data-si for scripts, words for people. */
 export function showVerdict(el: HTMLElement, v: Verdict, c: Certificate): void {
   el.dataset.valid = String(v.certified);
-  el.dataset.genus = c.genus === null ? '' : String(c.genus);
+  el.dataset.genus = c.genus === undefined ? '' : String(c.genus);
   el.dataset.si = String(c.self_intersections);
   el.dataset.state = v.state;
   el.textContent = v.badge.join(' · ');

@@ -1,72 +1,10 @@
 // Messages between the UI thread and the worker: the one source of truth for both sides.
 // Meshes travel as flat typed arrays (Transferables), never as JSON.
 
-/** A target wrapped a second time because the first pass left part of it outside (see the core's
- * `flow::StartedOver`): checked points outside after each pass, and whether the second is shown;
- * the farthest vertex's distance after each (null: the pass stopped); and a third pass, where
- * the second ended far off the data. The first is shown when the later ones end much farther off
- * the data than its part outside lies, or with fewer handles. */
-export interface StartedOver {
-  outside_before: number;
-  outside_after: number;
-  checked: number;
-  iso_level_before: number;
-  iso_level_after: number;
-  kept: boolean;
-  far_before?: number;
-  far_after?: number | null;
-  /** How far out each pass's part left outside lies (0: none; null: the pass stopped). */
-  miss_before?: number;
-  miss_after?: number | null;
-  /** Each pass's genus (null: not a closed manifold, or the pass stopped). */
-  genus_before?: number | null;
-  genus_after?: number | null;
-  third?: { d2: number; outside: number; miss?: number; far: number; genus?: number | null; kept: boolean } | null;
-}
-
-/** The certificate of a result (Rust `metrics::certificate::Certificate`, snake_case keys). */
-export interface Certificate {
-  valid: boolean;
-  closed: boolean;
-  manifold: boolean;
-  oriented: boolean;
-  finite: boolean;
-  genus: number | null;
-  components: number | null;
-  euler_characteristic: number | null;
-  self_intersections: number;
-  degenerate_faces: number;
-  distance_min: number | null;
-  distance_max: number | null;
-  problem: string | null;
-  /** The target's genus and components when it is a closed manifold mesh (else null). */
-  target_genus: number | null;
-  target_components: number | null;
-  /** Of `target_points_checked` target points, how many lie outside the wrap and farther than
-   *  1 % of the diagonal from it: a part of the target it cut off (null: no target, or not closed). */
-  target_points_outside: number | null;
-  target_points_checked: number | null;
-  /** More than 0.5 % of the checked points lie outside: a part of the target is left out. */
-  target_part_outside: boolean;
-}
-
-/** The core's verdict on a result (Rust `pipeline::Verdict`, snake_case keys): the page shows it
- * as it is and decides nothing. `valid`: certified and like the target; `warning`: certified, but
- * another topology or a part of the target outside; `invalid`: not certified or stopped early. */
-export interface Verdict {
-  state: 'valid' | 'warning' | 'invalid';
-  /** Certified and not stopped: exported under its plain name. */
-  certified: boolean;
-  /** The badge's parts, most important first. */
-  badge: string[];
-  /** The status line's lead for a finished run. */
-  headline: string;
-  /** What is wrong (or right) and what to try, in one sentence. */
-  explanation: string;
-  warnings: string[];
-  /** What the run left out or did again, in words. */
-  notes: string[];
-}
+// The certificate, the verdict and the second pass's account are generated from their Rust types
+// (tsify, into the wasm-bindgen declarations): not mirrored here.
+import type { Certificate, StartedOver, Verdict } from '../pkg/lsw';
+export type { Certificate, StartedOver, ThirdPass, Verdict, VerdictState } from '../pkg/lsw';
 
 /** An error as produced by the Rust facade: stable code, message naming the problem, and a hint. */
 export interface UiError {

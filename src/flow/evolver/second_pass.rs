@@ -48,6 +48,7 @@ pub(super) struct SecondPass {
 
 /// Why and how the evolution started over.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct StartedOver {
     /// Checked points the first pass left outside (see [`crate::metrics::certificate`]).
     pub outside_before: usize,
@@ -78,6 +79,7 @@ pub struct StartedOver {
 
 /// A third pass, with D₂ halfway between the first's and the second's.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct ThirdPass {
     pub d2: f64,
     /// Checked points outside, how far out they lie, and the farthest vertex's distance

@@ -29,7 +29,8 @@ describe('surgery events in words', () => {
 describe('the surgery of the pass whose result is shown', () => {
   const over = (kept: boolean, third: boolean | null): StartedOver => ({
     outside_before: 174, outside_after: 0, checked: 10000, iso_level_before: 0.01, iso_level_after: 0.02, kept,
-    third: third === null ? null : { d2: 0.5, outside: 0, far: 0.01, kept: third },
+    far_before: 0.01, far_after: 0.01, miss_before: 0.02, miss_after: 0, genus_before: 0, genus_after: 0,
+    third: third === null ? undefined : { d2: 0.5, outside: 0, miss: 0, far: 0.01, genus: 0, kept: third },
   });
 
   it('is the first pass unless a later one is kept', () => {
