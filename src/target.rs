@@ -1,7 +1,6 @@
 //! The thing to wrap: a point cloud or a triangle soup/mesh, as read from a file.
 
 use crate::geometry::aabb::Aabb;
-use crate::io::volume::{Inside, VoxelVolume};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
@@ -310,27 +309,6 @@ impl Target {
         Ok(())
     }
 
-    /// The target of a voxel volume: the closed surface S = {v = iso} (see
-    /// [`VoxelVolume::isosurface`]) in world millimetres, as a triangle mesh. The whole pipeline
-    /// (signed distance field, start surface, flow, metrics) then works on volumes unchanged; the
-    /// triangles are exact to the piecewise-linear interpolant, so the field near S is exact too.
-    pub fn from_volume(
-        volume: &VoxelVolume,
-        iso: f64,
-        inside: Inside,
-    ) -> Result<Self, TargetError> {
-        let (points, triangles) = volume.isosurface(iso, inside);
-        if triangles.is_empty() {
-            let (min, max) = volume.value_range().unwrap_or((f64::NAN, f64::NAN));
-            return Err(TargetError::NoIsosurface { iso, min, max });
-        }
-        let target = Self::new(points, triangles)?;
-        Ok(Self {
-            sampled: true,
-            ..target
-        })
-    }
-
     /// Whether the target can have sharp creases: a mesh that is not a sampled iso-surface.
     pub fn has_creases(&self) -> bool {
         self.kind() == TargetKind::Mesh && !self.sampled
@@ -468,7 +446,7 @@ mod tests {
     #[test]
     fn a_volume_target_has_no_creases() {
         let volume = crate::demo::phantom::phantom_volume(24);
-        let t = Target::from_volume(&volume, 130.0, Inside::Bright).unwrap();
+        let t = Target::from_volume(&volume, 130.0, crate::io::volume::Inside::Bright).unwrap();
         assert!(t.sampled && !t.has_creases());
         let mesh = Target::new(t.points.clone(), t.triangles.clone()).unwrap();
         assert!(!mesh.sampled && mesh.has_creases());

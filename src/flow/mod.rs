@@ -5,6 +5,7 @@ pub mod controls;
 pub mod crease_fit;
 pub mod detail;
 pub mod error_sizing;
+pub mod evolve_error;
 pub mod evolver;
 pub mod guard;
 pub mod mcf;

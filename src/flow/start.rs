@@ -4,7 +4,7 @@
 //! Both are free of self-intersections by construction (a remesh that would break that is
 //! dropped), so the contact guard of every later step starts from a clean surface.
 
-use super::evolver::EvolveError;
+use super::evolve_error::EvolveError;
 use super::scaling;
 use super::settings::{StartSurface, WrapSettings};
 use crate::field::DistanceField;

@@ -9,6 +9,7 @@
 
 use super::error::{Format, IoError, Location};
 use crate::geometry::marching_cubes::{marching_cubes_with, GridNodes};
+use crate::target::{Target, TargetError};
 use glam::{DMat4, DVec3, DVec4};
 use serde::{Deserialize, Serialize};
 use std::io::Read;
@@ -557,6 +558,30 @@ pub(crate) fn affine(cols: [DVec3; 3], origin: DVec3) -> DMat4 {
         cols[2].extend(0.0),
         DVec4::new(origin.x, origin.y, origin.z, 1.0),
     )
+}
+
+/// A volume's target is built here, where volumes are read: the target knows nothing of files.
+impl Target {
+    /// The target of a voxel volume: the closed surface S = {v = iso} (see
+    /// [`VoxelVolume::isosurface`]) in world millimetres, as a triangle mesh. The whole pipeline
+    /// (signed distance field, start surface, flow, metrics) then works on volumes unchanged; the
+    /// triangles are exact to the piecewise-linear interpolant, so the field near S is exact too.
+    pub fn from_volume(
+        volume: &VoxelVolume,
+        iso: f64,
+        inside: Inside,
+    ) -> Result<Self, TargetError> {
+        let (points, triangles) = volume.isosurface(iso, inside);
+        if triangles.is_empty() {
+            let (min, max) = volume.value_range().unwrap_or((f64::NAN, f64::NAN));
+            return Err(TargetError::NoIsosurface { iso, min, max });
+        }
+        let target = Self::new(points, triangles)?;
+        Ok(Self {
+            sampled: true,
+            ..target
+        })
+    }
 }
 
 #[cfg(test)]

@@ -1,0 +1,326 @@
+//! Setting a wrap up, stage by stage: the target as wrapped (without a cloud's stray points and a
+//! mesh's specks), the distance field and the start surface (with the fit's view of the target
+//! built beside them), the fit's view in the stabilised frame, and the evolver's initial state.
+
+use super::fit_view::{CreaseJob, FitKey, PendingCreases};
+use super::{second_pass, start_choice, surgery, Checkpoint, EvolveError, Evolver};
+use super::{CREASE_PHASE, START_PHASE, STRAY_PHASE};
+use crate::field::DistanceField;
+use crate::flow::guard::DivergenceLimits;
+use crate::flow::settings::WrapSettings;
+use crate::flow::snap::SnapTarget;
+use crate::flow::start::{start_scale, Start};
+use crate::geometry::creases::Creases;
+use crate::mesh::{HalfedgeMesh, MeshReport};
+use crate::parallel::Later;
+use crate::progress::Progress;
+use crate::target::Target;
+use glam::DVec3;
+
+/// The field, the start and the settings of that start, with the target's closed topology.
+type FieldAndStart = ((DistanceField, Start, WrapSettings), Option<MeshReport>);
+/// The fit's view of the target built beside the field, with the key it was built for.
+type Prebuilt = Option<(FitKey, (Option<SnapTarget>, Option<Creases>))>;
+
+impl Evolver {
+    /// Builds the distance field and the start surface, scaled into the stabilised frame.
+    pub fn new(target: &Target, settings: WrapSettings) -> Result<Self, EvolveError> {
+        Self::new_with_progress(target, settings, &mut Progress::none())
+    }
+
+    /// [`Evolver::new`], reporting the field build and the start surface to `progress`.
+    pub fn new_with_progress(
+        target: &Target,
+        settings: WrapSettings,
+        progress: &mut Progress,
+    ) -> Result<Self, EvolveError> {
+        settings.check()?;
+        target.check_wrappable()?;
+        let cleaned = without_strays(target, &settings, progress)?;
+        let (target, isolated_points) = match &cleaned {
+            Some((t, n)) => (t, *n),
+            None => (target, 0),
+        };
+        let despecked = without_specks(target, &settings)?;
+        let (target, specks) = match &despecked {
+            Some((t, n)) => (t, *n),
+            None => (target, 0),
+        };
+        let (prebuilt, start) = field_and_start(target, &settings, progress);
+        let ((field, start, mut settings), closed) = start?;
+        progress.report(START_PHASE, 1.0);
+        if target.sampled {
+            settings = settings.resolved_for_volume();
+        }
+        let center = target.bbox.center();
+        let key = FitKey::new(&settings, target, field.cell_size(), start.phi);
+        let (fit_target, creases) = fit_view(target, key, center, prebuilt, progress);
+        let mut ev = Evolver::assemble(target, settings, field, start, closed, fit_target);
+        ev.pending_creases = Some(creases);
+        ev.isolated_points = isolated_points;
+        ev.specks = specks;
+        ev.despecked = despecked.map(|(t, _)| t);
+        ev.save_checkpoint();
+        let start = ev.checkpoint.clone();
+        if let Some(pass) = ev.second_pass.as_mut() {
+            pass.starting(start);
+        }
+        ev.refresh_distances();
+        ev.done = ev.settings.stop.steps == 0;
+        Ok(ev)
+    }
+
+    /// The evolver's state at step 0 on `start` (field scaled into the stabilised frame here).
+    fn assemble(
+        target: &Target,
+        settings: WrapSettings,
+        mut field: DistanceField,
+        start: Start,
+        closed: Option<MeshReport>,
+        fit_target: Option<SnapTarget>,
+    ) -> Evolver {
+        let c = field.cell_size();
+        let center = target.bbox.center();
+        let (mesh, phi, sizes) = (start.mesh, start.phi, start.sizes);
+        let limits = divergence_limits(target, &mesh, phi, center, &settings);
+        // In place: a scaled copy would keep the unscaled field alive to the end of setup.
+        field.scale_uniform(center, phi);
+        let d0 = settings.flow.iso_level_factor * 0.5 * 3f64.sqrt() * c * phi;
+        let pass = second_pass::SecondPass::new(
+            target,
+            &settings,
+            (d0, phi, center),
+            fit_target.is_some(),
+        );
+        Evolver {
+            tau: settings.flow.tau,
+            d1: settings.flow.d1,
+            settle_threshold: settings.stop.displacement_cells * c * phi,
+            empty_distance: phi * empty_distance(target, c, &settings),
+            cloud_spacing: surgery::cloud_spacing(target, &settings, phi),
+            close_gap_distance: phi * close_gap_distance(target, &settings),
+            least_genus: closed.filter(|t| t.components == 1).map(|t| t.genus),
+            settings,
+            mesh,
+            field,
+            center,
+            phi,
+            d0,
+            sizes,
+            step: 0,
+            done: false,
+            distances: vec![],
+            gradients: vec![],
+            fit_target,
+            creases: None,
+            pending_creases: None,
+            isolated_points: 0,
+            specks: 0,
+            despecked: None,
+            sizes_changed: true,
+            start: start.kind,
+            limits,
+            stop_reason: None,
+            checkpoint: Checkpoint {
+                mesh: HalfedgeMesh::default(),
+                tau: 0.0,
+                d1: 0.0,
+                sizes,
+                step: 0,
+                sizes_changed: true,
+            },
+            guarded_left: 0,
+            surgery_events: Vec::new(),
+            tunnels_opened: Vec::new(),
+            surgery_paired: 0,
+            surgery_pending: false,
+            second_pass: pass,
+            started_over: None,
+        }
+    }
+}
+
+/// A cloud without its stray points (left out of everything built from the target), with their
+/// count; None when none were left out or the test is off.
+fn without_strays(
+    target: &Target,
+    settings: &WrapSettings,
+    progress: &mut Progress,
+) -> Result<Option<(Target, usize)>, EvolveError> {
+    let cloud = target.triangles.is_empty() && settings.field.outlier_spacings > 0.0;
+    if cloud {
+        progress.report(STRAY_PHASE, 0.0);
+        // The median spacing first, remembered for the test: a part of its cost worth a report.
+        crate::geometry::spatial::spacing::median_spacing(&target.points);
+        progress.report(STRAY_PHASE, 0.3);
+    }
+    let cleaned = target.without_isolated_points(settings.field.outlier_spacings);
+    if cloud {
+        progress.report(STRAY_PHASE, 1.0);
+    }
+    if let Some((t, _)) = &cleaned {
+        t.check_wrappable()?;
+    }
+    Ok(cleaned)
+}
+
+/// A mesh without its specks (small closed parts floating apart, at the cell of the grid its
+/// whole box would get), with their count; None for a cloud or a mesh without any.
+fn without_specks(
+    target: &Target,
+    settings: &WrapSettings,
+) -> Result<Option<(Target, usize)>, EvolveError> {
+    let despecked = match target.triangles.is_empty() {
+        true => None,
+        false => DistanceField::planned_cell_size(target, &settings.field)
+            .and_then(|cell| target.without_specks(cell)),
+    };
+    if let Some((t, _)) = &despecked {
+        t.check_wrappable()?;
+    }
+    Ok(despecked)
+}
+
+/// The field and the start `auto` settles on (see [`start_choice`]), with the fit's view of the
+/// target built beside them for the start the settings ask for: it depends on the field and
+/// the start only through the cell size and φ, both known from the settings and the field's plan.
+fn field_and_start(
+    target: &Target,
+    settings: &WrapSettings,
+    progress: &mut Progress,
+) -> (Prebuilt, Result<FieldAndStart, EvolveError>) {
+    let plan = DistanceField::plan(target, &settings.field);
+    let planned = plan.as_ref().ok().map(|p| {
+        let cell = p.cell_size();
+        // (A cloud's field is never signed; a mesh's is where it is closed, the usual case.)
+        let guess = settings.clone().resolved_for(!target.triangles.is_empty());
+        FitKey::new(&guess, target, cell, start_scale(target, cell, &guess))
+    });
+    let center = target.bbox.center();
+    crate::parallel::beside(
+        || planned.map(|k| (k, k.build(target, center))),
+        || -> Result<_, EvolveError> {
+            let field = DistanceField::new_planned(target, &settings.field, plan?, progress)?;
+            let mut resolved = settings.clone().resolved_for(field.is_signed());
+            progress.report(START_PHASE, 0.0);
+            // The target's topology where it is closed: for the start's checks and surgery's
+            // least genus.
+            let closed = crate::mesh::closed_topology(target.points.len(), &target.triangles);
+            let start = start_choice::build_start_with_fallback(
+                target,
+                closed.as_ref(),
+                &field,
+                settings,
+                &mut resolved,
+            )?;
+            let finer = start_choice::finer_start(
+                target,
+                closed.as_ref(),
+                settings,
+                &resolved,
+                &start,
+                progress,
+            );
+            match finer {
+                Some(finer) => Ok((finer, closed)),
+                None => Ok(((field, start, resolved), closed)),
+            }
+        },
+    )
+}
+
+/// The fit's target and a cloud's creases for the start taken: what was built beside the field
+/// when its key is this one's, else built now. A cloud's creases are found on the fit's grid:
+/// natively beside the steps, in wasm left to the fit (or a helper worker, see
+/// [`Evolver::crease_job`]).
+fn fit_view(
+    target: &Target,
+    key: FitKey,
+    center: DVec3,
+    prebuilt: Prebuilt,
+    progress: &mut Progress,
+) -> (Option<SnapTarget>, PendingCreases) {
+    if !target.triangles.is_empty() {
+        let (fit_target, creases) = match prebuilt {
+            Some((made, built)) if made == key => built,
+            _ => key.build(target, center),
+        };
+        return (fit_target, PendingCreases::Later(Later::ready(creases)));
+    }
+    let fit_target = match prebuilt {
+        Some((made, (built, _))) if made == key => built,
+        _ => key.fit_target(target, center),
+    };
+    let creases = match (&fit_target, key.crease_angle) {
+        (Some(SnapTarget::Points(grid)), Some(angle)) => {
+            let job = CreaseJob {
+                grid: std::sync::Arc::clone(grid),
+                input: None,
+                radius: key.fit_radius,
+                angle,
+            };
+            if cfg!(target_arch = "wasm32") {
+                PendingCreases::Deferred(job)
+            } else {
+                PendingCreases::Later(crate::parallel::later(
+                    move |done: &mut dyn FnMut(f64)| job.run(done),
+                    &mut |f| progress.report(CREASE_PHASE, f),
+                ))
+            }
+        }
+        _ => PendingCreases::Later(Later::ready(None)),
+    };
+    (fit_target, creases)
+}
+/// Surgery's "far from the data" distance in the target's units: `surgery.empty_cells` cells,
+/// on a point cloud at least `surgery.empty_spacings` median point spacings, and at least half
+/// of `surgery.close_gaps` diagonals (a hole of that width has its centre that far from the
+/// data). 0 when surgery is off: the spacing costs a tree over the points.
+fn empty_distance(target: &Target, cell: f64, settings: &WrapSettings) -> f64 {
+    let s = &settings.surgery;
+    if !s.enabled {
+        return 0.0;
+    }
+    let spacing = if target.triangles.is_empty() {
+        crate::geometry::spatial::spacing::median_spacing(&target.points)
+    } else {
+        0.0
+    };
+    (s.empty_cells * cell)
+        .max(s.empty_spacings * spacing)
+        .max(close_gap_distance(target, settings))
+}
+
+/// Half of `surgery.close_gaps` target diagonals, in the target's units: a hole of that width
+/// has its centre that far from the data.
+fn close_gap_distance(target: &Target, settings: &WrapSettings) -> f64 {
+    0.5 * settings.surgery.close_gaps * target.bbox.size().length()
+}
+
+/// The divergence guard's limits in the stabilised frame: the box of the start surface and the
+/// target grown by `escape_diagonals` target diagonals; the area of the start surface plus the
+/// target box's, times `max_area_growth`; `max_vertices`.
+fn divergence_limits(
+    target: &Target,
+    start: &HalfedgeMesh,
+    phi: f64,
+    center: DVec3,
+    settings: &WrapSettings,
+) -> DivergenceLimits {
+    let g = &settings.guard;
+    let tb = &target.bbox;
+    let (mut min, mut max) = (phi * (tb.min - center), phi * (tb.max - center));
+    for p in start.positions() {
+        min = min.min(*p);
+        max = max.max(*p);
+    }
+    let margin = g.escape_diagonals * phi * tb.size().length().max(f64::MIN_POSITIVE);
+    let s = phi * tb.size();
+    let box_area = 2.0 * (s.x * s.y + s.y * s.z + s.z * s.x);
+    DivergenceLimits {
+        min: min - DVec3::splat(margin),
+        max: max + DVec3::splat(margin),
+        max_area: g.max_area_growth * (start.surface_area() + box_area),
+        max_vertices: g.max_vertices,
+    }
+}

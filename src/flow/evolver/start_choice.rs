@@ -1,0 +1,167 @@
+//! The start surface `auto` settles on, by its stated rule: the start the settings ask for; where
+//! that is an isosurface that meets itself or (for a closed one-part mesh) lost the target's
+//! topology, the same start with the isosurface preset's coarser edges if it keeps the topology,
+//! else the icosphere; and for a closed one-part target whose start fell back (or a volume's
+//! iso-surface whose start has another topology), the isosurface start on finer grids, the first
+//! with the target's topology.
+
+use super::EvolveError;
+use crate::field::DistanceField;
+use crate::flow::settings::{StartSurface, WrapSettings};
+use crate::flow::start::{build_start, Start};
+use crate::mesh::{HalfedgeMesh, MeshReport};
+use crate::progress::Progress;
+use crate::target::Target;
+
+/// Grid refinements tried for an isosurface start that lost a closed mesh's topology (see
+/// [`finer_start`]).
+const FINER_GRIDS: [f64; 2] = [1.5, 2.0];
+
+/// `auto`'s isosurface start `resolved` with the isosurface preset's λ_min instead of its own
+/// finer one, unless the user chose λ_min (in `requested`) or the start is not the isosurface.
+fn coarser_isosurface_start(
+    requested: &WrapSettings,
+    resolved: &WrapSettings,
+) -> Option<WrapSettings> {
+    let preset = WrapSettings::default().with_isosurface_start();
+    let chosen =
+        requested.remesh.min_edge_multiplier != WrapSettings::default().remesh.min_edge_multiplier;
+    let coarser = preset.remesh.min_edge_multiplier > resolved.remesh.min_edge_multiplier;
+    (resolved.start.surface == StartSurface::Isosurface && !chosen && coarser).then(|| {
+        let mut s = resolved.clone();
+        s.remesh.min_edge_multiplier = preset.remesh.min_edge_multiplier;
+        s
+    })
+}
+
+/// Whether `mesh` has the Euler characteristic and the component count of `target`'s triangles
+/// (false when those do not form a manifold mesh). From connectivity alone: degenerate faces of
+/// an iso-surface do not matter here. `closed`: the target's [`crate::mesh::closed_topology`],
+/// computed once per wrap (a sort of its edges: 50 ms on a volume's 575 K faces); a target that
+/// is not closed is built as a half-edge mesh.
+fn same_topology(mesh: &HalfedgeMesh, target: &Target, closed: Option<&MeshReport>) -> bool {
+    let t = mesh.topology();
+    let mine = (t.euler_characteristic, t.components);
+    match closed {
+        Some(t) => (t.euler_characteristic, t.components) == mine,
+        None => {
+            HalfedgeMesh::from_triangles(target.points.clone(), &target.triangles).is_ok_and(|t| {
+                let t = t.topology();
+                (t.euler_characteristic, t.components) == mine
+            })
+        }
+    }
+}
+
+/// The start of `settings` (resolved), falling back as `auto` promises: its isosurface
+/// start is tried again with the isosurface preset's coarser edges (a voxel plate with nine
+/// holes intersected after the finer remesh, not after this one: genus 9 with 20 K vertices
+/// in 13 s, against the icosphere's 95 K in 25 s); where the exterior leaked into gaps of the
+/// target (noisy volumes, sparse clouds) the icosphere, which cannot leak, takes over; the
+/// same when the start of a mesh of one closed part has another topology than the mesh.
+/// `settings` becomes those of the start built.
+pub(super) fn build_start_with_fallback(
+    target: &Target,
+    closed: Option<&MeshReport>,
+    field: &DistanceField,
+    requested: &WrapSettings,
+    settings: &mut WrapSettings,
+) -> Result<Start, EvolveError> {
+    let auto = requested.start.surface == StartSurface::Auto;
+    let built = build_start(target, field, settings);
+    // A mesh of one closed part has a genus the wrap must keep, and a Lagrangian surface
+    // keeps its start's: an offset that joins two parts lying close (a creature's leg and
+    // ear, turned so that the grid is coarser) starts with handles the target lacks. (Not
+    // a volume's iso-surface: its genus is the noise's, and the icosphere took 2–4× the
+    // time for no better genus on the noisy-volume sweep.)
+    let wrong_topology = |start: &Start| {
+        settings.start.surface == StartSurface::Isosurface
+            && !target.sampled
+            && closed.is_some_and(|t| t.components == 1)
+            && !same_topology(&start.mesh, target, closed)
+    };
+    match built {
+        Ok(start) if auto && wrong_topology(&start) => {
+            fall_back(target, closed, field, requested, settings)
+        }
+        Err(EvolveError::StartIntersects { .. }) if auto => {
+            fall_back(target, closed, field, requested, settings)
+        }
+        other => other,
+    }
+}
+
+/// `auto` on a closed one-part mesh (or a volume's one-part iso-surface) whose isosurface
+/// start lost the target's topology or met itself (an offset of ~1 cell closes a bore under
+/// ~4 cells wide, and the icosphere then wraps over it): the isosurface start on grids
+/// [`FINER_GRIDS`] times finer, the first with the target's topology, with its field and
+/// settings. `None` when the start taken is not that fallback, or no finer grid helps (or
+/// fits the field's memory cap). (A noisy volume's iso-surface rarely matches: five of the 18
+/// of `benches/noisy/sweep.sh` try both grids in vain, 1.3–1.9 s each.)
+///
+/// A volume's iso-surface of one closed part whose isosurface `start` has another topology
+/// tries the first of them too, and keeps `start` when it does not match (see
+/// `build_start_with_fallback`: no icosphere for volumes). A knot of voxels whose strands
+/// pass 6 voxels apart started with two of its crossings joined and three specks of
+/// tetrahedra, and ended so: genus 2 in 4 parts for genus 1; its start 1.5× finer has the
+/// knot's topology.
+pub(super) fn finer_start(
+    target: &Target,
+    closed: Option<&MeshReport>,
+    requested: &WrapSettings,
+    resolved: &WrapSettings,
+    start: &Start,
+    progress: &mut Progress,
+) -> Option<(DistanceField, Start, WrapSettings)> {
+    let auto = requested.start.surface == StartSurface::Auto;
+    let fell_back = resolved.start.surface == StartSurface::Icosphere;
+    let volume_off = || {
+        target.sampled
+            && resolved.start.surface == StartSurface::Isosurface
+            && !same_topology(&start.mesh, target, closed)
+    };
+    let one_part = closed.is_some_and(|t| t.components == 1);
+    if !(auto && one_part && (fell_back || volume_off())) {
+        return None;
+    }
+    // (A volume's own start only 1.5× finer: past its voxels a finer grid rarely changes
+    // the iso-surface's topology, and three of the noisy volumes tried both in vain, 1.7 s.)
+    let grids = match fell_back {
+        true => &FINER_GRIDS[..],
+        false => &FINER_GRIDS[..1],
+    };
+    grids.iter().find_map(|&k| {
+        let mut s = requested.clone();
+        let n = s.field.cells_per_min_dimension as f64;
+        s.field.cells_per_min_dimension = (k * n).round() as u32;
+        let field = DistanceField::new_with_progress(target, &s.field, progress).ok()?;
+        let resolved = s.clone().resolved_for(field.is_signed());
+        (resolved.start.surface == StartSurface::Isosurface).then_some(())?;
+        let start = build_start(target, &field, &resolved).ok()?;
+        same_topology(&start.mesh, target, closed).then_some((field, start, resolved))
+    })
+}
+
+/// `auto`'s way on from an isosurface start it cannot use: the coarser isosurface start, if
+/// it has the target's topology, else the icosphere.
+fn fall_back(
+    target: &Target,
+    closed: Option<&MeshReport>,
+    field: &DistanceField,
+    requested: &WrapSettings,
+    settings: &mut WrapSettings,
+) -> Result<Start, EvolveError> {
+    let coarser = coarser_isosurface_start(requested, settings);
+    match coarser.map(|s| (build_start(target, field, &s), s)) {
+        // Only with the target's own topology: two linked voxel tori gave a clean coarse
+        // start of 5 components (the offsets merge where they link).
+        Some((Ok(start), s)) if same_topology(&start.mesh, target, closed) => {
+            *settings = s;
+            Ok(start)
+        }
+        _ => {
+            *settings = requested.clone().resolved_for(false);
+            build_start(target, field, settings)
+        }
+    }
+}
