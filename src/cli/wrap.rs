@@ -225,8 +225,7 @@ pub fn run(a: &WrapArgs) -> Result<String, super::Failure> {
     let out = serde_json::to_string_pretty(&report).expect("JSON of plain values");
     match failure {
         None => Ok(out),
-        // The report goes to stdout as on success, and (as before it went there too) after
-        // the message on stderr.
+        // The report goes to stdout as on success, and also after the message on stderr.
         Some(why) => Err(super::Failure {
             message: format!(
                 "{why}; {}\n{out}",

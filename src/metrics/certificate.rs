@@ -102,16 +102,16 @@ pub const OUTSIDE_SAMPLES: usize = 20_000;
 /// A target point counts as outside the wrap when it is farther from it than this fraction of
 /// the target's diagonal (well above a fit's residual on a noisy scan).
 pub const OUTSIDE_TOLERANCE: f64 = 0.01;
-/// A part is left outside when more than this share of the checked points lie outside: the
-/// app's noisy sphere (radial noise 0.3 % of the diagonal) has a few points past 1 %, the
-/// needle 4.6 % of its points, thin-plate-cloud's rounded corners 3.5 %.
+/// A part is left outside when more than this share of the checked points lie outside: a noisy
+/// scan has a few points past [`OUTSIDE_TOLERANCE`], a cut-off spike or rounded-off corner holds
+/// many times this share.
 pub const OUTSIDE_SHARE: f64 = 0.005;
 
 /// Cells of the cloud's grid along its bounding-box diagonal (refined where dense).
 const CLOUD_GRID_DIVISIONS: f64 = 200.0;
 
 /// What the certificate needs of a target, built once: its nearest-point structure and its
-/// topology (on a 329 K-face mesh 0.15 and 0.06 s; the CLI builds it beside the steps).
+/// topology, both costly on a large target (the CLI builds it beside the steps).
 pub struct CertificateTarget {
     near: Near,
     topology: Option<crate::mesh::MeshReport>,
@@ -131,8 +131,7 @@ impl CertificateTarget {
         let near = if t.triangles.is_empty() {
             // A counting-sort grid builds in a fraction of a tree's time on millions of points.
             // Cells no smaller than a surface sampled by this many points would need: on a
-            // sparse cloud a nearest-point query otherwise opens rings of empty cells (20
-            // points, 46 K vertices: 22 s).
+            // sparse cloud a nearest-point query otherwise opens rings of empty cells.
             let sampled = t.bbox.diagonal() / (t.points.len() as f64).sqrt();
             let cell = (t.bbox.diagonal() / CLOUD_GRID_DIVISIONS).max(sampled);
             Near::Points(PointGrid::new(&t.points, cell))
@@ -229,8 +228,7 @@ pub fn certify_against(
 ) -> Certificate {
     let finite = positions.iter().all(|p| p.is_finite());
     // The checks are independent: natively the self-intersections are counted beside the
-    // topology, and the distances measured beside the outside test (spot 1 M: 84 ms one after
-    // another).
+    // topology, and the distances measured beside the outside test.
     let (self_intersections, (edges, closed, mesh)) = crate::parallel::beside(
         || match finite {
             true => count_self_intersections(positions, triangles),

@@ -1,8 +1,8 @@
 //! A cloud's crease detection in a helper worker: the session hands out the job
 //! ([`WrapSession::crease_job`]), [`cloud_creases`] runs it in another wasm instance while the
 //! steps go on, and [`WrapSession::set_creases`] brings the result back before the final fit,
-//! which otherwise finds them itself (the same creases either way; 1 M points: 0.4–0.7 s of the
-//! browser's one thread).
+//! which otherwise finds them itself (the same creases either way, but then on the wrap's own
+//! thread).
 
 use super::errors::UiError;
 use super::session::WrapSession;
@@ -19,9 +19,9 @@ const JOB_HEAD: usize = 3;
 const SLICE: usize = 4096;
 
 /// The most points handed to a helper. It holds the points about three times (as sent, in
-/// input order, in its grid) on a core that the page and the steps share on a 2-core machine:
-/// spot 1 M took 0.14 s less (median of 5) and 130 MB more; spot 2 M took 0.3–0.9 s *more*
-/// and 160–240 MB more. A larger cloud's creases are left to the fit.
+/// input order, in its grid) on a core that the page and the steps may share: beyond this the
+/// helper costs more time and memory than it saves. A larger cloud's creases are left to the
+/// fit.
 pub const HELPER_MAX_POINTS: usize = 1_500_000;
 
 /// `x` as an index or count below `limit`, if it is a whole number in range.

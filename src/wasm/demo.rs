@@ -1,4 +1,4 @@
-//! The demo gallery, control curves and settings documentation for the browser app (issue 7).
+//! The demo gallery, control curves and settings documentation for the browser app.
 //! Gallery data comes back as PLY bytes, so it goes through the same reader as a dropped file.
 
 use super::errors::{ui_error, UiError};

@@ -1,4 +1,4 @@
-//! Viewing the distance field of a [`WrapSession`] (issue 4): a plane of nodes or an
+//! Viewing the distance field of a [`WrapSession`]: a plane of nodes or an
 //! isosurface, in the target's units (see [`crate::field::slice::FieldView`]).
 
 use super::errors::UiError;

@@ -41,7 +41,8 @@ impl WrapSession {
     ) -> Result<WrapSession, JsValue> {
         let settings = WrapSettings::from_json(settings_json).map_err(UiError::settings)?;
         // A volume's voxels go before the evolver is built: the wrap needs only their
-        // iso-surface, and the page keeps its own copy for the slices (a 640³ volume: 1 GB).
+        // iso-surface, and the page keeps its own copy for the slices (kept here as well, a
+        // large volume's voxels would take memory the wrap needs).
         let crate::io::ReadResult {
             target,
             format,
@@ -80,9 +81,8 @@ impl WrapSession {
 }
 
 /// The most points a cloud may have in the browser, where wasm32 gives the core 4 GiB of memory
-/// at most. Measured peaks (spot sampled, defaults, the app in headless Chromium): 5 M points
-/// 1.0 GB, 12 M 3.4 GB, 15 M 4.0 GB; 20 M ran out 20 s in, during the stray-point test. A
-/// larger cloud is refused at once instead.
+/// at most: a wrap's peak memory grows with the points, and a larger cloud would run out of it
+/// part-way (in the stray-point test), so it is refused at once instead.
 pub const MAX_CLOUD_POINTS: usize = 16_000_000;
 
 /// Refuses a cloud of more than [`MAX_CLOUD_POINTS`] points (`too-large`, saying how to wrap it).

@@ -119,8 +119,8 @@ impl WrapSession {
     }
 
     /// [`WrapSession::with_volume`] for the volume `view` already holds (its frame): no second
-    /// read of the bytes and no second copy of the voxels (a 640³ volume: 1 GB, which the
-    /// browser's 4 GiB could not spare). The same target, so the same wrap.
+    /// read of the bytes and no second copy of the voxels (a large volume's second copy would
+    /// take memory the browser's 4 GiB cannot spare). The same target, so the same wrap.
     #[wasm_bindgen(js_name = fromVolumeView)]
     pub fn from_volume_view(
         view: &VolumeView,

@@ -91,8 +91,8 @@ impl Evolver {
         if remesh_due {
             // Where the remesh makes faces intersect (two membranes pressed together across a
             // hole) it is done again around them, not undone everywhere: undone, the surface
-            // kept its coarse edges from step to step and never grew the vertices its
-            // membranes needed to be cut (a turned genus-4 chain ended at 720 vertices, genus 0).
+            // would keep its coarse edges from step to step and never grow the vertices its
+            // membranes need to be cut (see docs/decisions/0021-contact-guard.md).
             let before = self.mesh.clone();
             self.remesh_phase(times, None)?;
             reverted = !self.remesh_around_intersections(&before, times)?;

@@ -49,8 +49,8 @@ pub struct CreaseJob {
 
 impl CreaseJob {
     /// What crosses to the other worker: the points in the grid's cell order and each one's
-    /// index among the target's points (read straight out of the grid: a copy in input order
-    /// cost the browser's worker 0.36 s at 2 M points).
+    /// index among the target's points, read straight out of the grid (a copy in input order
+    /// would cost the sending worker time on a large cloud).
     pub fn cell_order(&self) -> (&[DVec3], &[u32]) {
         self.grid.cell_ordered()
     }

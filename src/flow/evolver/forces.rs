@@ -1,6 +1,6 @@
 //! Phase 1 of a step, *sample the field*: the surface terms (normals, cotangent Laplacian,
 //! co-volumes, tangential sums in one pass over the faces) and, at every vertex, the controls
-//! ε(δ) and η(δ, cos θ) of the sampled distance d and gradient (method spec §4–§5).
+//! ε(δ) and η(δ, cos θ) of the sampled distance d and gradient (docs/method.md §4–§5).
 
 use super::{Evolver, PhaseTimes};
 use crate::clock::now_ms;
@@ -53,7 +53,8 @@ impl Evolver {
         // Beyond this distance, a surface with the data in front of it deflates (see
         // `FlowSettings::deflate_far`), once the surgery has cut: before that the surface is
         // the shrinking start, and a part of it far from the data that faces the data has
-        // slipped through a gap in a sparse wall, where deflating drove it on into the inside.
+        // slipped through a gap in a sparse wall, where deflating would drive it on into the
+        // inside.
         let operated = self.surgery_events.iter().any(|e| e.kind != "drop");
         let deflate_beyond = match s.flow.deflate_far {
             k if k > 0.0 && operated => k * self.empty_distance,

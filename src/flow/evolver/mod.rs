@@ -1,5 +1,5 @@
 //! The LSW evolution as a step-wise state machine: `Evolver::new(target, settings)`, then
-//! `step()` until `is_done()`. Each step is the semi-implicit scheme of method spec §6.1–6.4:
+//! `step()` until `is_done()`. Each step is the semi-implicit scheme of docs/method.md §6.1–6.4:
 //! implicit (cotangent) diffusion weighted by ε, explicit advection η·N and tangential
 //! redistribution, one matrix for x, y, z; then adaptive remeshing and the size/τ schedule.
 //! Work happens in the stabilised frame (see [`super::scaling`]); results come out in the
@@ -48,11 +48,9 @@ use contact::Contact;
 use glam::DVec3;
 use serde::Serialize;
 
-/// The progress phase of a cloud's crease detection (before the steps; ~0.4 s natively on
-/// 1 M points).
+/// The progress phase of a cloud's crease detection (before the steps).
 pub const CREASE_PHASE: &str = "sharp creases";
-/// The progress phase of a cloud's stray-point test (before the field; ~0.5 s natively on 1 M
-/// points).
+/// The progress phase of a cloud's stray-point test (before the field).
 pub const STRAY_PHASE: &str = "stray points";
 /// The progress phase of the start surface.
 pub const START_PHASE: &str = "start surface";
@@ -435,12 +433,10 @@ impl Evolver {
         let moved = self.advance(&solved.x, &old, &mut times)?;
         let ends = self.ends(moved.settled_fraction);
         // On a cloud, the step that ends the run leaves the remesh to the final fit, whose
-        // first pass remeshes to the same sizes anyway: remeshing first spent a sixth of the
-        // bunny's time on a surface that the fit's moves then distort, and most clouds' results
-        // came out closer (cube cloud's Hausdorff 0.70 → 0.39 %, spotPts_4's 6.1 → 5.5 %; a
-        // thin plate's 5.2 → 5.4 %, benches/RESULTS.md). A mesh's fit sizes its edges by where it still misses the target, which
-        // needs the fine surface from its first pass (without it the bust's sockets kept a 95th
-        // percentile 0.72 of that with no error sizing, against under 0.6).
+        // first pass remeshes to the same sizes anyway: a remesh here would cost time on a
+        // surface that the fit's moves then distort. A mesh's fit sizes its edges by where it
+        // still misses the target, which needs the fine surface from this remesh (see
+        // docs/decisions/0022-fit-error-sizing.md).
         let fits = ends && matches!(self.fit_target, Some(SnapTarget::Points(_)));
         let remesh = match fits {
             true => None,

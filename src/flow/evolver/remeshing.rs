@@ -15,9 +15,9 @@ use glam::DVec3;
 
 /// Distance beyond the offset level d₀, in grid cells, up to which remesh splits follow the
 /// surface's curvature (see [`RemeshSettings::curved_splits`]). The field is already in the
-/// stabilised frame: scaling its cell by φ again made this reach depend on the input's units.
-/// Farther reaches measured worse: 8 cells lost the genus of 4- and 5-handled tori clouds, 30
-/// merged two spheres' wrap into one.
+/// stabilised frame, so its cell is not scaled by φ again (that would make this reach depend
+/// on the input's units). Farther reaches lose handles and merge parts lying close (see
+/// docs/decisions/0010-curved-splits.md).
 const CURVED_CELLS: f64 = 2.0;
 
 impl Evolver {

@@ -1,5 +1,5 @@
 //! Phase 6 of a step, *schedule*: at the steps listed in `flow.schedule`, edge sizes shrink by
-//! λ_dec, τ by λ_dec² and D1 grows by 1/λ_dec (method spec §6.6), taking effect next step.
+//! λ_dec, τ by λ_dec² and D1 grows by 1/λ_dec (docs/method.md §6.6), taking effect next step.
 
 use super::Evolver;
 use crate::remesh::sizing::decayed;

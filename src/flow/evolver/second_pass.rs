@@ -2,18 +2,16 @@
 //! outside (`flow.cover_gaps`, `flow.second_pass_d2`). At a sparse cloud's usual d₀ (1.7 median
 //! spacings) a tenth of a randomly sampled surface lies farther than d₀ from every point. A
 //! closed surface's wrap only sags into those holes, but round the rim of an open single-layer
-//! scan the two sides of the wrap slipped through them, met inside the sheet and left a fifth of
-//! it outside; on denser sheets, and on single-layer meshes, full-wrap's push where the normal
-//! lies across the gradient (D₂) drove the coarse early wrap's edge past the rim. A d₀ that
-//! covers the gaps and D₂ = 0 keep the rim; used for every cloud the larger d₀ also changed
-//! results that were right (genus sweep: one handle lost, a 3 000-point plate 23 s instead of
-//! 1 s), so both are used only where the first pass left part of the target outside: the
-//! evolution starts over once from its start surface, and the pass that leaves fewer points
-//! outside is the result.
+//! scan the two sides of the wrap can slip through them, meet inside the sheet and leave part
+//! of it outside; on denser sheets, and on single-layer meshes, full-wrap's push where the
+//! normal lies across the gradient (D₂) can drive the coarse early wrap's edge past the rim. A
+//! d₀ that covers the gaps and D₂ = 0 keep the rim, but for every cloud the larger d₀ would also
+//! change results that are right, so both are used only where the first pass left part of the
+//! target outside: the evolution starts over once from its start surface, and the pass that
+//! leaves fewer points outside is the result (see docs/decisions/0019-second-pass.md).
 //!
-//! D₂ = 0 does not push into concavities (the method's reason for full-wrap): over a twisted
-//! band it left a web 6.5 % of the diagonal off the data where the first pass's farthest vertex
-//! was 1.4 % off. When a second pass that leaves fewer points outside ends more than
+//! D₂ = 0 does not push into concavities (the method's reason for full-wrap), so it can leave a
+//! web far off the data. When a second pass that leaves fewer points outside ends more than
 //! [`FAR_GROWTH`] times farther from the data than the first, a third pass halfway between the
 //! two D₂ runs. The result is the pass that leaves no part outside and ends nearest the data,
 //! else the one with the fewest outside; but a pass that leaves a part outside stays the result
@@ -121,8 +119,8 @@ impl SecondPass {
     /// about `center`; `fits`: there is a final fit), with D₂ = `flow.second_pass_d2`; a cloud's
     /// with d₀ grown to its gap spacing ([`crate::geometry::spatial::spacing::gap_spacing`])
     /// where that is larger, at most `flow.cover_gaps` times. `None` for a volume's iso-surface
-    /// (a second pass of a 640³ volume would take another minute), with `flow.cover_gaps` = 1,
-    /// and where it would repeat the first.
+    /// (a large volume's second pass would double a long run), with `flow.cover_gaps` = 1, and
+    /// where it would repeat the first.
     /// Its start is set by [`Self::starting`].
     pub(super) fn new(
         target: &Target,
@@ -346,12 +344,9 @@ impl Evolver {
 /// other misses it (its farthest vertex against the other's, or how far out the other's part
 /// outside lies, whichever is larger), then nearer the data; or, where both leave a part
 /// outside, fewer outside. A pass with fewer handles than `b` is never better: a later pass's
-/// larger d₀ closes holes as narrow as itself (a plate scanned from above: the first pass
-/// opened its three holes and left its unseen underside's rim outside, the later ones kept the
-/// rim and closed the 0.03 hole), and the surgery's handles are checked ones.
-/// (Scanned from above, a torus's shell lost the tips of its open rim
-/// to the first pass, 1.7 % of the diagonal out; the third pass kept them but left its inner
-/// layer 3.9 % off the shell.)
+/// larger d₀ closes holes as narrow as itself, and the surgery's handles are checked ones. The
+/// [`FAR_GROWTH`] margin keeps a first pass that leaves a rim's tips a little outside over a
+/// later one that covers them but ends far off the data.
 fn better(a: &Pass, b: &Pass, checked: usize) -> bool {
     let misses = |p: &Pass| p.far.max(p.miss);
     if let (Some(ga), Some(gb)) = (a.genus, b.genus) {
@@ -412,12 +407,12 @@ mod tests {
     fn a_pass_with_nothing_outside_wins_unless_it_ends_much_farther_off() {
         // Of 10 000 checked points, more than 50 outside are a part.
         let checked = 10_000;
-        // The torus scanned from above: the first pass cut its rim's tips 0.049 out, the third
-        // kept them and ended 0.113 off the data.
+        // A first pass that leaves a rim's tips 0.049 out, a later one that covers them but
+        // ends 0.113 off the data.
         let first = pass(188, 0.049, 0.029);
         assert!(!better(&pass(0, 0.0, 0.113), &first, checked));
         assert!(better(&first, &pass(0, 0.0, 0.113), checked));
-        // The twisted band: the third pass ended as near the data as the first.
+        // A later pass that ends as near the data as the first.
         let band = pass(174, 0.055, 0.037);
         assert!(better(&pass(0, 0.0, 0.038), &band, checked));
         assert!(!better(&band, &pass(0, 0.0, 0.038), checked));
@@ -429,8 +424,8 @@ mod tests {
             &pass(200, 0.01, 0.01),
             checked
         ));
-        // A pass with fewer handles never wins (the plate scanned from above: genus 3 with its
-        // underside's rim outside against genus 2 with nothing outside); with more, as above.
+        // A pass with fewer handles never wins (genus 3 with a rim outside against genus 2
+        // with nothing outside); with more, as above.
         let plate = Pass {
             genus: Some(3),
             ..pass(351, 0.027, 0.018)

@@ -1,5 +1,5 @@
 //! Phase 2 of a step, *assemble and solve*: the semi-implicit system (I − τ·ε·Δ)x = x⁰ +
-//! τ(η·N + tangential) for x, y and z at once (method spec §6.1–6.4). A failed solve is retried
+//! τ(η·N + tangential) for x, y and z at once (docs/method.md §6.1–6.4). A failed solve is retried
 //! with non-negative weights, first at the same τ, then with τ halved each time; after
 //! `flow.max_retries` the surface goes back to the last certified state and the evolution stops.
 
@@ -38,9 +38,8 @@ impl Evolver {
             let t0 = now_ms();
             // After a failed solve, retry with non-negative weights: negative cotangent weights
             // of a few near-degenerate triangles are what usually stalls BiCGStab, and halving
-            // τ for that (for good: τ is not raised again) froze whole evolutions (a noisy
-            // volume: τ 4·10⁻³ → 4·10⁻⁶ in ten steps, then diverged). τ is halved from the
-            // second retry on.
+            // τ for that (for good: τ is not raised again) can freeze a whole evolution (see
+            // docs/decisions/0020-solver-retries.md). τ is halved from the second retry on.
             if retries >= 2 {
                 self.tau *= 0.5;
             }
@@ -101,9 +100,9 @@ fn longest_edge(mesh: &HalfedgeMesh) -> f64 {
 /// A solution that moved a vertex farther than the forces' largest push plus `reach` says why,
 /// else None. The smoothing alone only pulls a vertex towards its neighbours; with negative
 /// cotangent weights around a collapsed vertex the system can be near-singular, and BiCGStab
-/// then converges to a solution that throws that vertex across the scene (two spheres pinching
-/// apart: a vertex moved five box sizes in one step). Such a solve is failed and retried with
-/// non-negative weights, whose solutions keep the maximum principle.
+/// then converges to a solution that throws that vertex across the scene. Such a solve is
+/// failed and retried with non-negative weights, whose solutions keep the maximum principle
+/// (see docs/decisions/0020-solver-retries.md).
 fn runaway(old: &[DVec3], rhs: &[DVec3], x: &[DVec3], reach: f64) -> Option<String> {
     let push = old
         .iter()

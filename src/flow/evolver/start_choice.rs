@@ -37,8 +37,8 @@ fn coarser_isosurface_start(
 /// Whether `mesh` has the Euler characteristic and the component count of `target`'s triangles
 /// (false when those do not form a manifold mesh). From connectivity alone: degenerate faces of
 /// an iso-surface do not matter here. `closed`: the target's [`crate::mesh::closed_topology`],
-/// computed once per wrap (a sort of its edges: 50 ms on a volume's 575 K faces); a target that
-/// is not closed is built as a half-edge mesh.
+/// computed once per wrap (it sorts all of the target's edges); a target that is not closed is
+/// built as a half-edge mesh.
 fn same_topology(mesh: &HalfedgeMesh, target: &Target, closed: Option<&MeshReport>) -> bool {
     let t = mesh.topology();
     let mine = (t.euler_characteristic, t.components);
@@ -54,11 +54,12 @@ fn same_topology(mesh: &HalfedgeMesh, target: &Target, closed: Option<&MeshRepor
 }
 
 /// The start of `settings` (resolved), falling back as `auto` promises: its isosurface
-/// start is tried again with the isosurface preset's coarser edges (a voxel plate with nine
-/// holes intersected after the finer remesh, not after this one: genus 9 with 20 K vertices
-/// in 13 s, against the icosphere's 95 K in 25 s); where the exterior leaked into gaps of the
-/// target (noisy volumes, sparse clouds) the icosphere, which cannot leak, takes over; the
-/// same when the start of a mesh of one closed part has another topology than the mesh.
+/// start is tried again with the isosurface preset's coarser edges (a start can intersect
+/// itself after the finer remesh and not after the coarser one, and it keeps the handles the
+/// icosphere would lose: see docs/decisions/0002-start-ladder.md); where the exterior leaked
+/// into gaps of the target (noisy volumes, sparse clouds) the icosphere, which cannot leak,
+/// takes over; the same when the start of a mesh of one closed part has another topology than
+/// the mesh.
 /// `settings` becomes those of the start built.
 pub(super) fn build_start_with_fallback(
     target: &Target,
@@ -70,10 +71,9 @@ pub(super) fn build_start_with_fallback(
     let auto = requested.start.surface == StartSurface::Auto;
     let built = build_start(target, field, settings);
     // A mesh of one closed part has a genus the wrap must keep, and a Lagrangian surface
-    // keeps its start's: an offset that joins two parts lying close (a creature's leg and
-    // ear, turned so that the grid is coarser) starts with handles the target lacks. (Not
-    // a volume's iso-surface: its genus is the noise's, and the icosphere took 2–4× the
-    // time for no better genus on the noisy-volume sweep.)
+    // keeps its start's: an offset that joins two parts lying close (where the grid is
+    // coarse) starts with handles the target lacks. (Not a volume's iso-surface: its genus is
+    // the noise's, and the icosphere there costs time for no better genus.)
     let wrong_topology = |start: &Start| {
         settings.start.surface == StartSurface::Isosurface
             && !target.sampled
@@ -96,15 +96,14 @@ pub(super) fn build_start_with_fallback(
 /// ~4 cells wide, and the icosphere then wraps over it): the isosurface start on grids
 /// [`FINER_GRIDS`] times finer, the first with the target's topology, with its field and
 /// settings. `None` when the start taken is not that fallback, or no finer grid helps (or
-/// fits the field's memory cap). (A noisy volume's iso-surface rarely matches: five of the 18
-/// of `benches/noisy/sweep.sh` try both grids in vain, 1.3–1.9 s each.)
+/// fits the field's memory cap). (A noisy volume's iso-surface rarely matches, so there the
+/// finer fields are mostly built in vain.)
 ///
 /// A volume's iso-surface of one closed part whose isosurface `start` has another topology
 /// tries the first of them too, and keeps `start` when it does not match (see
-/// `build_start_with_fallback`: no icosphere for volumes). A knot of voxels whose strands
-/// pass 6 voxels apart started with two of its crossings joined and three specks of
-/// tetrahedra, and ended so: genus 2 in 4 parts for genus 1; its start 1.5× finer has the
-/// knot's topology.
+/// `build_start_with_fallback`: no icosphere for volumes): strands of voxels passing close can
+/// be joined in the start, and the wrap keeps its start's topology to the end, where a finer
+/// grid's start keeps them apart.
 pub(super) fn finer_start(
     target: &Target,
     closed: Option<&MeshReport>,
@@ -125,7 +124,7 @@ pub(super) fn finer_start(
         return None;
     }
     // (A volume's own start only 1.5× finer: past its voxels a finer grid rarely changes
-    // the iso-surface's topology, and three of the noisy volumes tried both in vain, 1.7 s.)
+    // the iso-surface's topology, so a second grid would mostly be built in vain.)
     let grids = match fell_back {
         true => &FINER_GRIDS[..],
         false => &FINER_GRIDS[..1],
@@ -153,8 +152,8 @@ fn fall_back(
 ) -> Result<Start, EvolveError> {
     let coarser = coarser_isosurface_start(requested, settings);
     match coarser.map(|s| (build_start(target, field, &s), s)) {
-        // Only with the target's own topology: two linked voxel tori gave a clean coarse
-        // start of 5 components (the offsets merge where they link).
+        // Only with the target's own topology: a coarse start free of intersections can still
+        // have other parts (the offsets of linked parts merge where they link).
         Some((Ok(start), s)) if same_topology(&start.mesh, target, closed) => {
             *settings = s;
             Ok(start)

@@ -17,13 +17,13 @@ use glam::DVec3;
 
 /// Tunnels are looked for from this share of the step limit on: by then membranes over holes
 /// they can reach have met, and the ones left are stuck (cut earlier, while still far from the
-/// walls, a tube fits a genus-5 chain's holes worse: 2.6× the largest distance).
+/// walls, a tube fits the hole worse; see docs/decisions/0014-surgery-tunnels.md).
 const TUNNELS_FROM: f64 = 0.5;
 
 /// Where a cloud's local spacing exceeds this many times its median, surgery reads "far from the
 /// data" at the local spacing: `surgery.empty_spacings` local spacings. (Below, at the median:
-/// a random sampling's local medians scatter about it, and an even sampling's handles stay as
-/// they were.)
+/// a random sampling's local medians scatter about it, and an even sampling keeps the global
+/// reading.)
 const SPARSE: f64 = 1.5;
 
 /// A cloud's median spacing in the stabilised frame, for surgery's reading of local spacing;
@@ -60,9 +60,9 @@ impl Evolver {
     /// The last look, on the step that ends the evolution (before the final fit): membranes
     /// still closing in on each other are cut as they are. The wait for them to settle exists
     /// so that a hole is not cut twice, and there is no later look; without this, membranes
-    /// that met late (a cube's hole in a cloud with noise of 1 % of the diagonal: first touch
-    /// at step 120 of 146) stayed uncut and the wrap lost the handle. The distances are
-    /// sampled at the current surface for the look and kept only if it operated.
+    /// that meet late stay uncut and the wrap loses the handle (see
+    /// docs/decisions/0016-surgery-last-look.md). The distances are sampled at the current
+    /// surface for the look and kept only if it operated.
     pub(super) fn surgery_last(&mut self, times: &mut PhaseTimes) -> Vec<SurgeryEvent> {
         if !self.settings.surgery.enabled {
             return Vec::new();
