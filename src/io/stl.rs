@@ -67,8 +67,27 @@ pub fn read_progress(bytes: &[u8], progress: &mut Progress) -> Result<RawGeometr
         let (p, t) = read_ascii(bytes, progress)?;
         return Ok((p, t, Encoding::Ascii));
     }
+    if !is_exact_binary_stl(bytes) && !starts_solid && first_binary_byte(bytes, 4096).is_none() {
+        return Err(not_stl_text(bytes));
+    }
     let (p, t) = read_binary(bytes, progress)?;
     Ok((p, t, Encoding::BinaryLe))
+}
+
+/// Text that does not begin with "solid" is neither STL encoding: say so, with its first word,
+/// rather than report it as a binary STL's short or overstated header.
+fn not_stl_text(bytes: &[u8]) -> IoError {
+    let first = words(&bytes[..bytes.len().min(256)])
+        .next()
+        .unwrap_or_default();
+    IoError::Syntax {
+        format: Format::Stl,
+        at: Location::Line(1),
+        expected: "\"solid\" (an ASCII STL) or a binary STL (text was found: this is not an STL \
+                   file)"
+            .into(),
+        found: format!("\"{}\"", String::from_utf8_lossy(first)),
+    }
 }
 
 fn read_binary(bytes: &[u8], progress: &mut Progress) -> Result<RawMesh, IoError> {
@@ -219,6 +238,21 @@ pub fn write(input: &WriteInput) -> Result<Vec<u8>, IoError> {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn text_that_is_not_ascii_stl_is_named_so() {
+        let e = read(b"This is just a note.\nNothing to see here.\n").unwrap_err();
+        let text = e.to_string();
+        assert!(text.contains("this is not an STL file"), "{text}");
+        assert!(text.contains("found \"This\""), "{text}");
+        // Binary data is still read as a binary STL (and refused by its header's count).
+        let mut b = vec![0u8; 80];
+        b.extend(1000u32.to_le_bytes());
+        assert!(read(&b)
+            .unwrap_err()
+            .to_string()
+            .contains("header declares 1000"));
+    }
+
     use super::*;
 
     #[test]
