@@ -67,11 +67,21 @@ pub fn read_progress(bytes: &[u8], progress: &mut Progress) -> Result<RawGeometr
         let (p, t) = read_ascii(bytes, progress)?;
         return Ok((p, t, Encoding::Ascii));
     }
-    if !is_exact_binary_stl(bytes) && !starts_solid && first_binary_byte(bytes, 4096).is_none() {
+    if !is_exact_binary_stl(bytes) && !starts_solid && is_text(bytes) {
         return Err(not_stl_text(bytes));
     }
     let (p, t) = read_binary(bytes, progress)?;
     Ok((p, t, Encoding::BinaryLe))
+}
+
+/// Whether the file's start is printable text: UTF-8 with no control bytes but line breaks and
+/// tabs (a binary STL's header and counts have some).
+fn is_text(bytes: &[u8]) -> bool {
+    let head = &bytes[..bytes.len().min(4096)];
+    first_binary_byte(head, 4096).is_none()
+        && head
+            .iter()
+            .all(|&b| b >= 0x20 || matches!(b, b'\t' | b'\n' | b'\r'))
 }
 
 /// Text that does not begin with "solid" is neither STL encoding: say so, with its first word,
