@@ -4,8 +4,7 @@
 //! passes after the first also refine where target vertices are still missed
 //! ([`crate::flow::error_sizing`]) and move wrap vertices onto them ([`crate::flow::reach`]).
 
-use super::remeshing::{freeze_where_intersecting, REMESH_TRIES};
-use super::{round_as_written, written, Evolver, PhaseTimes};
+use super::{Evolver, PhaseTimes};
 use crate::clock::now_ms;
 use crate::progress::Progress;
 
@@ -13,8 +12,9 @@ use crate::progress::Progress;
 pub const FIT_PHASE: &str = "final fit";
 use crate::flow::crease_fit::snap_to_creases;
 use crate::flow::error_sizing::{crease_caps, error_caps, wrap_faces, BEVEL_TOL_DEG};
-use crate::flow::guard::resolve_contacts;
+use crate::flow::guard::{freeze_where_intersecting, resolve_contacts, REMESH_TRIES};
 use crate::flow::reach::{reach_into_misses, settle_flap_tips};
+use crate::flow::scaling::{round_as_written, written};
 use crate::flow::snap::{snap_to_closest, snap_to_target, SnapParams, SnapTarget};
 use crate::geometry::creases::Creases;
 use crate::geometry::operators::normals::angle_weighted_normals;
