@@ -16,7 +16,7 @@
 mod advance;
 mod contact;
 mod fit;
-pub use fit::FitTimes;
+pub use super::fit::FitTimes;
 mod forces;
 mod second_pass;
 pub use second_pass::{StartedOver, ThirdPass, SECOND_PASS_PHASE};

@@ -12,7 +12,7 @@
 //! that join two crease vertices which the triangulation left unconnected. A move or flip that
 //! would turn a face over is not made; the fit's intersection check covers the rest.
 
-use crate::flow::reach::{through_material, MOVE_FLOOR};
+use super::reach::{through_material, MOVE_FLOOR};
 use crate::geometry::creases::{CreaseHit, Creases};
 use crate::geometry::operators::normals::angle_weighted_normals;
 use crate::geometry::spatial::bvh::TriangleBvh;
