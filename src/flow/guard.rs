@@ -262,6 +262,53 @@ pub fn check_divergence(mesh: &HalfedgeMesh, limits: &DivergenceLimits) -> Resul
     Ok(())
 }
 
+/// Tries of a remesh with the regions where it made faces intersect left alone.
+pub(crate) const REMESH_TRIES: usize = 3;
+/// At most this many intersecting pairs are frozen away; more and the remesh is given up.
+const MAX_FROZEN_PAIRS: usize = 64;
+/// How many rings around an intersection a remesh retry leaves alone.
+const FROZEN_RINGS: usize = 2;
+
+/// Marks in `frozen` the vertices of `before` (a mesh before its remesh into `after`) around the
+/// faces of `after` that intersect where `frame` puts them (the check that will judge the
+/// surface): the vertex of `before` nearest to each corner of such a face and its neighbours
+/// two rings out. Returns None when no faces intersect, and whether it froze any (false: too
+/// many pairs to freeze) otherwise.
+pub(crate) fn freeze_where_intersecting(
+    after: &HalfedgeMesh,
+    before: &HalfedgeMesh,
+    frame: impl Fn(DVec3) -> DVec3,
+    frozen: &mut [bool],
+) -> Option<bool> {
+    let pos: Vec<DVec3> = after.positions().iter().map(|&p| frame(p)).collect();
+    let tris = after.triangles();
+    let pairs = self_intersecting_pairs(&pos, &tris);
+    if pairs.is_empty() {
+        return None;
+    }
+    if pairs.len() > MAX_FROZEN_PAIRS {
+        return Some(false);
+    }
+    let old = before.positions();
+    let mut ring: Vec<u32> = Vec::new();
+    for (f, g) in pairs {
+        for v in tris[f as usize].into_iter().chain(tris[g as usize]) {
+            let p = after.position(v);
+            let nearest = (0..old.len() as u32)
+                .min_by(|&a, &b| {
+                    let (da, db) = (old[a as usize] - p, old[b as usize] - p);
+                    da.length_squared().total_cmp(&db.length_squared())
+                })
+                .unwrap_or(0);
+            ring.push(nearest);
+        }
+    }
+    for v in before.rings_around(&ring, FROZEN_RINGS) {
+        frozen[v as usize] = true;
+    }
+    Some(true)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

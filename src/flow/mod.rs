@@ -2,15 +2,13 @@
 
 pub mod colour;
 pub mod controls;
-pub mod crease_fit;
 pub mod detail;
-pub mod error_sizing;
 pub mod evolve_error;
 pub mod evolver;
+pub mod fit;
 pub mod guard;
 pub mod mcf;
 pub mod mcf_mesh;
-pub mod reach;
 pub mod regrow;
 pub mod scaling;
 pub mod settings;
@@ -22,8 +20,9 @@ pub mod tangential;
 
 pub use colour::{ColourMap, ColourMapInfo, COLOUR_MAPS, LESSON_COLOUR_MAPS};
 pub use evolver::{
-    CreaseJob, EvolveError, Evolver, FitTimes, PhaseTimes, StartedOver, StepReport, ThirdPass,
+    CreaseJob, EvolveError, Evolver, PhaseTimes, StartedOver, StepReport, ThirdPass,
 };
+pub use fit::{FitOptions, FitReport, FitTimes};
 pub use mcf::{exact_sphere_radius, mcf_step, McfSettings, McfStepReport, TauAdvice};
 pub use mcf_mesh::{LessonInfo, MeshFlow, MeshFlowStats, MeshMcfError, MeshTauAdvice, LESSONS};
 pub use settings::{

@@ -217,7 +217,7 @@ pub fn remesh_with_features(
 /// Remeshes with caller-supplied features (or those of `settings.features` when None) and a
 /// per-vertex cap on the target edge length (indexed like `mesh`): the sizing field is the
 /// smaller of the curvature sizing and the cap, so a caller that knows where the surface misses
-/// its target (see `flow::error_sizing`) can ask for shorter edges there.
+/// its target (see `flow::fit::error_sizing`) can ask for shorter edges there.
 pub fn remesh_capped(
     mesh: &mut HalfedgeMesh,
     settings: &RemeshSettings,

@@ -16,7 +16,7 @@
 mod advance;
 mod contact;
 mod fit;
-pub use fit::FitTimes;
+pub use super::fit::FitTimes;
 mod fit_view;
 pub use fit_view::CreaseJob;
 use fit_view::PendingCreases;
@@ -32,6 +32,7 @@ mod surgery;
 
 use super::guard::{ContactReport, Divergence, DivergenceLimits};
 use super::mcf::stats;
+use super::scaling::written;
 use super::settings::{StartSurface, WrapSettings};
 use super::snap::SnapTarget;
 use super::surgery::SurgeryEvent;
@@ -211,21 +212,6 @@ struct Checkpoint {
     sizes: EdgeSizes,
     step: u32,
     sizes_changed: bool,
-}
-
-/// `p` (stabilised frame, scale `phi` about `center`) as written: in the target's units,
-/// rounded to f32.
-fn written(p: DVec3, phi: f64, center: DVec3) -> DVec3 {
-    (p / phi + center).as_vec3().as_dvec3()
-}
-
-/// Moves every vertex of `mesh` onto its written position mapped back into the stabilised frame,
-/// so that a check of the mesh is a check of the file: rounding to f32 can make two faces that
-/// nearly touch cross.
-fn round_as_written(mesh: &mut HalfedgeMesh, phi: f64, center: DVec3) {
-    for p in mesh.positions_mut() {
-        *p = (written(*p, phi, center) - center) * phi;
-    }
 }
 
 /// What the phases of one step report, gathered for [`StepReport`].

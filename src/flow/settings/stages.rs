@@ -254,14 +254,14 @@ pub struct FitSettings {
     pub max_points: usize,
     /// Sharp creases of the target: edges whose faces turn by more than this many degrees
     /// are kept sharp — the fit puts wrap vertices on the target's corners and crease lines and
-    /// aligns wrap edges with them (see `flow::crease_fit`). A mesh's creases come from its
+    /// aligns wrap edges with them (see `flow::fit::crease_fit`). A mesh's creases come from its
     /// dihedral angles, a cloud's from plane fits around its points (lines at least 4 fit radii
     /// long, `geometry::cloud_creases`). 0 turns it off. Range 0–180; default 40.
     pub crease_angle_deg: f64,
     /// Error-adaptive sizing of a mesh target's fit: where a target vertex still lies farther
     /// than this many cells from the wrap after a pass (a bridged eye socket, mouth or fin
     /// root), the nearest wrap face's edges are halved, down to the finest edge the settings
-    /// allow, and the fit takes another pass (see `flow::error_sizing`). 0 turns it off; clouds
+    /// allow, and the fit takes another pass (see `flow::fit::error_sizing`). 0 turns it off; clouds
     /// have none. Range ≥ 0; default 0.25.
     pub refine_error_cells: f64,
     /// Most extra passes the error-adaptive sizing may add after `passes` (each halves the
@@ -277,7 +277,7 @@ pub struct FitSettings {
     /// Reaching into concavities on mesh targets (with the error-adaptive sizing): after a
     /// pass, the wrap vertex nearest to a target vertex still missed moves onto it when the
     /// way there is clear of the target — a slit narrower than a grid cell (a mouth,
-    /// the gap under an ear) is lined instead of bridged (see `flow::reach`). Default true.
+    /// the gap under an ear) is lined instead of bridged (see `flow::fit::reach`). Default true.
     pub reach: bool,
 }
 

@@ -43,10 +43,48 @@ pub fn reach_into_misses(
     mesh.garbage_collect();
     let tris = mesh.triangles();
     let positions = mesh.positions();
-    let wrap = TriangleBvh::new(positions, &tris);
-    let floor = MOVE_FLOOR * max_move;
-    // The samples under the wrap farther than `tol`: only there is a concavity bridged (one
-    // outside it is a sharp tip that the wrap cut, the crease fit's to place).
+    let ways = Ways {
+        target,
+        samples,
+        positions,
+        max_move,
+        floor: MOVE_FLOOR * max_move,
+        closed,
+    };
+    let mut tries = misses_under(&tris, positions, samples, misses, tol);
+    // At most [`TRIES_PER_VERTEX`] per wrap vertex: a folded target misses a great many samples
+    // in narrow gaps whose ways are nearly all blocked, and testing them all would dominate the
+    // pass.
+    let most = TRIES_PER_VERTEX * positions.len();
+    if tries.len() > most {
+        tries = spread_over_wrap(tries, most);
+    }
+    let proposals: Vec<Option<(u32, f64, u32)>> =
+        crate::parallel::map(tries.len(), |i| ways.propose(mesh, &tris, tries[i]));
+    // Per vertex, the farthest sample; ties go to the earlier sample (the same mesh each run).
+    let mut best: Vec<Option<(f64, u32)>> = vec![None; positions.len()];
+    for &(v, d2, m) in proposals.iter().flatten() {
+        let slot = &mut best[v as usize];
+        if slot.is_none_or(|(b, _)| d2 > b) {
+            *slot = Some((d2, m));
+        }
+    }
+    let (new, moved) = ways.dent(mesh, &best);
+    mesh.positions_mut().copy_from_slice(&new);
+    moved
+}
+
+/// The tries of a reach, `(sample, wrap face nearest to it, squared distance)`: the `misses`
+/// under the wrap farther than `tol`. Only there is a concavity bridged (one outside it is a
+/// sharp tip that the wrap cut, the crease fit's to place).
+fn misses_under(
+    tris: &[[u32; 3]],
+    positions: &[DVec3],
+    samples: &[DVec3],
+    misses: &[u32],
+    tol: f64,
+) -> Vec<(u32, u32, f64)> {
+    let wrap = TriangleBvh::new(positions, tris);
     let hits =
         wrap.closest_points_within(misses.len(), |i| samples[misses[i] as usize], f64::INFINITY);
     let under: Vec<Option<(u32, f64)>> = crate::parallel::map(misses.len(), |i| {
@@ -59,56 +97,80 @@ pub fn reach_into_misses(
         let below = (s - hit.point).dot((b - a).cross(c - a)) < 0.0;
         below.then_some((hit.triangle, hit.distance_squared))
     });
-    let mut tries: Vec<(u32, u32, f64)> = (misses.iter().zip(under))
+    (misses.iter().zip(under))
         .filter_map(|(&m, u)| u.map(|(t, d2)| (m, t, d2)))
-        .collect();
-    // At most [`TRIES_PER_VERTEX`] per wrap vertex: a folded target (a brain's sulci) misses a
-    // great many samples in narrow gaps whose ways are nearly all blocked, and testing them all
-    // would dominate the pass. Spread over the wrap: each face's deepest, then each face's
-    // second deepest, and so on (the deepest of all lie in a few deep gaps, all blocked: taking
-    // them first would reach none).
-    let most = TRIES_PER_VERTEX * positions.len();
-    if tries.len() > most {
-        tries.sort_by(|x, y| x.1.cmp(&y.1).then(y.2.total_cmp(&x.2)).then(x.0.cmp(&y.0)));
-        let mut rank = vec![0u32; tries.len()];
-        for i in 1..tries.len() {
-            if tries[i].1 == tries[i - 1].1 {
-                rank[i] = rank[i - 1] + 1;
-            }
+        .collect()
+}
+
+/// The `most` of `tries` (as [`misses_under`] gives them) spread over the wrap: each face's
+/// deepest, then each face's second deepest, and so on (the deepest of all lie in a few deep
+/// gaps, all blocked: taking them first would reach none); in the order of their samples.
+fn spread_over_wrap(mut tries: Vec<(u32, u32, f64)>, most: usize) -> Vec<(u32, u32, f64)> {
+    tries.sort_by(|x, y| x.1.cmp(&y.1).then(y.2.total_cmp(&x.2)).then(x.0.cmp(&y.0)));
+    let mut rank = vec![0u32; tries.len()];
+    for i in 1..tries.len() {
+        if tries[i].1 == tries[i - 1].1 {
+            rank[i] = rank[i - 1] + 1;
         }
-        let mut order: Vec<usize> = (0..tries.len()).collect();
-        order.sort_by(|&i, &j| {
-            let (x, y) = (&tries[i], &tries[j]);
-            rank[i]
-                .cmp(&rank[j])
-                .then(y.2.total_cmp(&x.2))
-                .then(x.0.cmp(&y.0))
-        });
-        order.truncate(most);
-        let mut kept: Vec<(u32, u32, f64)> = order.into_iter().map(|i| tries[i]).collect();
-        kept.sort_by_key(|x| x.0);
-        tries = kept;
     }
-    let proposals: Vec<Option<(u32, f64, u32)>> = crate::parallel::map(tries.len(), |i| {
-        let (m, face, d2) = tries[i];
-        let s = samples[m as usize];
-        let t = tris[face as usize];
-        // `strict`: a way that crosses the target at all is refused, not only one through its
-        // material.
-        let clear = |v: u32, strict: bool| {
-            let p = positions[v as usize];
-            // (From a vertex where two overlapping parts of a target meet, the way into one
-            // part's material, towards the other's buried surface, may cross nothing: its
-            // middle is inside.)
-            let inside = || closed && target.encloses(0.5 * (p + s));
-            let through = || match strict {
-                true => target.crosses(p - STRETCH * (s - p), s - STRETCH * (s - p)),
-                false => through_material(target, p, s, floor),
-            };
-            (s - p).length() <= max_move && !through() && !inside()
+    let mut order: Vec<usize> = (0..tries.len()).collect();
+    order.sort_by(|&i, &j| {
+        let (x, y) = (&tries[i], &tries[j]);
+        rank[i]
+            .cmp(&rank[j])
+            .then(y.2.total_cmp(&x.2))
+            .then(x.0.cmp(&y.0))
+    });
+    order.truncate(most);
+    let mut kept: Vec<(u32, u32, f64)> = order.into_iter().map(|i| tries[i]).collect();
+    kept.sort_by_key(|x| x.0);
+    kept
+}
+
+/// The ways of a reach from the wrap's vertices (`positions`) to the target's `samples`.
+struct Ways<'a> {
+    target: &'a TriangleBvh,
+    samples: &'a [DVec3],
+    positions: &'a [DVec3],
+    max_move: f64,
+    /// The least dip [`through_material`] allows.
+    floor: f64,
+    closed: bool,
+}
+
+impl Ways<'_> {
+    /// Whether the way from vertex `v` to `s` is clear: no longer than the longest move, not
+    /// through the target's material (`strict`: not crossing the target at all), and on a
+    /// closed target not inside it.
+    fn clear(&self, v: u32, s: DVec3, strict: bool) -> bool {
+        let p = self.positions[v as usize];
+        // (From a vertex where two overlapping parts of a target meet, the way into one
+        // part's material, towards the other's buried surface, may cross nothing: its
+        // middle is inside.)
+        let inside = || self.closed && self.target.encloses(0.5 * (p + s));
+        let through = || match strict {
+            true => self
+                .target
+                .crosses(p - STRETCH * (s - p), s - STRETCH * (s - p)),
+            false => through_material(self.target, p, s, self.floor),
         };
+        (s - p).length() <= self.max_move && !through() && !inside()
+    }
+
+    /// The move a try `(sample, face, squared distance)` proposes: `(vertex, squared distance,
+    /// sample)`, from the face's corner nearest to the sample, or when that way is blocked
+    /// from the nearest vertex two rings around with a clear way; None when none has one.
+    fn propose(
+        &self,
+        mesh: &HalfedgeMesh,
+        tris: &[[u32; 3]],
+        (m, face, d2): (u32, u32, f64),
+    ) -> Option<(u32, f64, u32)> {
+        let (positions, closed) = (self.positions, self.closed);
+        let s = self.samples[m as usize];
+        let t = tris[face as usize];
         let v = nearest_corner(t, positions, s);
-        if clear(v, false) {
+        if self.clear(v, s, false) {
             return Some((v, d2, m));
         }
         // The nearest corner's way is blocked (a lip between it and a slit's far corner): the
@@ -125,51 +187,52 @@ pub fn reach_into_misses(
             .find(|&u| {
                 // (On a closed target it must also arrive from outside: a sample on a buried
                 // surface is reached only through the material.)
-                let arrives = || !target.encloses(s - ARRIVAL * (s - positions[u as usize]));
-                u != v && clear(u, !closed) && (!closed || arrives())
+                let arrives = || {
+                    !self
+                        .target
+                        .encloses(s - ARRIVAL * (s - positions[u as usize]))
+                };
+                u != v && self.clear(u, s, !closed) && (!closed || arrives())
             })
             .map(|u| (u, d2, m))
-    });
-    // Per vertex, the farthest sample; ties go to the earlier sample (the same mesh each run).
-    let mut best: Vec<Option<(f64, u32)>> = vec![None; positions.len()];
-    for &(v, d2, m) in proposals.iter().flatten() {
-        let slot = &mut best[v as usize];
-        if slot.is_none_or(|(b, _)| d2 > b) {
-            *slot = Some((d2, m));
-        }
     }
-    // The moved vertices' other neighbours follow by a share of the mean move, so that the dent
-    // starts with sloped sides rather than a spike whose remeshed sides fold into a flap (a
-    // flap stands off the concavity's wall, a dent does not).
-    let mut follow = vec![(DVec3::ZERO, 0u32); positions.len()];
-    for (v, b) in best.iter().enumerate() {
-        if let Some((_, s)) = b {
-            let d = samples[*s as usize] - positions[v];
-            for u in mesh.neighbors(v as u32) {
-                if best[u as usize].is_none() {
-                    let f = &mut follow[u as usize];
-                    *f = (f.0 + d, f.1 + 1);
+
+    /// The new positions, and how many vertices moved onto a sample: each vertex with a `best`
+    /// `(squared distance, sample)` onto it. The moved vertices' other neighbours follow by
+    /// [`DENT_SHARE`] of the mean move where their way is as clear, so that the dent starts
+    /// with sloped sides rather than a spike whose remeshed sides fold into a flap (a flap
+    /// stands off the concavity's wall, a dent does not).
+    fn dent(&self, mesh: &HalfedgeMesh, best: &[Option<(f64, u32)>]) -> (Vec<DVec3>, usize) {
+        let (positions, samples, target) = (self.positions, self.samples, self.target);
+        let mut follow = vec![(DVec3::ZERO, 0u32); positions.len()];
+        for (v, b) in best.iter().enumerate() {
+            if let Some((_, s)) = b {
+                let d = samples[*s as usize] - positions[v];
+                for u in mesh.neighbors(v as u32) {
+                    if best[u as usize].is_none() {
+                        let f = &mut follow[u as usize];
+                        *f = (f.0 + d, f.1 + 1);
+                    }
                 }
             }
         }
-    }
-    let mut new = positions.to_vec();
-    let mut moved = 0;
-    for (v, q) in new.iter_mut().enumerate() {
-        if let Some((_, s)) = best[v] {
-            *q = samples[s as usize];
-            moved += 1;
-        } else if let (sum, k @ 1..) = follow[v] {
-            let to = *q + DENT_SHARE * sum / k as f64;
-            let blocked =
-                through_material(target, *q, to, floor) || (closed && target.encloses(to));
-            if !blocked {
-                *q = to;
+        let mut new = positions.to_vec();
+        let mut moved = 0;
+        for (v, q) in new.iter_mut().enumerate() {
+            if let Some((_, s)) = best[v] {
+                *q = samples[s as usize];
+                moved += 1;
+            } else if let (sum, k @ 1..) = follow[v] {
+                let to = *q + DENT_SHARE * sum / k as f64;
+                let blocked = through_material(target, *q, to, self.floor)
+                    || (self.closed && target.encloses(to));
+                if !blocked {
+                    *q = to;
+                }
             }
         }
+        (new, moved)
     }
-    mesh.positions_mut().copy_from_slice(&new);
-    moved
 }
 
 /// How many missed samples [`reach_into_misses`] tries per wrap vertex, at most: above what an
