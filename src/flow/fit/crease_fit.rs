@@ -4,8 +4,8 @@
 //! flipped, their vertices slide only along them, corners are pinned).
 //!
 //! Without this, a surface that settled at the offset d₀ and was then projected onto the faces
-//! keeps a bevel about a cell wide along every crease and cuts every corner: on a cube that
-//! is the whole Hausdorff error.
+//! keeps a bevel about a cell wide along every crease and cuts every corner: on a target of
+//! flat faces that is the whole Hausdorff error.
 //!
 //! Order: corners first (each takes its nearest wrap vertex), then crease vertices (nearest
 //! first, one per half edge length along a line, so two never land on one point), then flips
