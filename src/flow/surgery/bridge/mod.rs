@@ -12,14 +12,13 @@
 mod labels;
 mod loops;
 mod neck;
+mod tangled;
 mod tubes;
 mod zip;
 
 use crate::mesh::HalfedgeMesh;
 use glam::DVec3;
-use labels::{regions, split, Labels};
-use loops::{disk_loop, region_loops, remove_region};
-use neck::{cap, faces_across, joined_beyond};
+use labels::{regions, Labels};
 
 /// What an operation did to the surface.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -66,131 +65,64 @@ pub struct Glued {
 /// tube cut there would leave the rest of them facing each other around it, and cutting that
 /// later would open a second handle through the same hole.
 pub fn glue_facing_regions(pass: &Pass) -> Option<Glued> {
-    let Pass {
-        mesh,
-        partner,
-        min_vertices,
-        skip,
-        far,
-        mut spare_handles,
-        ..
-    } = *pass;
-    let level = regions(mesh, partner);
-    let (region, sizes, seeds) = (&level.of, &level.sizes, &level.seeds);
-    let n_regions = sizes.len();
-    let votes = level.votes(partner);
+    let level = regions(pass.mesh, pass.partner);
+    let votes = level.votes(pass.partner);
     let faces_of = Labels::facing(&votes);
-    let mut removed = vec![false; mesh.n_faces()];
-    let mut tubes_tris = Vec::new();
-    let mut tubes = Vec::new();
-    pass.tubes(&level, &faces_of, &mut removed, &mut tubes_tris, &mut tubes);
-    // Tangled regions: a membrane that meets several others (the arms of one cavity: a cube
-    // drilled along three axes) pairs along a ring, not a disk, and no tube fits it. Each such
-    // region is split by the region its vertices face, and the pieces are paired.
-    let mut used = vec![false; n_regions];
-    for f in (0..mesh.n_faces() as u32).filter(|&f| removed[f as usize]) {
-        let [a, b, c] = mesh.face_vertices(f).map(|v| region[v as usize]);
-        if let (Some(r), true) = (a, a == b && b == c) {
-            used[r as usize] = true;
+    let mut work = Work::new(pass.mesh);
+    pass.tubes(&level, &faces_of, &mut work);
+    pass.tangled_tubes(&level, &votes, &mut work);
+    pass.necks(&level, &faces_of, &mut work);
+    (!work.tubes.is_empty()).then(|| work.glued(pass.mesh))
+}
+
+/// The operations of one pass so far: the faces they cut out, their new vertices and faces, and
+/// their records.
+struct Work {
+    /// Per face of the surface: cut out.
+    removed: Vec<bool>,
+    /// The surface's vertices, then the caps' centres.
+    positions: Vec<DVec3>,
+    /// The new faces, in the order of the records.
+    tris: Vec<[u32; 3]>,
+    tubes: Vec<Tube>,
+}
+
+impl Work {
+    /// Nothing done yet on `mesh`.
+    fn new(mesh: &HalfedgeMesh) -> Self {
+        Work {
+            removed: vec![false; mesh.n_faces()],
+            positions: mesh.positions().to_vec(),
+            tris: Vec::new(),
+            tubes: Vec::new(),
         }
     }
-    let tangled: Vec<bool> = (0..n_regions as u32)
-        .map(|r| {
-            let mut sheets: Vec<u32> = votes[r as usize]
-                .iter()
-                .filter(|&&(s, n)| s != r && n >= min_vertices)
-                .map(|&(s, _)| far[seeds[s as usize] as usize])
-                .collect();
-            sheets.sort_unstable();
-            sheets.dedup();
-            sheets.len() >= 2
-                && !used[r as usize]
-                && !skip.contains(&r)
-                && disk_loop(mesh, region, r, &removed).is_none()
-        })
-        .collect();
-    if tangled.iter().any(|&t| t) {
-        let key = |v: usize| -> Option<(u32, u32)> {
-            let r = region[v]?;
-            let s = region[partner[v]? as usize]?;
-            match tangled[r as usize] {
-                true => Some((r, s)),
-                false if !used[r as usize] && !skip.contains(&r) => Some((r, u32::MAX)),
-                false => None,
-            }
-        };
-        let pieces = split(mesh, key, n_regions as u32);
-        let faces_of = Labels::facing(&pieces.votes(partner));
-        pass.tubes(
-            &pieces,
-            &faces_of,
-            &mut removed,
-            &mut tubes_tris,
-            &mut tubes,
-        );
-    }
-    // Necks: a ring facing itself across its axis.
-    let mut positions = mesh.positions().to_vec();
-    for a in 0..n_regions as u32 {
-        if faces_of[a as usize] != Some(a) || sizes[a as usize] < min_vertices || skip.contains(&a)
-        {
-            continue;
+
+    /// The faces of `mesh` left, followed by the new ones (the records' face ranges moved after
+    /// the faces left), without the vertices no face uses any more.
+    fn glued(self, mesh: &HalfedgeMesh) -> Glued {
+        let Work {
+            removed,
+            positions,
+            tris: new_tris,
+            mut tubes,
+        } = self;
+        let mut tris: Vec<[u32; 3]> = (0..mesh.n_faces() as u32)
+            .filter(|&f| !mesh.is_deleted_face(f) && !removed[f as usize])
+            .map(|f| mesh.face_vertices(f))
+            .collect();
+        let kept = tris.len();
+        for t in &mut tubes {
+            t.faces = kept + t.faces.start..kept + t.faces.end;
         }
-        let Some(loops) = region_loops(mesh, region, a, &removed, 0) else {
-            continue;
-        };
-        // No waiting here: the stumps of a neck cut at its thinnest part retract onto the data
-        // (or, around nothing, are dropped).
-        let [la, lb] = [&loops[0], &loops[1]];
-        let centroid =
-            |lp: &[u32]| lp.iter().map(|&v| mesh.position(v)).sum::<DVec3>() / lp.len() as f64;
-        let (ca, cb) = (centroid(la), centroid(lb));
-        // A neck whose loops stay joined round the rest of the surface takes a handle away:
-        // only a handle the target lacks, or (its genus unknown) one whose sheets face across
-        // the neck (see `faces_across`).
-        if joined_beyond(mesh, region, a, la[0], lb[0]) {
-            let take = match &mut spare_handles {
-                Some(k) => std::mem::replace(k, *k - 1) > 0,
-                None => faces_across(mesh, region, partner, a, cb - ca),
-            };
-            if !take {
-                continue;
-            }
+        tris.extend(new_tris);
+        let (positions, triangles) = compact(&positions, &tris);
+        Glued {
+            positions,
+            triangles,
+            tubes,
         }
-        remove_region(mesh, region, &[a], &mut removed);
-        let start = tubes_tris.len();
-        for (lp, away) in [(la, cb - ca), (lb, ca - cb)] {
-            tubes_tris.extend(cap(&mut positions, lp, away.normalize_or_zero()));
-        }
-        let sides = [seeds[a as usize]; 2];
-        tubes.push(record(
-            mesh,
-            Cut::Pinch,
-            la,
-            lb,
-            a,
-            sides,
-            start..tubes_tris.len(),
-        ));
     }
-    if tubes.is_empty() {
-        return None;
-    }
-    let mut tris: Vec<[u32; 3]> = (0..mesh.n_faces() as u32)
-        .filter(|&f| !mesh.is_deleted_face(f) && !removed[f as usize])
-        .map(|f| mesh.face_vertices(f))
-        .collect();
-    let kept = tris.len();
-    for t in &mut tubes {
-        t.faces = kept + t.faces.start..kept + t.faces.end;
-    }
-    tris.extend(tubes_tris);
-    let (positions, triangles) = compact(&positions, &tris);
-    Some(Glued {
-        positions,
-        triangles,
-        tubes,
-    })
 }
 
 /// What to glue (see [`glue_facing_regions`]).

@@ -4,7 +4,7 @@
 use super::labels::Labels;
 use super::loops::{disk_loop, remove_region};
 use super::zip::zip_loops;
-use super::{record, Cut, Pass, Tube};
+use super::{record, Cut, Pass, Work};
 
 /// A patch spans its hole when the median distance of its rim to the target is below this share
 /// of its deepest vertex's (or below `rim`).
@@ -12,15 +12,9 @@ const RIM_DEPTH: f64 = 0.5;
 
 impl Pass<'_> {
     /// Glues each mutually facing pair of `labels` (`faces_of`: the label each mostly faces)
-    /// with a tube, adding the tube's faces and record and marking the regions' faces removed.
-    pub(super) fn tubes(
-        &self,
-        labels: &Labels,
-        faces_of: &[Option<u32>],
-        removed: &mut [bool],
-        tubes_tris: &mut Vec<[u32; 3]>,
-        tubes: &mut Vec<Tube>,
-    ) {
+    /// with a tube, adding the tube's faces and record to `work` and marking the regions' faces
+    /// removed.
+    pub(super) fn tubes(&self, labels: &Labels, faces_of: &[Option<u32>], work: &mut Work) {
         let mesh = self.mesh;
         let d = |v: &u32| self.distances[*v as usize].abs();
         let id = |r: u32| r + labels.first_id;
@@ -47,8 +41,8 @@ impl Pass<'_> {
                 continue;
             }
             let (Some(la), Some(lb)) = (
-                disk_loop(mesh, &labels.of, id(a), removed),
-                disk_loop(mesh, &labels.of, id(b), removed),
+                disk_loop(mesh, &labels.of, id(a), &work.removed),
+                disk_loop(mesh, &labels.of, id(b), &work.removed),
             ) else {
                 continue;
             };
@@ -59,18 +53,18 @@ impl Pass<'_> {
             let Some(tube) = zip_loops(mesh, la, lb) else {
                 continue;
             };
-            remove_region(mesh, &labels.of, &[id(a), id(b)], removed);
-            let start = tubes_tris.len();
-            tubes_tris.extend(tube);
+            remove_region(mesh, &labels.of, &[id(a), id(b)], &mut work.removed);
+            let start = work.tris.len();
+            work.tris.extend(tube);
             let sides = [labels.seeds[a as usize], labels.seeds[b as usize]];
-            tubes.push(record(
+            work.tubes.push(record(
                 mesh,
                 Cut::Tube,
                 la,
                 lb,
                 labels.name(a),
                 sides,
-                start..tubes_tris.len(),
+                start..work.tris.len(),
             ));
         }
     }
