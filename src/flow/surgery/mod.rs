@@ -10,9 +10,9 @@ pub mod bridge;
 pub mod detect;
 
 use crate::geometry::operators::normals::angle_weighted_normals;
-use crate::mesh::HalfedgeMesh;
+use crate::mesh::{HalfedgeMesh, MeshReport};
 use crate::metrics::intersections::self_intersecting_pairs;
-use bridge::{glue_facing_regions, Cut, Pass, Tube};
+use bridge::{glue_facing_regions, Cut, Glued, Pass, Tube};
 use detect::{facing_pairs_and_tunnels, far_parts, in_opened_hole, FacingQuery, PATCH_WIDTHS};
 use glam::DVec3;
 use serde::Serialize;
@@ -161,7 +161,6 @@ fn operate(
     settled: bool,
     min_vertices: usize,
 ) -> Result<Option<Operated>, Intersecting> {
-    let Reading { probe, sparse } = reading;
     let Ok(before) = mesh.validate() else {
         return Ok(None);
     };
@@ -184,106 +183,127 @@ fn operate(
         }) else {
             return Ok(None);
         };
-        let mut balls = Vec::new();
-        let mut twins = Vec::new();
-        let mut sparse_gaps = Vec::new();
-        // Union-find over the parts in empty space: the tubes so far join theirs.
-        let mut set: Vec<u32> = (0..=far
-            .iter()
-            .filter(|&&p| p != u32::MAX)
-            .max()
-            .map_or(0, |&m| m))
-            .collect();
-        let root = |set: &[u32], mut p: u32| {
-            while set[p as usize] != p {
-                p = set[p as usize];
-            }
-            p
-        };
-        for t in glued.tubes.iter().filter(|t| t.cut == Cut::Tube) {
-            let f = sparse(t.position);
-            // A gap of a sparse sampling, not a hole: leave the operation out.
-            if f < 1.0 && probe(t.position).abs() * f < SPARSE_HOLE * query.empty {
-                sparse_gaps.push(t.region);
-                continue;
-            }
-            let [a, b] = t.sides.map(|v| far[v as usize]);
-            let joined = a != u32::MAX && b != u32::MAX && {
-                let (ra, rb) = (root(&set, a), root(&set, b));
-                set[ra.max(rb) as usize] = ra.min(rb);
-                ra == rb
-            };
-            if joined && in_opened_hole(t.position, &balls, query.empty, probe) {
-                twins.push(t.region);
-            } else {
-                balls.push((t.position, t.radius + OPENED_MARGIN * query.empty));
-            }
-        }
-        if !twins.is_empty() || !sparse_gaps.is_empty() {
-            skip.extend(twins);
-            skip.extend(sparse_gaps);
+        let left_out = twins_and_gaps(&glued.tubes, &far, query, &reading);
+        if !left_out.is_empty() {
+            skip.extend(left_out);
             continue;
         }
-        let Ok(out) = HalfedgeMesh::from_triangles(glued.positions, &glued.triangles) else {
+        let Glued {
+            positions,
+            triangles,
+            tubes,
+        } = glued;
+        let Some((out, after)) = rebuilt(positions, &triangles, &tubes, &before) else {
             return Ok(None);
         };
-        let Ok(after) = out.validate() else {
-            return Ok(None);
-        };
-        let change: i64 = glued
-            .tubes
-            .iter()
-            .map(|t| if t.cut == Cut::Tube { -2 } else { 2 })
-            .sum();
-        if after.euler_characteristic != before.euler_characteristic + change {
-            return Ok(None);
-        }
         let pairs = self_intersecting_pairs(out.positions(), &out.triangles());
         if pairs.is_empty() {
             return Ok(Some(Operated {
                 mesh: out,
-                tubes: glued.tubes,
+                tubes,
                 genus_before: before.genus,
                 genus_after: after.genus,
                 components_before: before.components,
                 components_after: after.components,
             }));
         }
-        // Each crossing is blamed on the operation that made its faces, and two operations
-        // crossing each other on the later one: the first stays in (tubes across the arms of
-        // one cavity can cross, and blaming both would leave every tube of the look out).
-        let owner = |f: u32| {
-            glued
-                .tubes
-                .iter()
-                .position(|t| t.faces.contains(&(f as usize)))
-        };
-        let mut bad = Vec::new();
-        for &(f, g) in &pairs {
-            match (owner(f), owner(g)) {
-                // Crossings among the old faces: they were there before.
-                (None, None) => return Err(Intersecting),
-                (Some(t), None) | (None, Some(t)) => bad.push(t),
-                (Some(s), Some(t)) => bad.push(s.max(t)),
-            }
-        }
-        bad.sort_unstable();
-        bad.dedup();
+        let bad = blamed(&tubes, &pairs)?;
         // Crossings at a curved membrane's rim, where the sheets part: the same cut a ring
         // further in, where they lie closer, is tried before the operation is left out.
         if skip.is_empty() && eroded < ERODE {
-            let sides = bad.iter().flat_map(|&t| glued.tubes[t].sides);
+            let sides = bad.iter().flat_map(|&t| tubes[t].sides);
             erode_rims(mesh, partner.to_mut(), sides);
             eroded += 1;
             continue;
         }
-        if bad.len() == glued.tubes.len() {
+        if bad.len() == tubes.len() {
             return Ok(None);
         }
-        let bad = bad.into_iter().map(|t| glued.tubes[t].region);
+        let bad = bad.into_iter().map(|t| tubes[t].region);
         skip.extend(bad);
     }
     Ok(None)
+}
+
+/// The regions of the `tubes` to leave out of this look: the tubes in the same hole as an
+/// earlier one (within its ball, between parts in empty space, `far`, that the earlier tubes
+/// join), then those whose centre lies in a gap of a sparse sampling rather than a hole.
+fn twins_and_gaps(tubes: &[Tube], far: &[u32], query: &FacingQuery, reading: &Reading) -> Vec<u32> {
+    let Reading { probe, sparse } = *reading;
+    let mut balls = Vec::new();
+    let mut twins = Vec::new();
+    let mut sparse_gaps = Vec::new();
+    // Union-find over the parts in empty space: the tubes so far join theirs.
+    let mut set: Vec<u32> = (0..=far
+        .iter()
+        .filter(|&&p| p != u32::MAX)
+        .max()
+        .map_or(0, |&m| m))
+        .collect();
+    let root = |set: &[u32], mut p: u32| {
+        while set[p as usize] != p {
+            p = set[p as usize];
+        }
+        p
+    };
+    for t in tubes.iter().filter(|t| t.cut == Cut::Tube) {
+        let f = sparse(t.position);
+        // A gap of a sparse sampling, not a hole: leave the operation out.
+        if f < 1.0 && probe(t.position).abs() * f < SPARSE_HOLE * query.empty {
+            sparse_gaps.push(t.region);
+            continue;
+        }
+        let [a, b] = t.sides.map(|v| far[v as usize]);
+        let joined = a != u32::MAX && b != u32::MAX && {
+            let (ra, rb) = (root(&set, a), root(&set, b));
+            set[ra.max(rb) as usize] = ra.min(rb);
+            ra == rb
+        };
+        if joined && in_opened_hole(t.position, &balls, query.empty, probe) {
+            twins.push(t.region);
+        } else {
+            balls.push((t.position, t.radius + OPENED_MARGIN * query.empty));
+        }
+    }
+    twins.extend(sparse_gaps);
+    twins
+}
+
+/// The glued surface as a mesh, with its report, when it is a valid closed manifold whose Euler
+/// characteristic changed by −2 per tube and +2 per cut neck from `before`'s.
+fn rebuilt(
+    positions: Vec<DVec3>,
+    triangles: &[[u32; 3]],
+    tubes: &[Tube],
+    before: &MeshReport,
+) -> Option<(HalfedgeMesh, MeshReport)> {
+    let out = HalfedgeMesh::from_triangles(positions, triangles).ok()?;
+    let after = out.validate().ok()?;
+    let change: i64 = tubes
+        .iter()
+        .map(|t| if t.cut == Cut::Tube { -2 } else { 2 })
+        .sum();
+    (after.euler_characteristic == before.euler_characteristic + change).then_some((out, after))
+}
+
+/// The operations (indices into `tubes`, sorted, once each) to blame for the crossing faces
+/// `pairs`: each crossing is blamed on the operation that made its faces, and two operations
+/// crossing each other on the later one (the first stays in: tubes across the arms of one cavity
+/// can cross, and blaming both would leave every tube of the look out). Crossings among the old
+/// faces were there before: `Intersecting`.
+fn blamed(tubes: &[Tube], pairs: &[(u32, u32)]) -> Result<Vec<usize>, Intersecting> {
+    let owner = |f: u32| tubes.iter().position(|t| t.faces.contains(&(f as usize)));
+    let mut bad = Vec::new();
+    for &(f, g) in pairs {
+        match (owner(f), owner(g)) {
+            (None, None) => return Err(Intersecting),
+            (Some(t), None) | (None, Some(t)) => bad.push(t),
+            (Some(s), Some(t)) => bad.push(s.max(t)),
+        }
+    }
+    bad.sort_unstable();
+    bad.dedup();
+    Ok(bad)
 }
 
 /// Rings by which a cut whose new faces cross the surface is moved into its membranes
