@@ -42,7 +42,7 @@ use crate::metrics::certificate::certify;
 use crate::metrics::creases::{crease_fidelity, CREASE_ANGLE_DEG, CREASE_OFFSET};
 use crate::metrics::distance::{two_sided_distance_values, DistanceStats, TwoSidedDistances};
 use crate::metrics::histogram::Histogram;
-use crate::metrics::quality::{covolume_stats, face_quality, quality_stats};
+use crate::metrics::quality::{covolume_stats, face_quality, quality_stats, CovolumeStats};
 use crate::metrics::volume::enclosed_volume;
 use crate::target::{Target, TargetKind};
 use glam::DVec3;
@@ -145,8 +145,60 @@ pub fn metrics_json_with(
     histograms: bool,
 ) -> Value {
     let (p, t) = (&mesh.points, &mesh.triangles);
+    let (mut out, volume) = mesh_json(file, mesh, target.map(|(_, tg)| tg));
+    let mut hist = serde_json::Map::new();
+    if histograms {
+        quality_histograms(p, t, &mut hist);
+    }
+    if let Some((tfile, tg)) = target {
+        let o = out.as_object_mut().expect("object");
+        target_json(
+            o,
+            p,
+            t,
+            volume,
+            (tfile, tg),
+            histograms.then_some(&mut hist),
+        );
+    }
+    if histograms {
+        out.as_object_mut()
+            .expect("object")
+            .insert("histograms".into(), Value::Object(hist));
+    }
+    out
+}
+
+/// The metrics of the mesh alone (counts, topology, quality, covolumes, volume, certificate),
+/// and its enclosed volume.
+fn mesh_json(file: &str, mesh: &Target, target: Option<&Target>) -> (Value, f64) {
+    let (p, t) = (&mesh.points, &mesh.triangles);
+    let (topology, covol) = topology_json(p, t);
+    let volume = enclosed_volume(p, t);
+    let t_si = crate::clock::now_ms();
+    let certificate = certify(p, t, target);
+    let self_intersections = certificate.self_intersections;
+    let si_ms = crate::clock::now_ms() - t_si;
+    let out = json!({
+        "file": file,
+        "vertices": p.len(),
+        "faces": t.len(),
+        "bbox_diagonal": mesh.bbox.diagonal(),
+        "topology": topology,
+        "quality": quality_stats(p, t),
+        "covolumes": covol,
+        "volume": volume,
+        "self_intersections": self_intersections,
+        "certificate": certificate,
+        "certificate_ms": si_ms,
+    });
+    (out, volume)
+}
+
+/// The `topology` object of the mesh and, when it is manifold, its covolume statistics.
+fn topology_json(p: &[DVec3], t: &[[u32; 3]]) -> (Value, Option<CovolumeStats>) {
     let nb = crate::mesh::edge_counts(t).boundary;
-    let built = HalfedgeMesh::from_triangles(p.clone(), t);
+    let built = HalfedgeMesh::from_triangles(p.to_vec(), t);
     let (manifold, oriented, problem, report, covol) = match &built {
         Err(e) => (false, false, Some(e.to_string()), None, None),
         Ok(m) => {
@@ -159,106 +211,93 @@ pub fn metrics_json_with(
             }
         }
     };
-    let volume = enclosed_volume(p, t);
-    let t_si = crate::clock::now_ms();
-    let certificate = certify(p, t, target.map(|(_, tg)| tg));
-    let self_intersections = certificate.self_intersections;
-    let si_ms = crate::clock::now_ms() - t_si;
-    let mut out = json!({
-        "file": file,
-        "vertices": p.len(),
-        "faces": t.len(),
-        "bbox_diagonal": mesh.bbox.diagonal(),
-        "topology": {
-            "closed": nb == 0 && built.is_ok(),
-            "manifold": manifold,
-            "oriented": oriented,
-            "boundary_edges": nb,
-            "euler_characteristic": report.map(|r| r.euler_characteristic),
-            "genus": report.map(|r| r.genus),
-            "components": report.map(|r| r.components),
-            "problem": problem,
-        },
-        "quality": quality_stats(p, t),
-        "covolumes": covol,
-        "volume": volume,
-        "self_intersections": self_intersections,
-        "certificate": certificate,
-        "certificate_ms": si_ms,
+    let topology = json!({
+        "closed": nb == 0 && built.is_ok(),
+        "manifold": manifold,
+        "oriented": oriented,
+        "boundary_edges": nb,
+        "euler_characteristic": report.map(|r| r.euler_characteristic),
+        "genus": report.map(|r| r.genus),
+        "components": report.map(|r| r.components),
+        "problem": problem,
     });
-    let mut hist = serde_json::Map::new();
-    if histograms {
-        let q = face_quality(p, t);
+    (topology, covol)
+}
+
+/// Adds the histograms of the face quality: `kappa`, `radius_ratio` and `min_angle_deg`.
+fn quality_histograms(p: &[DVec3], t: &[[u32; 3]], hist: &mut serde_json::Map<String, Value>) {
+    let q = face_quality(p, t);
+    hist.insert(
+        "kappa".into(),
+        json!(Histogram::new(&q.kappa, 1.0, 2.0, 20)),
+    );
+    hist.insert(
+        "radius_ratio".into(),
+        json!(Histogram::new(&q.radius_ratio, 0.0, 1.0 + 1e-12, 20)),
+    );
+    hist.insert(
+        "min_angle_deg".into(),
+        json!(Histogram::new(&q.min_angle_deg, 0.0, 60.0 + 1e-9, 12)),
+    );
+}
+
+/// Adds the keys measured against the target `(file, target)`: `target`, `creases` and
+/// `distances`, and with `hist` the two distance histograms.
+fn target_json(
+    o: &mut serde_json::Map<String, Value>,
+    p: &[DVec3],
+    t: &[[u32; 3]],
+    volume: f64,
+    (tfile, tg): (&str, &Target),
+    hist: Option<&mut serde_json::Map<String, Value>>,
+) {
+    let diag = tg.bbox.diagonal();
+    let (there, back) = two_sided_distance_values(p, t, &tg.points, &tg.triangles);
+    let (a, b) = (
+        DistanceStats::from_distances(&there),
+        DistanceStats::from_distances(&back),
+    );
+    let d = TwoSidedDistances {
+        mesh_to_target: a,
+        target_to_mesh: b,
+        hausdorff: a.max.max(b.max),
+    };
+    if let Some(hist) = hist {
+        let pct = |v: &[f64]| v.iter().map(|x| 100.0 * x / diag).collect::<Vec<f64>>();
         hist.insert(
-            "kappa".into(),
-            json!(Histogram::new(&q.kappa, 1.0, 2.0, 20)),
+            "mesh_to_target_percent".into(),
+            json!(Histogram::auto(&pct(&there), 20)),
         );
         hist.insert(
-            "radius_ratio".into(),
-            json!(Histogram::new(&q.radius_ratio, 0.0, 1.0 + 1e-12, 20)),
-        );
-        hist.insert(
-            "min_angle_deg".into(),
-            json!(Histogram::new(&q.min_angle_deg, 0.0, 60.0 + 1e-9, 12)),
+            "target_to_mesh_percent".into(),
+            json!(Histogram::auto(&pct(&back), 20)),
         );
     }
-    if let Some((tfile, tg)) = target {
-        let diag = tg.bbox.diagonal();
-        let (there, back) = two_sided_distance_values(p, t, &tg.points, &tg.triangles);
-        let (a, b) = (
-            DistanceStats::from_distances(&there),
-            DistanceStats::from_distances(&back),
-        );
-        let d = TwoSidedDistances {
-            mesh_to_target: a,
-            target_to_mesh: b,
-            hausdorff: a.max.max(b.max),
-        };
-        if histograms {
-            let pct = |v: &[f64]| v.iter().map(|x| 100.0 * x / diag).collect::<Vec<f64>>();
-            hist.insert(
-                "mesh_to_target_percent".into(),
-                json!(Histogram::auto(&pct(&there), 20)),
-            );
-            hist.insert(
-                "target_to_mesh_percent".into(),
-                json!(Histogram::auto(&pct(&back), 20)),
-            );
-        }
-        let tvol =
-            (tg.kind() == TargetKind::Mesh).then(|| enclosed_volume(&tg.points, &tg.triangles));
-        let o = out.as_object_mut().expect("object");
-        o.insert(
-            "target".into(),
-            json!({
-                "file": tfile,
-                "kind": tg.kind(),
-                "points": tg.points.len(),
-                "faces": tg.triangles.len(),
-                "bbox_diagonal": diag,
-                "volume": tvol,
-                "volume_ratio": tvol.map(|tv| volume / tv),
-            }),
-        );
-        let creases = tg.has_creases().then(|| {
-            let c = detect_creases(&tg.points, &tg.triangles, CREASE_ANGLE_DEG.to_radians());
-            crease_fidelity(p, t, &c, CREASE_OFFSET * diag)
-        });
-        o.insert("creases".into(), json!(creases.flatten()));
-        o.insert(
-            "distances".into(),
-            json!({
-                "absolute": d,
-                "percent_of_target_diagonal": d.percent_of(diag),
-            }),
-        );
-    }
-    if histograms {
-        out.as_object_mut()
-            .expect("object")
-            .insert("histograms".into(), Value::Object(hist));
-    }
-    out
+    let tvol = (tg.kind() == TargetKind::Mesh).then(|| enclosed_volume(&tg.points, &tg.triangles));
+    o.insert(
+        "target".into(),
+        json!({
+            "file": tfile,
+            "kind": tg.kind(),
+            "points": tg.points.len(),
+            "faces": tg.triangles.len(),
+            "bbox_diagonal": diag,
+            "volume": tvol,
+            "volume_ratio": tvol.map(|tv| volume / tv),
+        }),
+    );
+    let creases = tg.has_creases().then(|| {
+        let c = detect_creases(&tg.points, &tg.triangles, CREASE_ANGLE_DEG.to_radians());
+        crease_fidelity(p, t, &c, CREASE_OFFSET * diag)
+    });
+    o.insert("creases".into(), json!(creases.flatten()));
+    o.insert(
+        "distances".into(),
+        json!({
+            "absolute": d,
+            "percent_of_target_diagonal": d.percent_of(diag),
+        }),
+    );
 }
 
 /// Convenience for tests and `lsw wrap --stats`: the metrics JSON of in-memory data.

@@ -1,11 +1,11 @@
 //! `lsw wrap INPUT -o OUTPUT`: the whole pipeline, read → field → start surface → evolve → write.
 
 use crate::flow::{Preset, StepReport, WrapSettings};
-use crate::io::{read_path_with, write_path, WriteInput};
+use crate::io::{read_path_with, write_path, ReadResult, WriteInput};
 use crate::metrics::error_budget::error_budget;
-use crate::pipeline::{wrap, Observer};
+use crate::pipeline::{wrap, Observer, WrapResult};
 use serde_json::{json, Value};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `lsw wrap`.
 #[derive(clap::Args, Debug)]
@@ -94,6 +94,38 @@ pub fn apply_overrides(
 /// refused: the report is then the [`super::Failure`]'s, printed on stdout all the same).
 pub fn run(a: &WrapArgs) -> Result<String, super::Failure> {
     let t0 = crate::clock::now_ms();
+    let (preset, settings) = wrap_settings(a)?;
+    let read = read_path_with(&a.input, &a.volume.options()).map_err(super::explained)?;
+    a.volume.write_isosurface(&read)?;
+    let t_read = crate::clock::now_ms();
+    let mut observer = Steps::default();
+    let w = wrap(&read.target, settings, &mut observer).map_err(super::explained)?;
+    let reports = observer.reports;
+    let t_evolve = crate::clock::now_ms();
+    let failure = failure_of(&w);
+    let written = failure.is_none() || a.keep_invalid;
+    write_mesh(&a.output, &w, written)?;
+    let t_write = crate::clock::now_ms();
+    if let Some(path) = &a.stats {
+        write_stats(path, &w, &read, &reports)?;
+    }
+    let clock = Clock {
+        t0,
+        t_read,
+        t_evolve,
+        t_write,
+    };
+    let mut report = report_json(a, preset, &w, &read, &reports, written, clock);
+    if let Some(why) = &failure {
+        report["error"] = Value::String(why.clone());
+    }
+    let out = serde_json::to_string_pretty(&report).expect("JSON of plain values");
+    finish(out, failure, a.keep_invalid)
+}
+
+/// The preset named by `--preset` and its settings with `--set`, `--steps` and `--start`
+/// applied.
+fn wrap_settings(a: &WrapArgs) -> Result<(Preset, WrapSettings), String> {
     let preset = Preset::from_name(&a.preset).ok_or_else(|| {
         let names = Preset::ALL.map(Preset::name);
         format!("unknown preset \"{}\" (use {})", a.preset, names.join(", "))
@@ -113,14 +145,12 @@ pub fn run(a: &WrapArgs) -> Result<String, super::Failure> {
                 format!("unknown start surface \"{start}\" (use {options})")
             })?;
     }
-    let read = read_path_with(&a.input, &a.volume.options()).map_err(super::explained)?;
-    a.volume.write_isosurface(&read)?;
-    let t_read = crate::clock::now_ms();
-    let mut observer = Steps::default();
-    let w = wrap(&read.target, settings, &mut observer).map_err(super::explained)?;
-    let reports = observer.reports;
-    let t_evolve = crate::clock::now_ms();
-    let failure = match (&w.stop_reason, w.verdict.certified) {
+    Ok((preset, settings))
+}
+
+/// Why the wrap counts as failed (it stopped early, or its result is not certified), if it does.
+fn failure_of(w: &WrapResult) -> Option<String> {
+    match (&w.stop_reason, w.verdict.certified) {
         (Some(why), _) => Some(format!("the wrap stopped early: {why}")),
         (None, false) => Some(format!(
             "the result is not valid: {}",
@@ -130,7 +160,11 @@ pub fn run(a: &WrapArgs) -> Result<String, super::Failure> {
                 .unwrap_or("unknown problem")
         )),
         (None, true) => None,
-    };
+    }
+}
+
+/// Writes the mesh with its distances and settings to `output` when `write` says so.
+fn write_mesh(output: &Path, w: &WrapResult, write: bool) -> Result<(), String> {
     let settings_json = serde_json::to_string(&w.settings).expect("settings serialise");
     let scalars = [("distance", w.distances.as_slice())];
     let input = WriteInput {
@@ -139,39 +173,72 @@ pub fn run(a: &WrapArgs) -> Result<String, super::Failure> {
         scalars: &scalars,
         settings_json: Some(&settings_json),
     };
-    if failure.is_none() || a.keep_invalid {
-        write_path(&a.output, &input).map_err(super::explained)?;
+    if write {
+        write_path(output, &input).map_err(super::explained)?;
     }
-    let t_write = crate::clock::now_ms();
-    if let Some(path) = &a.stats {
-        let text = serde_json::to_string_pretty(&json!({
-            "settings": w.settings,
-            "start": w.start,
-            "stop_reason": w.stop_reason,
-            "isolated_points_left_out": w.left_out.strays,
-            "specks_left_out": w.left_out.specks,
-            "certificate": w.certificate,
-            "verdict": w.verdict,
-            "error_budget": error_budget(
-                &w.positions,
-                &w.triangles,
-                &read.target,
-                w.cell_size,
-                w.settings.fit.crease_angle_deg,
-            ),
-            "steps": reports,
-        }))
-        .expect("JSON");
-        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
-    }
+    Ok(())
+}
+
+/// Writes the `--stats` JSON: settings, start, certificate, verdict, error budget and steps.
+fn write_stats(
+    path: &Path,
+    w: &WrapResult,
+    read: &ReadResult,
+    reports: &[StepReport],
+) -> Result<(), String> {
+    let text = serde_json::to_string_pretty(&json!({
+        "settings": w.settings,
+        "start": w.start,
+        "stop_reason": w.stop_reason,
+        "isolated_points_left_out": w.left_out.strays,
+        "specks_left_out": w.left_out.specks,
+        "certificate": w.certificate,
+        "verdict": w.verdict,
+        "error_budget": error_budget(
+            &w.positions,
+            &w.triangles,
+            &read.target,
+            w.cell_size,
+            w.settings.fit.crease_angle_deg,
+        ),
+        "steps": reports,
+    }))
+    .expect("JSON");
+    std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The clock readings of a run: start, after reading, after the wrap, after writing.
+struct Clock {
+    t0: f64,
+    t_read: f64,
+    t_evolve: f64,
+    t_write: f64,
+}
+
+/// The report printed on stdout (see [`run`] for its keys).
+fn report_json(
+    a: &WrapArgs,
+    preset: Preset,
+    w: &WrapResult,
+    read: &ReadResult,
+    reports: &[StepReport],
+    written: bool,
+    clock: Clock,
+) -> Value {
+    let Clock {
+        t0,
+        t_read,
+        t_evolve,
+        t_write,
+    } = clock;
     let sum = |f: fn(&StepReport) -> f64| reports.iter().map(f).sum::<f64>();
     let last = reports.last();
-    let mut report = json!({
+    json!({
         "input": a.input.display().to_string(),
         "output": a.output.display().to_string(),
         "preset": preset.name(),
         "start": w.start,
-        "written": failure.is_none() || a.keep_invalid,
+        "written": written,
         "stop_reason": w.stop_reason,
         "certificate": w.certificate,
         "verdict": w.verdict,
@@ -218,18 +285,23 @@ pub fn run(a: &WrapArgs) -> Result<String, super::Failure> {
             "redone": sum(|r| r.times.redone),
         },
         "fit_ms": last.map(|r| r.times.fit_parts),
-    });
-    if let Some(why) = &failure {
-        report["error"] = Value::String(why.clone());
-    }
-    let out = serde_json::to_string_pretty(&report).expect("JSON of plain values");
+    })
+}
+
+/// The result of [`run`]: the report, or on failure the message (with the report after it on
+/// stderr) and the report for stdout.
+fn finish(
+    out: String,
+    failure: Option<String>,
+    keep_invalid: bool,
+) -> Result<String, super::Failure> {
     match failure {
         None => Ok(out),
         // The report goes to stdout as on success, and also after the message on stderr.
         Some(why) => Err(super::Failure {
             message: format!(
                 "{why}; {}\n{out}",
-                if a.keep_invalid {
+                if keep_invalid {
                     "the mesh was written anyway (--keep-invalid)"
                 } else {
                     "no mesh was written (--keep-invalid writes it anyway)"

@@ -51,12 +51,37 @@ pub struct CreaseHit {
     pub edge: u32,
 }
 
+/// Half-edges `(low, high, face, forward)`, `forward` 1 when the face runs from low to high.
+type HalfEdge = (u32, u32, u32, u32);
+
 /// The creases of the mesh `(points, triangles)` turning by more than `min_turn` radians.
 /// Coincident points are welded first (STL files repeat every vertex per face).
 pub fn detect_creases(points: &[DVec3], triangles: &[[u32; 3]], min_turn: f64) -> Creases {
-    // Weld by exact position, so that unwelded inputs share their edges.
+    let weld = weld_by_position(points);
+    let normals = face_normals(points, triangles);
+    let half = sorted_half_edges(triangles, &weld);
+    let (edges, incident, open_vertices) =
+        crease_edges(points, triangles, &normals, &half, min_turn);
+    let mut corner_ids = line_corners(points, &edges, &incident, min_turn);
+    corner_ids.extend(cone_points(
+        points,
+        triangles,
+        &normals,
+        &weld,
+        open_vertices,
+        &incident,
+        CONE_DEFECT_PER_TURN * min_turn,
+    ));
+    corner_ids.sort_unstable();
+    let corners: Vec<DVec3> = corner_ids.iter().map(|&v| points[v as usize]).collect();
+    Creases::new(edges, corners)
+}
+
+/// Per point, the id of the first point at exactly its position, so that unwelded inputs share
+/// their edges.
+fn weld_by_position(points: &[DVec3]) -> Vec<u32> {
     let mut first: HashMap<[u64; 3], u32> = HashMap::new();
-    let weld: Vec<u32> = points
+    points
         .iter()
         .enumerate()
         .map(|(i, p)| {
@@ -64,9 +89,12 @@ pub fn detect_creases(points: &[DVec3], triangles: &[[u32; 3]], min_turn: f64) -
                 .entry(p.to_array().map(f64::to_bits))
                 .or_insert(i as u32)
         })
-        .collect();
-    // Unit normals; None for faces too thin to have one.
-    let normals: Vec<Option<DVec3>> = triangles
+        .collect()
+}
+
+/// Unit face normals; None for faces too thin to have one.
+fn face_normals(points: &[DVec3], triangles: &[[u32; 3]]) -> Vec<Option<DVec3>> {
+    triangles
         .iter()
         .map(|t| {
             let [a, b, c] = t.map(|v| points[v as usize]);
@@ -77,9 +105,12 @@ pub fn detect_creases(points: &[DVec3], triangles: &[[u32; 3]], min_turn: f64) -
                 .max((a - c).length_squared());
             (n.length() > 1e-6 * longest && n.is_finite()).then(|| n.normalize())
         })
-        .collect();
-    // Half-edges (from, to, face), sorted so that the two sides of an edge are neighbours.
-    let mut half: Vec<(u32, u32, u32, u32)> = Vec::with_capacity(3 * triangles.len());
+        .collect()
+}
+
+/// The welded half-edges, sorted so that the two sides of an edge are neighbours.
+fn sorted_half_edges(triangles: &[[u32; 3]], weld: &[u32]) -> Vec<HalfEdge> {
+    let mut half: Vec<HalfEdge> = Vec::with_capacity(3 * triangles.len());
     for (f, t) in triangles.iter().enumerate() {
         let w = t.map(|v| weld[v as usize]);
         for k in 0..3 {
@@ -90,9 +121,20 @@ pub fn detect_creases(points: &[DVec3], triangles: &[[u32; 3]], min_turn: f64) -
         }
     }
     half.sort_unstable();
+    half
+}
+
+/// The crease edges among the sorted half-edges, the crease edges at each vertex, and the
+/// vertices on a boundary or non-manifold edge (their angle sums say nothing).
+fn crease_edges(
+    points: &[DVec3],
+    triangles: &[[u32; 3]],
+    normals: &[Option<DVec3>],
+    half: &[HalfEdge],
+    min_turn: f64,
+) -> (Vec<Crease>, HashMap<u32, Vec<u32>>, Vec<u32>) {
     let mut edges = Vec::new();
     let mut incident: HashMap<u32, Vec<u32>> = HashMap::new();
-    // Vertices on a boundary or non-manifold edge: their angle sums say nothing.
     let mut open_vertices: Vec<u32> = Vec::new();
     let mut i = 0;
     while i < half.len() {
@@ -110,35 +152,13 @@ pub fn detect_creases(points: &[DVec3], triangles: &[[u32; 3]], min_turn: f64) -
                 let turn = crate::fmath::acos(na.dot(nb).clamp(-1.0, 1.0));
                 if turn > min_turn {
                     let (a, b) = (points[half[i].0 as usize], points[half[i].1 as usize]);
-                    let far = |f: usize| {
-                        let t = triangles[f];
-                        t.iter()
-                            .map(|&v| points[v as usize])
-                            .max_by(|p, q| {
-                                let (dp, dq) = ((*p - a).cross(b - a), (*q - a).cross(b - a));
-                                dp.length_squared().total_cmp(&dq.length_squared())
-                            })
-                            .unwrap_or(a)
-                    };
-                    let side = |f: usize| {
-                        let q = far(f);
-                        let foot = closest_point_on_segment(q, a, b);
-                        let d = q - foot;
-                        // The edge's line, not the segment: the apex may project past an end.
-                        let e = (b - a).normalize_or_zero();
-                        let d = d - d.dot(e) * e;
-                        (d.normalize_or_zero(), d.length())
-                    };
-                    let ((ia, ha), (ib, hb)) = (side(fa), side(fb));
-                    edges.push(Crease {
-                        ends: [a, b],
-                        normals: [na, nb],
-                        inward: [ia, ib],
-                        heights: [ha, hb],
+                    edges.push(crease(
+                        points,
+                        [triangles[fa], triangles[fb]],
+                        [a, b],
+                        [na, nb],
                         turn,
-                        // A ridge: the other face falls away below this face's plane.
-                        convex: (far(fb) - a).dot(na) < 0.0,
-                    });
+                    ));
                     for v in [half[i].0, half[i].1] {
                         incident.entry(v).or_default().push(edges.len() as u32 - 1);
                     }
@@ -147,7 +167,64 @@ pub fn detect_creases(points: &[DVec3], triangles: &[[u32; 3]], min_turn: f64) -
         }
         i = j;
     }
-    let mut corner_ids: Vec<u32> = incident
+    (edges, incident, open_vertices)
+}
+
+/// The vertex of triangle `t` farthest from the line through `a` and `b` (`a` for none).
+fn far_vertex(points: &[DVec3], t: [u32; 3], a: DVec3, b: DVec3) -> DVec3 {
+    t.iter()
+        .map(|&v| points[v as usize])
+        .max_by(|p, q| {
+            let (dp, dq) = ((*p - a).cross(b - a), (*q - a).cross(b - a));
+            dp.length_squared().total_cmp(&dq.length_squared())
+        })
+        .unwrap_or(a)
+}
+
+/// The unit direction from the edge `a b` into triangle `t`, perpendicular to the edge, and the
+/// triangle's height over the edge.
+fn inward_side(points: &[DVec3], t: [u32; 3], a: DVec3, b: DVec3) -> (DVec3, f64) {
+    let q = far_vertex(points, t, a, b);
+    let foot = closest_point_on_segment(q, a, b);
+    let d = q - foot;
+    // The edge's line, not the segment: the apex may project past an end.
+    let e = (b - a).normalize_or_zero();
+    let d = d - d.dot(e) * e;
+    (d.normalize_or_zero(), d.length())
+}
+
+/// The crease on edge `ends` between the faces `faces` with unit normals `normals`.
+fn crease(
+    points: &[DVec3],
+    faces: [[u32; 3]; 2],
+    ends: [DVec3; 2],
+    normals: [DVec3; 2],
+    turn: f64,
+) -> Crease {
+    let [a, b] = ends;
+    let ((ia, ha), (ib, hb)) = (
+        inward_side(points, faces[0], a, b),
+        inward_side(points, faces[1], a, b),
+    );
+    Crease {
+        ends,
+        normals,
+        inward: [ia, ib],
+        heights: [ha, hb],
+        turn,
+        // A ridge: the other face falls away below this face's plane.
+        convex: (far_vertex(points, faces[1], a, b) - a).dot(normals[0]) < 0.0,
+    }
+}
+
+/// Vertices where crease lines end, branch or turn by more than `min_turn`, in no order.
+fn line_corners(
+    points: &[DVec3],
+    edges: &[Crease],
+    incident: &HashMap<u32, Vec<u32>>,
+    min_turn: f64,
+) -> Vec<u32> {
+    incident
         .iter()
         .filter(|(&v, es)| {
             if es.len() != 2 {
@@ -162,19 +239,7 @@ pub fn detect_creases(points: &[DVec3], triangles: &[[u32; 3]], min_turn: f64) -
             crate::fmath::acos((-dir(es[0])).dot(dir(es[1])).clamp(-1.0, 1.0)) > min_turn
         })
         .map(|(&v, _)| v)
-        .collect();
-    corner_ids.extend(cone_points(
-        points,
-        triangles,
-        &normals,
-        &weld,
-        open_vertices,
-        &incident,
-        CONE_DEFECT_PER_TURN * min_turn,
-    ));
-    corner_ids.sort_unstable();
-    let corners: Vec<DVec3> = corner_ids.iter().map(|&v| points[v as usize]).collect();
-    Creases::new(edges, corners)
+        .collect()
 }
 
 /// A vertex on no crease is still a corner when its angle defect (2π minus the angles of its

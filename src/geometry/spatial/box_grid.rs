@@ -33,81 +33,108 @@ fn overlap(amin: DVec3, amax: DVec3, bmin: DVec3, bmax: DVec3) -> bool {
     !(amin.cmpgt(bmax) | amax.cmplt(bmin)).any()
 }
 
-/// Every pair `(i, j)`, `i < j`, of boxes `[mins[i], maxs[i]]` that overlap (closed boxes:
-/// touching counts) and that `keep` keeps, each once, in no particular order; None when the
-/// boxes do not suit a grid (more than [`MAX_BIG`] big or non-finite ones, or a crowd of small
-/// ones).
-///
-/// The cells' runs are tested in parallel natively, and `keep` runs there too: most overlapping
-/// pairs of a mesh's faces share a vertex, and dropping
-/// them where they are found spares collecting them.
-pub fn overlapping_pairs(
-    mins: &[DVec3],
-    maxs: &[DVec3],
-    keep: impl Fn(u32, u32) -> bool + Sync,
-) -> Option<Vec<(u32, u32)>> {
+/// Whether box `i` has finite corners.
+fn finite(mins: &[DVec3], maxs: &[DVec3], i: usize) -> bool {
+    mins[i].is_finite() && maxs[i].is_finite()
+}
+
+/// The median of the boxes' largest extents.
+fn median_extent(mins: &[DVec3], maxs: &[DVec3]) -> f64 {
     let n = mins.len();
-    if n < 2 {
-        return Some(Vec::new());
-    }
-    // Cell: twice the median of the boxes' largest extents, so a typical box spans one or two
-    // cells per axis.
     let mut extents: Vec<f64> = mins
         .iter()
         .zip(maxs)
         .map(|(a, b)| (*b - *a).max_element())
         .collect();
     let (_, &mut median, _) = extents.select_nth_unstable_by(n / 2, |a, b| a.total_cmp(b));
-    // The grid spans the finite boxes (a non-finite one is a big one; `min` passes over a NaN
-    // only in some positions, which would leave the boxes before it below the grid's corner).
-    let finite = |i: usize| mins[i].is_finite() && maxs[i].is_finite();
-    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-    for i in (0..n).filter(|&i| finite(i)) {
-        lo = lo.min(mins[i]);
-        hi = hi.max(maxs[i]);
-    }
-    if !(lo.is_finite() && hi.is_finite()) {
-        return None;
-    }
-    let span = (hi - lo).max_element();
-    let cell = (2.0 * median)
-        .max(span / (MAX_DIM - 1) as f64)
-        .max(f64::MIN_POSITIVE);
-    let inv = 1.0 / cell;
-    // (Truncation is the floor here: every coordinate is at least `lo`.)
-    let coord = |p: DVec3| {
-        let q = (p - lo) * inv;
-        [q.x as i64, q.y as i64, q.z as i64]
-    };
-    let top = coord(hi);
-    let dims = top.map(|t| t as u64 + 1);
-    let key = |c: [i64; 3]| (c[0] as u64 * dims[1] + c[1] as u64) * dims[2] + c[2] as u64;
-    let mut entries: Vec<(u64, u32)> = Vec::with_capacity(4 * n);
-    let mut big: Vec<u32> = Vec::new();
-    for i in 0..n {
-        let (a, b) = (coord(mins[i]), coord(maxs[i]));
-        if !finite(i) || (0..3).map(|k| b[k] - a[k] + 1).product::<i64>() > MAX_CELLS {
-            big.push(i as u32);
-            if big.len() > MAX_BIG {
-                return None;
-            }
-            continue;
+    median
+}
+
+/// The (cell key, box) entries of the boxes that fit the grid, and the big boxes.
+type Entries = (Vec<(u64, u32)>, Vec<u32>);
+
+/// A uniform grid over the finite boxes: its corner, inverse cell size and cells per axis.
+struct Grid {
+    lo: DVec3,
+    inv: f64,
+    dims: [u64; 3],
+}
+
+impl Grid {
+    /// The grid spanning the finite boxes with cells of twice the median extent (so a typical
+    /// box spans one or two cells per axis), at most [`MAX_DIM`] per axis; None without a
+    /// finite box.
+    fn spanning(mins: &[DVec3], maxs: &[DVec3], median: f64) -> Option<Grid> {
+        // A non-finite box is a big one; `min` passes over a NaN only in some positions, which
+        // would leave the boxes before it below the grid's corner.
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for i in (0..mins.len()).filter(|&i| finite(mins, maxs, i)) {
+            lo = lo.min(mins[i]);
+            hi = hi.max(maxs[i]);
         }
-        for x in a[0]..=b[0] {
-            for y in a[1]..=b[1] {
-                for z in a[2]..=b[2] {
-                    entries.push((key([x, y, z]), i as u32));
+        if !(lo.is_finite() && hi.is_finite()) {
+            return None;
+        }
+        let span = (hi - lo).max_element();
+        let cell = (2.0 * median)
+            .max(span / (MAX_DIM - 1) as f64)
+            .max(f64::MIN_POSITIVE);
+        let mut grid = Grid {
+            lo,
+            inv: 1.0 / cell,
+            dims: [0; 3],
+        };
+        grid.dims = grid.coord(hi).map(|t| t as u64 + 1);
+        Some(grid)
+    }
+
+    /// The cell holding `p` (truncation is the floor here: every coordinate is at least `lo`).
+    #[inline]
+    fn coord(&self, p: DVec3) -> [i64; 3] {
+        let q = (p - self.lo) * self.inv;
+        [q.x as i64, q.y as i64, q.z as i64]
+    }
+
+    /// The sort key of a cell.
+    #[inline]
+    fn key(&self, c: [i64; 3]) -> u64 {
+        let dims = self.dims;
+        (c[0] as u64 * dims[1] + c[1] as u64) * dims[2] + c[2] as u64
+    }
+
+    /// Every (cell key, box) entry of the boxes that are not big, and the big boxes; None with
+    /// more than [`MAX_BIG`] big ones.
+    fn entries(&self, mins: &[DVec3], maxs: &[DVec3]) -> Option<Entries> {
+        let n = mins.len();
+        let mut entries: Vec<(u64, u32)> = Vec::with_capacity(4 * n);
+        let mut big: Vec<u32> = Vec::new();
+        for i in 0..n {
+            let (a, b) = (self.coord(mins[i]), self.coord(maxs[i]));
+            let cells = || (0..3).map(|k| b[k] - a[k] + 1).product::<i64>();
+            if !finite(mins, maxs, i) || cells() > MAX_CELLS {
+                big.push(i as u32);
+                if big.len() > MAX_BIG {
+                    return None;
+                }
+                continue;
+            }
+            for x in a[0]..=b[0] {
+                for y in a[1]..=b[1] {
+                    for z in a[2]..=b[2] {
+                        entries.push((self.key([x, y, z]), i as u32));
+                    }
                 }
             }
         }
+        Some((entries, big))
     }
-    let (keys, ids): (Vec<u64>, Vec<u32>) = radix_sort_by_cell(entries, dims.iter().product())
-        .into_iter()
-        .unzip();
-    // Runs of two or more entries in one cell: (start, end). Boxes far smaller than the
-    // median crowd into few cells (a CAD mesh's fine fillets among its large faces), where
-    // every pair in a cell is tested: beyond a budget proportional to the boxes, decline (the
-    // BVH separates them).
+}
+
+/// Runs of two or more sorted entries in one cell, as (start, end), and the box tests they
+/// take; None beyond [`TESTS_PER_BOX`] tests per box. Boxes far smaller than the median crowd
+/// into few cells (a CAD mesh's fine fillets among its large faces), where every pair in a
+/// cell is tested: the BVH separates them better.
+fn shared_runs(keys: &[u64], n: usize) -> Option<(Vec<(usize, usize)>, usize)> {
     let mut runs: Vec<(usize, usize)> = Vec::new();
     let mut tests = 0usize;
     let mut start = 0;
@@ -126,14 +153,12 @@ pub fn overlapping_pairs(
         }
         start = end;
     }
-    // The boxes in entry order: a run's tests then read contiguous memory (scattered reads
-    // would dominate).
-    let boxes: Vec<(DVec3, DVec3)> = ids
-        .iter()
-        .map(|&i| (mins[i as usize], maxs[i as usize]))
-        .collect();
-    // Chunks of consecutive runs with about equal work, tested in parallel (several per
-    // thread, so that one slow chunk does not leave a core idle).
+    Some((runs, tests))
+}
+
+/// Bounds of chunks of consecutive runs with about equal work, several per thread (so that
+/// one slow chunk does not leave a core idle).
+fn chunk_bounds(runs: &[(usize, usize)], tests: usize) -> Vec<usize> {
     let chunks = 16;
     let mut bounds = vec![0];
     let mut done = 0;
@@ -145,6 +170,20 @@ pub fn overlapping_pairs(
     }
     bounds.push(runs.len());
     bounds.dedup();
+    bounds
+}
+
+/// The kept overlapping pairs within the cells' runs, each reported by the cell holding the
+/// lowest corner of the overlap; the chunks run in parallel natively.
+fn pairs_in_runs(
+    grid: &Grid,
+    keys: &[u64],
+    ids: &[u32],
+    boxes: &[(DVec3, DVec3)],
+    runs: &[(usize, usize)],
+    bounds: &[usize],
+    keep: &(impl Fn(u32, u32) -> bool + Sync),
+) -> Vec<(u32, u32)> {
     let found = crate::parallel::map_each(bounds.len() - 1, |c| {
         let mut out = Vec::new();
         for &(start, end) in &runs[bounds[c]..bounds[c + 1]] {
@@ -153,7 +192,9 @@ pub fn overlapping_pairs(
                 let (imin, imax) = boxes[a];
                 for b in a + 1..end {
                     let (jmin, jmax) = boxes[b];
-                    if overlap(imin, imax, jmin, jmax) && key(coord(imin.max(jmin))) == here {
+                    if overlap(imin, imax, jmin, jmax)
+                        && grid.key(grid.coord(imin.max(jmin))) == here
+                    {
                         let (i, j) = (ids[a], ids[b]);
                         let (i, j) = (i.min(j), i.max(j));
                         if keep(i, j) {
@@ -165,13 +206,24 @@ pub fn overlapping_pairs(
         }
         out
     });
-    let mut out: Vec<(u32, u32)> = found.into_iter().flatten().collect();
-    // Big boxes against every other box; a pair of big ones from the lower index.
+    found.into_iter().flatten().collect()
+}
+
+/// Appends the kept pairs of each big box with every other box; a pair of big ones from the
+/// lower index.
+fn push_big_pairs(
+    mins: &[DVec3],
+    maxs: &[DVec3],
+    big: &[u32],
+    keep: &impl Fn(u32, u32) -> bool,
+    out: &mut Vec<(u32, u32)>,
+) {
+    let n = mins.len();
     let mut is_big = vec![false; n];
-    for &i in &big {
+    for &i in big {
         is_big[i as usize] = true;
     }
-    for &i in &big {
+    for &i in big {
         let (imin, imax) = (mins[i as usize], maxs[i as usize]);
         for j in 0..n as u32 {
             if j == i || (is_big[j as usize] && j < i) {
@@ -182,6 +234,41 @@ pub fn overlapping_pairs(
             }
         }
     }
+}
+
+/// Every pair `(i, j)`, `i < j`, of boxes `[mins[i], maxs[i]]` that overlap (closed boxes:
+/// touching counts) and that `keep` keeps, each once, in no particular order; None when the
+/// boxes do not suit a grid (more than [`MAX_BIG`] big or non-finite ones, or a crowd of small
+/// ones).
+///
+/// The cells' runs are tested in parallel natively, and `keep` runs there too: most overlapping
+/// pairs of a mesh's faces share a vertex, and dropping
+/// them where they are found spares collecting them.
+pub fn overlapping_pairs(
+    mins: &[DVec3],
+    maxs: &[DVec3],
+    keep: impl Fn(u32, u32) -> bool + Sync,
+) -> Option<Vec<(u32, u32)>> {
+    let n = mins.len();
+    if n < 2 {
+        return Some(Vec::new());
+    }
+    let median = median_extent(mins, maxs);
+    let grid = Grid::spanning(mins, maxs, median)?;
+    let (entries, big) = grid.entries(mins, maxs)?;
+    let (keys, ids): (Vec<u64>, Vec<u32>) = radix_sort_by_cell(entries, grid.dims.iter().product())
+        .into_iter()
+        .unzip();
+    let (runs, tests) = shared_runs(&keys, n)?;
+    // The boxes in entry order: a run's tests then read contiguous memory (scattered reads
+    // would dominate).
+    let boxes: Vec<(DVec3, DVec3)> = ids
+        .iter()
+        .map(|&i| (mins[i as usize], maxs[i as usize]))
+        .collect();
+    let bounds = chunk_bounds(&runs, tests);
+    let mut out = pairs_in_runs(&grid, &keys, &ids, &boxes, &runs, &bounds, &keep);
+    push_big_pairs(mins, maxs, &big, &keep, &mut out);
     Some(out)
 }
 
