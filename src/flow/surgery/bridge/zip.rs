@@ -84,8 +84,8 @@ pub(super) fn zip_loops(mesh: &HalfedgeMesh, a: &[u32], b: &[u32]) -> Option<Vec
 
 /// Staircase cells (n·m per start of `b`) a zip may fill across all the starts it tries.
 const ZIP_WORK: usize = 1 << 21;
-/// Loops with more staircase cells than this (loops of some 4 000 vertices each, far longer
-/// than any hole's rim on a wrap of ordinary size) are not zipped: their costs alone would
+/// Loops with more staircase cells than this (two loops of some √`ZIP_CELLS` vertices each, far
+/// longer than any hole's rim on a wrap of ordinary size) are not zipped: their costs alone would
 /// take too much memory.
 const ZIP_CELLS: usize = 1 << 24;
 
@@ -160,7 +160,7 @@ mod tests {
         assert!(zipped > 1500, "{zipped}");
     }
 
-    /// The loops of a plate's narrow hole (a dense, noisy cloud of a turned plate), in
+    /// The loops of a narrow hole through a plate sampled densely and noisily, in
     /// cylindrical coordinates about the hole's axis: a round 6-vertex loop and a zigzag 9-vertex
     /// one 6.5 radii below it. The tube zipped between them does not cross itself (a greedy zip
     /// or the zip of least area would).
