@@ -46,7 +46,7 @@ run() {
         "$bin" wrap "$in" -o "$OUT/$tag-$base.ply" --keep-invalid >"$OUT/$tag-$base.json" 2>/dev/null
     local hash
     hash=$(jq -r '.result_hash // "-"' "$OUT/$tag-$base.json" 2>/dev/null || echo -)
-    read -r secs kb <"$OUT/$tag-$base.time"
+    read -r secs kb < <(tail -n 1 "$OUT/$tag-$base.time")
     echo "${hash:--} $secs $((kb / 1024))"
 }
 
