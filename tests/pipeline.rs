@@ -3,26 +3,16 @@
 //! same mesh, the Euler characteristic matches the genus, and a target that cannot be wrapped is
 //! an error, not a result.
 
-use lsw::demo::shapes::generate;
-use lsw::flow::{StepReport, WrapSettings};
+use lsw::flow::StepReport;
 use lsw::pipeline::{wrap, Observer, Verdict, VerdictState};
 use lsw::target::Target;
 use wasm_bindgen_test::*;
 
 wasm_bindgen_test_configure!(run_in_browser);
 
-fn target(name: &str) -> Target {
-    let (p, t) = generate(name).unwrap_or_else(|e| panic!("{name}: {e}"));
-    Target::new(p, t).unwrap()
-}
-
-/// The defaults on a coarser grid with coarser final edges (as the corpus tier's wraps).
-fn coarse() -> WrapSettings {
-    let mut settings = WrapSettings::default();
-    settings.remesh.min_edge_multiplier = 0.3;
-    settings.field.cells_per_min_dimension = 24;
-    settings
-}
+#[path = "common/wraps.rs"]
+mod wraps;
+use wraps::{coarse, target};
 
 #[derive(Default)]
 struct Heard {

@@ -20,19 +20,9 @@ use wasm_bindgen_test::*;
 
 wasm_bindgen_test_configure!(run_in_browser);
 
-/// The target of a generated shape.
-fn target(name: &str) -> Target {
-    let (p, t) = generate(name).unwrap_or_else(|e| panic!("{name}: {e}"));
-    Target::new(p, t).unwrap()
-}
-
-/// The defaults with a coarser grid and coarser final edges (see the module's doc).
-fn coarse() -> WrapSettings {
-    let mut settings = WrapSettings::default();
-    settings.remesh.min_edge_multiplier = 0.3;
-    settings.field.cells_per_min_dimension = 24;
-    settings
-}
+#[path = "common/wraps.rs"]
+mod wraps;
+use wraps::{coarse, target};
 
 /// Wraps `target` with `settings` and returns the start used, the vertex count and the
 /// certificate of the result.
