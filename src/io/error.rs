@@ -4,74 +4,7 @@
 use crate::target::TargetError;
 use std::fmt;
 
-/// A file format known to `io` (for reading, writing or both).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Format {
-    /// Stanford PLY (ASCII, binary little- or big-endian).
-    Ply,
-    /// Wavefront OBJ.
-    Obj,
-    /// STL (ASCII or binary).
-    Stl,
-    /// Object File Format (OFF, COFF, NOFF, CNOFF).
-    Off,
-    /// Plain point lists: XYZ, PTS, TXT, CSV.
-    Xyz,
-    /// glTF 2.0 JSON (embedded or data-URI buffers).
-    Gltf,
-    /// glTF 2.0 binary container.
-    Glb,
-    /// Legacy VTK polydata (ASCII).
-    Vtk,
-    /// Point Cloud Library PCD (ASCII, binary, binary_compressed).
-    Pcd,
-    /// ASPRS LAS lidar points, or LASzip-compressed LAZ.
-    Las,
-    /// ASTM E57 laser-scan exchange file (every scan, in the common frame).
-    E57,
-    /// Leica PTX text export of terrestrial scans (every scan, in the common frame).
-    Ptx,
-    /// NIfTI-1 or NIfTI-2 volume (`.nii`, `.nii.gz`, `.hdr`/`.img`).
-    Nifti,
-    /// NRRD volume (`.nrrd` attached, `.nhdr` detached).
-    Nrrd,
-    /// VTK XML ImageData volume (`.vti`).
-    Vti,
-    /// MetaImage volume (`.mha`, `.mhd` + raw).
-    MetaImage,
-}
-
-impl Format {
-    /// The formats `io::write_bytes` can write (those marked `write` in
-    /// [`super::formats::FORMATS`]).
-    pub const WRITABLE: [Format; 5] = super::formats::WRITABLE;
-
-    /// True for the voxel-volume formats (NIfTI, NRRD, VTI, MetaImage).
-    pub fn is_volume(self) -> bool {
-        self.info().kind == super::formats::FormatKind::Volume
-    }
-
-    /// Short lower-case name, as printed by `lsw info` and used in error messages.
-    pub fn name(self) -> &'static str {
-        self.info().name
-    }
-
-    /// The format a file extension (without dot, any case) usually means, if any.
-    pub fn from_extension(ext: &str) -> Option<Format> {
-        let ext = ext.to_ascii_lowercase();
-        super::formats::FORMATS
-            .iter()
-            .find(|i| i.extensions.contains(&ext.as_str()))
-            .map(|i| i.format)
-    }
-}
-
-impl fmt::Display for Format {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
+pub use super::formats::Format;
 
 /// Where in the input something happened: a 1-based line for text, a 0-based byte offset for
 /// binary data.
