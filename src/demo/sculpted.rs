@@ -4,7 +4,7 @@
 //! (smooth unions and subtractions of simple distance functions) extracted by marching cubes, so
 //! it is closed, genus 0 and deterministic. The wrap has never been tuned on them.
 
-use super::shapes::{implicit_surface, smooth_min, Shape};
+use super::implicit::{implicit_surface, smooth_min, Shape};
 use super::{capsule, ellipsoid};
 use glam::{DVec2, DVec3};
 

@@ -10,13 +10,12 @@
 
 use super::{capsule, sample_mesh, torus_sdf, DemoError, Rng};
 use crate::geometry::icosphere::unit_icosphere;
-use crate::geometry::marching_cubes::{marching_cubes, ScalarGridView};
 use glam::DVec3;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 
-/// Points plus triangles (empty for a point cloud).
-pub type Shape = (Vec<DVec3>, Vec<[u32; 3]>);
+pub(crate) use super::implicit::smooth_min;
+pub use super::implicit::{implicit_surface, Shape};
 
 /// Every shape of the suite: (kebab-case name, one-line description), in suite order.
 pub const SHAPES: &[(&str, &str)] = &[
@@ -142,30 +141,6 @@ pub fn generate(name: &str) -> Result<Shape, DemoError> {
         "cad-part-cloud" => cloud(cad_part(), 109),
         other => Err(DemoError::UnknownShape(other.to_string())),
     }
-}
-
-/// The closed surface `{sdf = 0}` (inside where `sdf < 0`) over the box `[lo, hi]`, extracted by
-/// [`marching_cubes`] on a grid of spacing `cell` from `lo` (`⌈(hi − lo)/cell⌉` cells per axis).
-/// Closed, oriented and welded as long as the level set stays inside the box.
-pub fn implicit_surface(sdf: impl Fn(DVec3) -> f64, lo: DVec3, hi: DVec3, cell: f64) -> Shape {
-    let n = ((hi - lo) / cell).ceil();
-    let dims = [n.x as usize + 1, n.y as usize + 1, n.z as usize + 1];
-    let mut values = Vec::with_capacity(dims[0] * dims[1] * dims[2]);
-    for iz in 0..dims[2] {
-        for iy in 0..dims[1] {
-            for ix in 0..dims[0] {
-                values.push(sdf(lo + DVec3::new(ix as f64, iy as f64, iz as f64) * cell));
-            }
-        }
-    }
-    let view = ScalarGridView {
-        first: [0; 3],
-        origin: lo,
-        cell,
-        dims,
-        values: &values,
-    };
-    marching_cubes(&view, 0.0)
 }
 
 /// A closed surface of genus `g` (at least 1): `g` tori (radii 0.5 and 0.2, centres 1.2 apart
@@ -490,12 +465,6 @@ pub fn plane_cloud(n: usize, seed: u64) -> Vec<DVec3> {
     (0..n)
         .map(|_| DVec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, 0.0))
         .collect()
-}
-
-/// Polynomial smooth minimum of `a` and `b` with blend width `k` (Quílez).
-pub(crate) fn smooth_min(a: f64, b: f64, k: f64) -> f64 {
-    let h = (k - (a - b).abs()).max(0.0) / k;
-    a.min(b) - h * h * k * 0.25
 }
 
 /// A dumbbell: spheres of radius `r` at x = ±`half_length`, joined by a cylinder (capsule) of
