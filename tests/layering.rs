@@ -101,3 +101,86 @@ fn the_scanner_sees_paths_and_skips_comments_and_tests() {
     assert_eq!(crate_paths(src), vec!["mesh", "geometry"]);
     assert!(layer_of("flow") > layer_of("remesh"));
 }
+
+/// The module a source file defines, as path components below `src/` (`flow/evolver/mod.rs` is
+/// `[flow, evolver]`, `lib.rs` is `[]`).
+fn module_of(rel: &Path) -> Vec<String> {
+    let mut parts: Vec<String> = rel
+        .components()
+        .map(|c| {
+            c.as_os_str()
+                .to_string_lossy()
+                .trim_end_matches(".rs")
+                .to_string()
+        })
+        .collect();
+    if parts.last().is_some_and(|p| p == "mod" || p == "lib") {
+        parts.pop();
+    }
+    parts
+}
+
+/// The modules (their first two path components) that `src` names, from `crate::a::b` and
+/// `super::x` paths in its production part.
+fn named_modules(src: &str, module: &[String]) -> Vec<Vec<String>> {
+    let code = src.split("#[cfg(test)]").next().unwrap_or("");
+    let ident = |s: &str| -> String {
+        s.chars()
+            .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+            .collect()
+    };
+    let mut out = Vec::new();
+    for line in code.lines().map(str::trim_start) {
+        if line.starts_with("//") {
+            continue;
+        }
+        for (i, _) in line.match_indices("crate::") {
+            let tail = &line[i + 7..];
+            let first = ident(tail);
+            let second = tail[first.len()..].strip_prefix("::").map(ident);
+            out.push([Some(first), second].into_iter().flatten().collect());
+        }
+        for (i, _) in line.match_indices("super::") {
+            if i > 0 && line[..i].ends_with("::") {
+                continue; // super::super: left to the layers
+            }
+            let mut path = module[..module.len().saturating_sub(1)].to_vec();
+            path.push(ident(&line[i + 7..]));
+            out.push(path);
+        }
+    }
+    out.into_iter()
+        .map(|mut p| {
+            p.truncate(2);
+            p
+        })
+        .collect()
+}
+
+#[test]
+fn no_two_modules_import_each_other() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&root, &mut files);
+    let mut edges = std::collections::BTreeSet::new();
+    for file in &files {
+        let module = module_of(file.strip_prefix(&root).unwrap());
+        let from: Vec<String> = module.iter().take(2).cloned().collect();
+        let text = std::fs::read_to_string(file).unwrap();
+        for to in named_modules(&text, &module) {
+            if to != from && !to.is_empty() {
+                edges.insert((from.join("::"), to.join("::")));
+            }
+        }
+    }
+    let circles: Vec<String> = edges
+        .iter()
+        .filter(|(a, b)| a < b && edges.contains(&(b.clone(), a.clone())))
+        .map(|(a, b)| format!("{a} <-> {b}"))
+        .collect();
+    assert!(
+        circles.is_empty(),
+        "modules that import each other:\n{}",
+        circles.join("\n")
+    );
+}
