@@ -241,7 +241,7 @@ fn quality_histograms(p: &[DVec3], t: &[[u32; 3]], hist: &mut serde_json::Map<St
     );
 }
 
-/// Adds the keys measured against the target `(file, target)`: `target`, `creases` and
+/// Adds the keys that compare with the target `(file, target)`: `target`, `creases` and
 /// `distances`, and with `hist` the two distance histograms.
 fn target_json(
     o: &mut serde_json::Map<String, Value>,

@@ -228,7 +228,7 @@ pub fn certify_against(
 ) -> Certificate {
     let finite = positions.iter().all(|p| p.is_finite());
     // The checks are independent: natively the self-intersections are counted beside the
-    // topology, and the distances measured beside the outside test.
+    // topology, and the distances computed beside the outside test.
     let (self_intersections, (edges, closed, mesh)) = crate::parallel::beside(
         || match finite {
             true => count_self_intersections(positions, triangles),

@@ -62,7 +62,7 @@ pub struct RemeshSettings {
     /// a vertex is recomputed only while it or a neighbour moved by more than `tol·h` in the
     /// previous pass, and an outer iteration that changes nothing (no edit, no move above the
     /// tolerance) ends the call. 0 runs every pass on every vertex (the reference). Range
-    /// [0, 0.1]; default 0.01 (moves below 1 % of an edge change κ by well under 1 %).
+    /// [0, 0.1]; default 0.01 (a move that small barely changes κ).
     pub smoothing_tolerance: f64,
     /// Project moved and new vertices back onto the surface as it was when the call started
     /// (`UseBackProjection`). Default false (the reference's evolution runs; true only for the
