@@ -4,7 +4,7 @@
 //! settings' documentation, options, ranges and old keys ([`crate::flow::settings`]). The wasm
 //! facade hands them to the page as they are.
 
-use crate::flow::settings::{aliases::leaf_aliases, docs, RANGES};
+use crate::flow::settings::{aliases::leaf_aliases, docs, tuning, RANGES};
 use crate::flow::{ColourMap, Preset, COLOUR_MAPS, LESSONS, LESSON_COLOUR_MAPS};
 use crate::io::{Format, FORMATS};
 
@@ -25,8 +25,9 @@ use crate::io::{Format, FORMATS};
 /// * `closeGaps`: `[{label, value}]` — the "Close gaps up to" choices, `surgery.close_gaps`
 ///   values ([`crate::flow::detail::CLOSE_GAPS`]).
 /// * `lessonColourMaps`: the colour-map names the MCF lesson offers.
-/// * `settingsAdded`: `{key: value}` — settings added since share links carry every setting, with
-///   the value a link made before them gets ([`crate::flow::settings::aliases::ADDED`]).
+/// * `tuning`: `{current, versions: [{version, changes}], rows: {version: tuning}}` — the tuning
+///   table ([`crate::flow::settings::tuning`]): a link names its version, and its settings decode
+///   against that version's row.
 /// * `lessons`: `[{name, label, title, needsMesh}]` — the MCF lessons
 ///   ([`crate::flow::LESSONS`]): the sphere, and the loaded mesh (offered only for a mesh).
 pub fn catalog_json() -> serde_json::Value {
@@ -44,10 +45,14 @@ pub fn catalog_json() -> serde_json::Value {
         "presetLabels": Preset::ALL.map(Preset::label),
         "exportFormats": Format::WRITABLE.map(Format::name),
         "settingRanges": RANGES,
-        "settingsAdded": crate::flow::settings::aliases::ADDED
-            .iter()
-            .map(|&(key, before)| (key.to_string(), serde_json::json!(before)))
-            .collect::<serde_json::Map<_, _>>(),
+        "tuning": {
+            "current": tuning::CURRENT_VERSION,
+            "versions": tuning::VERSIONS
+                .iter()
+                .map(|&(version, changes)| serde_json::json!({"version": version, "changes": changes}))
+                .collect::<Vec<_>>(),
+            "rows": tuning::Tuning::table_json(),
+        },
     })
 }
 

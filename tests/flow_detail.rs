@@ -44,7 +44,7 @@ fn wrapped_shape(
 /// (vertices, Hausdorff %, mean wrap → target %, mean target → wrap %, p95 target → wrap %).
 fn wrap(name: &str, refine: f64) -> (usize, f64, f64, f64, f64) {
     let mut settings = WrapSettings::default();
-    settings.fit.refine_error_cells = refine;
+    settings.tuning.fit.refine_error_cells = refine;
     measured(name, wrapped(name, settings), refine)
 }
 
@@ -72,7 +72,7 @@ fn measured(
 #[test]
 #[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
 fn sculpted_shapes_meet_the_detail_bar() {
-    let refine = WrapSettings::default().fit.refine_error_cells;
+    let refine = WrapSettings::default().tuning.fit.refine_error_cells;
     for name in ["creature", "fish", "bust"] {
         let (n, h, m1, m2, _) = wrap(name, refine);
         assert!(n <= 80_000, "{name}: {n} vertices");
@@ -117,7 +117,7 @@ fn shapes_of_known_curvature_meet_the_detail_bar() {
     ];
     for (name, shape, genus) in shapes {
         let settings = WrapSettings::default();
-        let refine = settings.fit.refine_error_cells;
+        let refine = settings.tuning.fit.refine_error_cells;
         let (n, h, m1, m2, _) = measured(name, wrapped_shape(name, shape, genus, settings), refine);
         assert!(n <= 80_000, "{name}: {n} vertices");
         assert!(h <= 1.0, "{name}: Hausdorff {h} %");
@@ -127,7 +127,10 @@ fn shapes_of_known_curvature_meet_the_detail_bar() {
 
 #[test]
 fn error_adaptive_sizing_reaches_into_the_eye_sockets() {
-    let (n1, h1, _, _, with) = wrap("bust", WrapSettings::default().fit.refine_error_cells);
+    let (n1, h1, _, _, with) = wrap(
+        "bust",
+        WrapSettings::default().tuning.fit.refine_error_cells,
+    );
     let (n0, h0, _, _, without) = wrap("bust", 0.0);
     // (0.6 until the fit's last round of moves without a remesh, which also brings the
     // unrefined wrap closer: p95 0.056 against 0.082 % now.)
@@ -143,7 +146,7 @@ fn error_adaptive_sizing_reaches_into_the_eye_sockets() {
 /// farthest target vertex in it from the wrap, in % of the diagonal, with `fit.reach` on or off.
 fn mouth_miss(reach: bool) -> f64 {
     let mut settings = WrapSettings::default();
-    settings.fit.reach = reach;
+    settings.tuning.fit.reach = reach;
     let (p, target, pos, tris) = wrapped("bust", settings);
     let mouth: Vec<_> = p
         .iter()

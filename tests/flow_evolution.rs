@@ -113,8 +113,8 @@ fn failing_solves_are_retried_then_reported_without_touching_the_mesh() {
     let mut settings = WrapSettings::default();
     // A solver that cannot converge: every attempt fails. The first retry keeps τ (it only
     // clamps negative weights), each later one halves it.
-    settings.solver.max_iterations = 1;
-    settings.solver.tolerance = 1e-30;
+    settings.tuning.solver.max_iterations = 1;
+    settings.tuning.solver.tolerance = 1e-30;
     let mut ev = Evolver::new(&target, settings).unwrap();
     let before = ev.mesh().positions().to_vec();
     match ev.step() {

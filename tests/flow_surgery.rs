@@ -173,7 +173,7 @@ fn a_neck_between_two_separate_spheres_pinches_into_two_components() {
     let (p, t) = generate("two-spheres-apart-cloud").unwrap();
     let target = Target::new(p, t).unwrap();
     let mut settings = WrapSettings::default();
-    settings.start.part_gap = 0.0;
+    settings.tuning.start.part_gap = 0.0;
     let mut ev = Evolver::new(&target, settings).unwrap();
     ev.run(|_| {}).unwrap();
     let c = certify(&ev.positions(), &ev.triangles(), Some(&target));

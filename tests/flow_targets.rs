@@ -40,10 +40,10 @@ fn full_wrap_gets_closer_than_obstacle_on_spot() {
         };
         // The paper's grid (40 cells per β_min), not the coarser one the defaults give this
         // sparse cloud: on it the concavities are resolved well enough to compare.
-        settings.field.min_cell_spacings = 0.0;
+        settings.tuning.field.min_cell_spacings = 0.0;
         // The flows alone: on that grid full-wrap's first pass leaves 120 of the 1 307 points
         // outside, and the second pass (D₂ = 0, `flow.cover_gaps`) would take over.
-        settings.flow.cover_gaps = 1.0;
+        settings.tuning.flow.cover_gaps = 1.0;
         let mut ev = Evolver::new(&target, settings).unwrap();
         ev.run(|_| {}).unwrap();
         let report = ev.mesh().validate().unwrap();

@@ -123,7 +123,7 @@ fn a_cloud_with_stray_points_wraps_without_them() {
         .map(|_| lo - 0.25 * size + 1.5 * size * glam::DVec3::new(unit(), unit(), unit()))
         .collect();
     let noisy = Target::new([clean.points.clone(), strays.clone()].concat(), vec![]).unwrap();
-    let spacings = WrapSettings::default().field.outlier_spacings;
+    let spacings = WrapSettings::default().tuning.field.outlier_spacings;
     let (kept, left_out) = noisy.without_isolated_points(spacings).unwrap();
     let bits = |p: &glam::DVec3| p.to_array().map(f64::to_bits);
     let kept_set: std::collections::HashSet<[u64; 3]> = kept.points.iter().map(bits).collect();
@@ -1074,7 +1074,7 @@ fn a_turned_noisy_plate_cloud_gets_the_grid_of_a_flat_one() {
     let settings = WrapSettings::default();
     let cell = |points: &[glam::DVec3]| {
         let target = Target::new(points.to_vec(), vec![]).unwrap();
-        lsw::field::DistanceField::planned_cell_size(&target, &settings.field).unwrap()
+        lsw::field::DistanceField::planned_cell_size(&target, &settings.field_options()).unwrap()
     };
     let ratio = cell(&turned) / cell(&flat);
     // (A cloud's cells are also no finer than two point spacings: both may sit at that floor.)

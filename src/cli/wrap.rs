@@ -45,14 +45,24 @@ pub struct WrapArgs {
     pub volume: super::volume::VolumeArgs,
 }
 
-/// Applies `key=value` overrides to the settings' JSON form; keys are nested (`flow.tau`) or the
-/// old flat ones (`tau`, see [`crate::flow::settings::aliases`]); unknown keys are errors.
+/// Applies `key=value` overrides to the settings' JSON form; keys are nested (`flow.tau`) or
+/// earlier ones (`tau`, see [`crate::flow::settings::aliases`]); unknown keys are errors.
+/// `tuning.version` comes first whatever its place: it picks the row the other values override.
 pub fn apply_overrides(
     settings: WrapSettings,
     overrides: &[String],
 ) -> Result<WrapSettings, String> {
     let mut v = serde_json::to_value(&settings).expect("settings serialise");
-    for o in overrides {
+    let is_version = |o: &&String| o.split('=').next() == Some("tuning.version");
+    for o in overrides.iter().filter(is_version) {
+        let raw = o.split_once('=').map_or("", |kv| kv.1);
+        let version: Value = serde_json::from_str(raw).unwrap_or(Value::Null);
+        let row: crate::flow::settings::Tuning =
+            serde_json::from_value(serde_json::json!({ "version": version }))
+                .map_err(|e| format!("--set {o}: {e}"))?;
+        v["tuning"] = serde_json::to_value(row).expect("tuning serialises");
+    }
+    for o in overrides.iter().filter(|o| !is_version(o)) {
         let (key, raw) = o
             .split_once('=')
             .ok_or_else(|| format!("--set {o}: expected KEY=VALUE"))?;
@@ -81,7 +91,7 @@ pub fn apply_overrides(
 /// genus or part count unlike the target's, a part of the target outside; also on stderr; see
 /// `Certificate::warnings`), contacts,
 /// surgery [{step, kind, position, genus_before, genus_after}], isolated_points_left_out (a
-/// cloud's stray points, see `field.outlier_spacings`), specks_left_out (a mesh's small closed
+/// cloud's stray points, see `tuning.field.outlier_spacings`), specks_left_out (a mesh's small closed
 /// parts floating apart, see `geometry::specks`), repairs (what reading mended in a mesh's
 /// indices, or null; see `lsw info`), points_left_out ({points, why}: points the file marks
 /// unusable that were not read, or null; see `io::LeftOut`), vertices, faces, steps, stopped_early,
@@ -179,7 +189,8 @@ fn write_mesh(output: &Path, w: &WrapResult, write: bool) -> Result<(), String> 
     Ok(())
 }
 
-/// Writes the `--stats` JSON: settings, start, certificate, verdict, error budget and steps.
+/// Writes the `--stats` JSON: settings (the parameters, and the tuning under `tuning` with its
+/// `version`), what each parameter means, start, certificate, verdict, error budget and steps.
 fn write_stats(
     path: &Path,
     w: &WrapResult,
@@ -188,6 +199,10 @@ fn write_stats(
 ) -> Result<(), String> {
     let text = serde_json::to_string_pretty(&json!({
         "settings": w.settings,
+        "settings_help": crate::flow::settings::docs::parameter_docs()
+            .into_iter()
+            .map(|(k, doc)| (k, Value::String(doc)))
+            .collect::<serde_json::Map<_, _>>(),
         "start": w.start,
         "stop_reason": w.stop_reason,
         "isolated_points_left_out": w.left_out.strays,
@@ -355,10 +370,21 @@ mod tests {
         assert_eq!(s.flow.d2, 0.0);
         assert_eq!(s.remesh.iterations, 3);
         assert_eq!(
-            s.remesh.features.detector,
+            s.tuning.remesh.features.detector,
             crate::remesh::FeatureDetector::Both
         );
         assert_eq!(s.stop.steps, 7);
+        // A tuned value at its stage's earlier key; a tuning version picks its row first.
+        let s = apply_overrides(
+            WrapSettings::default(),
+            &["flow.regrow_depth=0.5".into(), "tuning.version=1".into()],
+        )
+        .unwrap();
+        let one = crate::flow::settings::Tuning::at(1).unwrap();
+        assert_eq!(s.tuning.flow.regrow_depth, 0.5);
+        assert_eq!(s.tuning.surgery.tunnel_ratio, one.surgery.tunnel_ratio);
+        assert_eq!(s.tuning.version, 1);
+        assert!(apply_overrides(WrapSettings::default(), &["tuning.version=7".into()]).is_err());
         assert!(apply_overrides(WrapSettings::default(), &["nope=1".into()]).is_err());
         assert!(apply_overrides(WrapSettings::default(), &["tau".into()]).is_err());
         assert!(apply_overrides(WrapSettings::default(), &["tau=\"fast\"".into()]).is_err());

@@ -159,7 +159,7 @@ pub fn reference_length(bbox: &Aabb) -> f64 {
 
 /// The reference length of a target with these `points`: [`reference_length`] of their
 /// axis-aligned box as the method has it, unless the points are turned away from the axes: then
-/// `slack` (`field.principal_slack`, default [`TURNED_SLACK`]; 0: never) × that of their
+/// `slack` (`tuning.field.principal_slack`, default [`TURNED_SLACK`]; 0: never) × that of their
 /// principal box (see [`principal_sides`]), so a plate or a flat chain of tori gets about the
 /// same grid whichever way it lies.
 pub fn reference_length_of(points: &[DVec3], slack: f64) -> f64 {

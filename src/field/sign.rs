@@ -171,7 +171,7 @@ pub fn negate_inside(values: &mut [f64], inside: Option<&[bool]>) {
 
 /// The exterior flood of [`negate_enclosed`] runs over the nodes this many cells farther from
 /// the data than its `level`: a random sampling leaves gaps that a band of `level` = 2 cells
-/// (4 median spacings, `field.min_cell_spacings`) now and then lets the flood through; one cell
+/// (4 median spacings, `tuning.field.min_cell_spacings`) now and then lets the flood through; one cell
 /// more seals them.
 const SEAL_CELLS: f64 = 1.0;
 /// Node steps by which the exterior then grows into the nodes between `level` and the seal: a

@@ -199,7 +199,7 @@ mod tests {
         assert!((span.x - (g.dims[0] - 1) as f64 * g.cell).abs() < 1e-9);
         assert!((span.y - (g.dims[1] - 1) as f64 * g.cell).abs() < 1e-9);
         // Values are the sphere's distance at the node positions (bilinear in corners), negative
-        // deep inside: the cloud encloses the ball (`field.enclosed_cells`).
+        // deep inside: the cloud encloses the ball (`tuning.field.enclosed_cells`).
         let mut worst = 0.0f64;
         let mut negative = 0;
         for iv in 0..p.height {

@@ -11,7 +11,8 @@ use serde::Serialize;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ColourMap {
-    /// Field distance d to the target at each vertex, in target units.
+    /// Distance to the target at each vertex, in target units: the exact one once the wrap is
+    /// certified, the field's |d| while it runs.
     Distance,
     /// Mean curvature H (1/r on a sphere of radius r), in 1/target units.
     Curvature,
@@ -135,7 +136,8 @@ impl ColourMap {
             ColourMap::Kappa => crate::metrics::quality::vertex_kappa(mesh),
             ColourMap::Covolume => CotanLaplacian::new(mesh).covolumes,
             ColourMap::Features => {
-                let f = crate::remesh::features::detect(mesh, &ev.settings().remesh.features);
+                let f =
+                    crate::remesh::features::detect(mesh, &ev.settings().tuning.remesh.features);
                 f.vertices.into_iter().map(|b| b as u8 as f64).collect()
             }
         }
@@ -145,9 +147,16 @@ impl ColourMap {
 /// The per-vertex scalars a written result records: `(export name, values)` of every map with
 /// an export name, in menu order.
 pub fn export_scalars(ev: &Evolver) -> Vec<(&'static str, Vec<f64>)> {
+    export_scalars_with(|map| map.values(ev))
+}
+
+/// [`export_scalars`] with each map's values from `values`.
+pub fn export_scalars_with(
+    mut values: impl FnMut(ColourMap) -> Vec<f64>,
+) -> Vec<(&'static str, Vec<f64>)> {
     COLOUR_MAPS
         .iter()
-        .filter_map(|i| i.export_name.map(|n| (n, i.map.values(ev))))
+        .filter_map(|i| i.export_name.map(|n| (n, values(i.map))))
         .collect()
 }
 

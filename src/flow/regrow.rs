@@ -50,7 +50,7 @@ pub fn outward_to_offset(
     }
     let steps = (r.reach / r.spacing).ceil() as usize;
     // Deep inside a solid that a cloud encloses the field is negative, and it rises to +2 cells
-    // at the near band's inner edge (`field.enclosed_cells`): that rise is no crossing of d₀.
+    // at the near band's inner edge (`tuning.field.enclosed_cells`): that rise is no crossing of d₀.
     // From there the way out goes down through the band to the surface and up past d₀ beyond.
     let mut through_band = at_p < 0.0;
     let mut below = !through_band;

@@ -45,10 +45,10 @@ fn icosphere_radius(target: &Target, settings: &WrapSettings) -> f64 {
 /// [`PART_ROOM`] times the farthest point of the part from its box's centre), or `None` for one
 /// around the whole target. A single sphere shrinking onto two objects set apart leaves a neck
 /// between them that must pinch in empty space, and a ragged neck often cannot be cut, so the wrap
-/// stays one part. Parts are [`parts_apart`] at `start.part_gap` of the diagonal; each must hold
+/// stays one part. Parts are [`parts_apart`] at `tuning.start.part_gap` of the diagonal; each must hold
 /// [`PART_POINTS`] points and the spheres must not overlap, else one sphere as the method has it.
 fn spheres_apart(target: &Target, settings: &WrapSettings) -> Option<Vec<(DVec3, f64)>> {
-    let share = settings.start.part_gap;
+    let share = settings.tuning.start.part_gap;
     if !target.triangles.is_empty() || share <= 0.0 {
         return None;
     }
@@ -185,12 +185,12 @@ pub fn build_start(
                 iterations: 1,
                 use_projection: true,
                 smoothing_iterations: settings.remesh.smoothing_iterations,
-                features: settings.remesh.features.clone(),
+                features: settings.tuning.remesh.features.clone(),
                 ..RemeshSettings::with_sizes(sizes)
             };
             remesh(&mut mesh, &rs)?;
             let pairs = count_self_intersections(mesh.positions(), &mesh.triangles());
-            if settings.guard.contact && pairs > 0 {
+            if settings.tuning.guard.contact && pairs > 0 {
                 let genus = mesh.validate().map(|r| r.genus).unwrap_or(-1);
                 return Err(EvolveError::StartIntersects { pairs, genus });
             }

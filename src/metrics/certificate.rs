@@ -226,6 +226,16 @@ pub fn certify_against(
     triangles: &[[u32; 3]],
     target: Option<&CertificateTarget>,
 ) -> Certificate {
+    certify_measuring(positions, triangles, target).0
+}
+
+/// [`certify_against`], with each vertex's distance to the target it measured on the way (None
+/// without a target or with a non-finite vertex).
+pub fn certify_measuring(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    target: Option<&CertificateTarget>,
+) -> (Certificate, Option<Vec<f64>>) {
     let finite = positions.iter().all(|p| p.is_finite());
     // The checks are independent: natively the self-intersections are counted beside the
     // topology, and the distances computed beside the outside test.
@@ -266,16 +276,14 @@ pub fn certify_against(
             format!("{self_intersections} pairs of faces intersect")
         });
     }
-    let ((distance_min, distance_max), outside) = crate::parallel::beside(
+    let (distances, outside) = crate::parallel::beside(
         || match target {
             Some(t) if finite && !positions.is_empty() => {
-                let d = crate::parallel::map(positions.len(), |i| t.distance(positions[i]));
-                (
-                    Some(d.iter().copied().fold(f64::INFINITY, f64::min)),
-                    Some(d.iter().copied().fold(0.0, f64::max)),
-                )
+                Some(crate::parallel::map(positions.len(), |i| {
+                    t.distance(positions[i])
+                }))
             }
-            _ => (None, None),
+            _ => None,
         },
         || match target {
             Some(t) if closed && manifold && oriented && finite => Some(points_outside(
@@ -288,7 +296,13 @@ pub fn certify_against(
         },
     );
     let target_topology = target.and_then(|t| t.topology);
-    Certificate {
+    let distance_min = distances
+        .as_ref()
+        .map(|d| d.iter().copied().fold(f64::INFINITY, f64::min));
+    let distance_max = distances
+        .as_ref()
+        .map(|d| d.iter().copied().fold(0.0, f64::max));
+    let certificate = Certificate {
         valid,
         closed,
         manifold,
@@ -310,7 +324,8 @@ pub fn certify_against(
             (Some(n), Some(t)) => part_outside(n, t.samples.len()),
             _ => false,
         },
-    }
+    };
+    (certificate, distances)
 }
 
 /// The target points tested for lying outside a wrap: every point of a cloud or vertex of a

@@ -11,8 +11,10 @@ pub use verdict::{LeftOut, Verdict, VerdictState};
 use crate::clock::now_ms;
 use crate::field::FieldTimings;
 use crate::flow::surgery::SurgeryEvent;
-use crate::flow::{EvolveError, Evolver, StartSurface, StartedOver, StepReport, WrapSettings};
-use crate::metrics::certificate::{certify_against, Certificate, CertificateTarget};
+use crate::flow::{
+    ColourMap, EvolveError, Evolver, StartSurface, StartedOver, StepReport, WrapSettings,
+};
+use crate::metrics::certificate::{certify_measuring, Certificate, CertificateTarget};
 use crate::progress::Progress;
 use crate::target::Target;
 use glam::DVec3;
@@ -34,7 +36,8 @@ pub struct WrapResult {
     /// The surface, in the target's units.
     pub positions: Vec<DVec3>,
     pub triangles: Vec<[u32; 3]>,
-    /// Each vertex's distance to the target as the field samples it (target units).
+    /// Each vertex's distance to the target, measured exactly by the certificate (the nearest
+    /// point of a cloud, the closest point of a mesh; target units).
     pub distances: Vec<f64>,
     pub certificate: Certificate,
     /// Decided once, from the certificate and the run: see [`Verdict::of`].
@@ -123,6 +126,22 @@ impl WrapRun {
         &mut self.evolver
     }
 
+    /// Colour map `map` on the current surface: its distances are `result`'s exact ones where
+    /// the surface is the one `result` certified, the field's while the wrap runs.
+    pub fn colour(&self, map: ColourMap, result: Option<&WrapResult>) -> Vec<f64> {
+        let n = self.evolver.mesh().n_vertices();
+        match result {
+            Some(r) if map == ColourMap::Distance && r.distances.len() == n => r.distances.clone(),
+            _ => map.values(&self.evolver),
+        }
+    }
+
+    /// The per-vertex scalars a written result records (see [`crate::flow::colour::export_scalars`]),
+    /// with the distances of [`WrapRun::colour`].
+    pub fn export_scalars(&self, result: Option<&WrapResult>) -> Vec<(&'static str, Vec<f64>)> {
+        crate::flow::colour::export_scalars_with(|map| self.colour(map, result))
+    }
+
     /// The target the result is certified against: `target` without the specks the run left
     /// out (those are reported, not wrapped).
     pub fn certified_target<'a>(&'a self, target: &'a Target) -> &'a Target {
@@ -135,7 +154,7 @@ impl WrapRun {
         let t0 = now_ms();
         let ev = &self.evolver;
         let (positions, triangles) = (ev.positions(), ev.triangles());
-        let certificate = certify_against(&positions, &triangles, Some(against));
+        let (certificate, exact) = certify_measuring(&positions, &triangles, Some(against));
         let left_out = LeftOut {
             strays: ev.isolated_points(),
             specks: ev.specks(),
@@ -148,7 +167,7 @@ impl WrapRun {
             left_out,
         );
         WrapResult {
-            distances: ev.vertex_distances(),
+            distances: exact.unwrap_or_else(|| ev.vertex_distances()),
             hash: crate::mesh::fingerprint::mesh_hash(&positions, &triangles),
             positions,
             triangles,

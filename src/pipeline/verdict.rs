@@ -44,7 +44,7 @@ pub struct Verdict {
 /// What a run left out of the target before wrapping it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct LeftOut {
-    /// A cloud's stray points (see `field.outlier_spacings`).
+    /// A cloud's stray points (see `tuning.field.outlier_spacings`).
     pub strays: usize,
     /// A mesh's small closed parts floating apart (see `geometry::specks`).
     pub specks: usize,

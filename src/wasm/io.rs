@@ -36,7 +36,7 @@ impl WrapSession {
             self.run.evolver().positions(),
             self.run.evolver().triangles(),
         );
-        let values = crate::flow::colour::export_scalars(self.run.evolver());
+        let values = self.run.export_scalars(self.finished());
         let scalars: Vec<(&str, &[f64])> = values.iter().map(|(n, v)| (*n, v.as_slice())).collect();
         file_bytes(
             fmt,

@@ -28,6 +28,8 @@ pub struct WrapSession {
     /// Called as `progress(phase, fraction)` during the long phases (the final fit).
     progress: Option<js_sys::Function>,
     last: Option<StepReport>,
+    /// The finished wrap's result, certified once.
+    finished: std::cell::OnceCell<WrapResult>,
 }
 
 impl WrapSession {
@@ -68,13 +70,30 @@ impl WrapSession {
             settings_json: serde_json::to_string(&settings).unwrap_or_default(),
             progress,
             last: None,
+            finished: std::cell::OnceCell::new(),
         })
     }
 }
 
 impl WrapSession {
-    /// The current surface as a result: certified against the target as wrapped.
-    fn result(&self) -> WrapResult {
+    /// The current surface as a result: certified against the target as wrapped (once, when
+    /// the wrap is done).
+    fn result(&self) -> std::borrow::Cow<'_, WrapResult> {
+        match self.finished() {
+            Some(r) => std::borrow::Cow::Borrowed(r),
+            None => std::borrow::Cow::Owned(self.certify()),
+        }
+    }
+
+    /// The finished wrap's result, if it is done (certified now if not yet).
+    pub(super) fn finished(&self) -> Option<&WrapResult> {
+        self.run
+            .is_done()
+            .then(|| self.finished.get_or_init(|| self.certify()))
+    }
+
+    /// The current surface certified against the target as wrapped.
+    fn certify(&self) -> WrapResult {
         let against = CertificateTarget::new(self.run.certified_target(&self.target));
         self.run.result(&against)
     }
@@ -217,7 +236,7 @@ impl WrapSession {
             let names: Vec<&str> = ColourMap::all().map(ColourMap::name).collect();
             UiError::unknown("unknown scalar", name, &names)
         })?;
-        Ok(scalar_array(&map.values(self.run.evolver())))
+        Ok(scalar_array(&self.run.colour(map, self.finished())))
     }
 
     /// The certificate of the current surface against the target (see
@@ -265,7 +284,7 @@ impl WrapSession {
         self.run.evolver().stop_reason().map(str::to_owned)
     }
 
-    /// How many stray points of a cloud the wrap left out (`field.outlier_spacings`).
+    /// How many stray points of a cloud the wrap left out (`tuning.field.outlier_spacings`).
     #[wasm_bindgen(js_name = isolatedPoints)]
     pub fn isolated_points(&self) -> u32 {
         self.run.evolver().isolated_points() as u32

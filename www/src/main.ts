@@ -151,7 +151,7 @@ function onReady(msg: Extract<FromWorker, { type: 'ready' }>): void {
   const presets = settings.build(msg.presets, msg.docs, msg.enums, msg.catalog);
   applyCatalog(msg.catalog);
   lesson.menu(msg.catalog.lessons);
-  const { state, notices } = readLink(presets, { aliases: msg.aliases, added: msg.catalog.settingsAdded, colourMaps: [...msg.catalog.colourMaps.map((m) => m.name), 'none'] });
+  const { state, notices } = readLink(presets, { aliases: msg.aliases, tuningRows: msg.catalog.tuning.rows, colourMaps: [...msg.catalog.colourMaps.map((m) => m.name), 'none'] });
   status.notice(notices);
   settings.apply(state.preset, state.changed);
   view.apply(state.view);

@@ -122,6 +122,8 @@ export class SettingsPanel {
       const doc = [this.docs[key], range && !said && `Range: ${range.text}.`].filter(Boolean).join('\n');
       if (doc) c.domElement.title = doc;
       c.domElement.dataset.setting = key;
+      // The version names the row the values below were taken from; changing it alone changes nothing.
+      if (key === 'tuning.version') c.disable();
       c.onFinishChange((v: string | number | boolean) => {
         const parsed = this.parse(v, this.base[key]);
         const outside = typeof parsed === 'number' && range && !inRange(parsed, range);

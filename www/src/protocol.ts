@@ -145,9 +145,9 @@ export interface Catalog {
   lessons: CatalogLesson[];
   /** Ranges of numeric settings the core enforces (unbounded limits are null). */
   settingRanges: SettingRange[];
-  /** Settings added since links carry every setting, with the value that a link made before
-   * them decodes to (src/flow/settings/aliases.rs, `ADDED`). */
-  settingsAdded: Record<string, number>;
+  /** The tuning table (src/flow/settings/tuning.rs): the current version, what each version
+   * changed, and every version's values. */
+  tuning: { current: number; versions: { version: number; changes: string }[]; rows: Record<string, Record<string, unknown>> };
 }
 
 /** An MCF lesson of the catalog: `name` "mcf" (the sphere) or "mcf-mesh" (the loaded mesh). */

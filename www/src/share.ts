@@ -1,17 +1,20 @@
 // App state <-> URL hash, versioned. The hash is plain `key=value` pairs (URLSearchParams):
-//   v=3  d=<dataset: demo id | https URL>  p=<preset>  s.<setting path>=<JSON literal>  view.<key>=<value>
+//   v=4  d=<dataset: demo id | https URL>  p=<preset>  s.<setting path>=<JSON literal>  view.<key>=<value>
 //   f.name, f.size, f.sha=<the dropped file the link was made with: name, bytes, SHA-256 prefix>
 // Version 2 added the f.* keys; version 3 writes every setting, not only those that differ from
-// the defaults, so that a link reproduces its result after a later version changes a default
-// (versions 1 and 2 decode as before: what they leave out takes this version's defaults).
+// the defaults; version 4 also names the core's tuning table version (s.tuning.version). A link's
+// settings decode against its tuning version's row (links of versions 1–3: row 1), so a link
+// reproduces its result after later versions change a default.
 // Decoding never evaluates anything: values are parsed with JSON.parse or as plain strings and
 // checked against the defaults' types; anything unknown, old or malformed falls back to the
 // default and is reported in `notices` (shown as text, never as HTML).
 
 /** The current hash format. */
-export const SHARE_VERSION = 3;
+export const SHARE_VERSION = 4;
 /** Versions whose settings this app reads (each one adds keys to the one before). */
-const READABLE_VERSIONS = ['1', '2', '3'];
+const READABLE_VERSIONS = ['1', '2', '3', '4'];
+/** The tuning version of links made before links named one. */
+const UNNAMED_TUNING = 1;
 
 /** A dropped file as a link names it: it cannot travel in the link, so the receiver drops it again. */
 export interface FileStamp {
@@ -44,14 +47,13 @@ export const DEFAULT_VIEW: ViewState = { wire: true, smooth: true, cmap: 'distan
 export interface DecodeOptions {
   /** The preset when the link names none or an unknown one. */
   defaultPreset?: string;
-  /** Flat setting keys of links made before the settings were nested (`tau`) → current keys
-   * (`flow.tau`); the core supplies it (`settingAliases`). */
+  /** Setting keys of earlier links (`tau`, `flow.regrow_depth`) → current keys (`flow.tau`,
+   * `tuning.flow.regrow_depth`); the core supplies it (`settingAliases`). */
   aliases?: Record<string, string>;
   /** Colour-map names a link may ask for (the core's catalog, plus 'none'); without it only the default. */
   colourMaps?: readonly string[];
-  /** Settings added since links carry every setting → the value that gives a link made before
-   * them its result (the core's `settingsAdded`): a versioned link without the key gets it. */
-  added?: Record<string, Leaf>;
+  /** The core's tuning table (catalog `tuning.rows`): version → its values. */
+  tuningRows?: Record<string, Record<string, unknown>>;
 }
 
 export interface ShareState {
@@ -155,7 +157,7 @@ export function encode(state: ShareState): string {
  * throws: whatever cannot be used is dropped and explained in `notices`.
  */
 export function decode(hash: string, presets: Record<string, Flat>, opts: DecodeOptions = {}): Decoded {
-  const { defaultPreset = 'full-wrap', aliases = {}, colourMaps = [DEFAULT_VIEW.cmap, 'none'], added = {} } = opts;
+  const { defaultPreset = 'full-wrap', aliases = {}, colourMaps = [DEFAULT_VIEW.cmap, 'none'], tuningRows = {} } = opts;
   const notices: string[] = [];
   const state: ShareState = { dataset: null, preset: defaultPreset, changed: {}, view: { ...DEFAULT_VIEW } };
   const raw = hash.replace(/^#/, '');
@@ -186,7 +188,9 @@ export function decode(hash: string, presets: Record<string, Flat>, opts: Decode
     if (Object.prototype.hasOwnProperty.call(presets, p)) state.preset = p;
     else notices.push(`Unknown preset "${p.slice(0, 40)}"; using ${defaultPreset}.`);
   }
-  const defaults = presets[state.preset] ?? {};
+  const preset = presets[state.preset] ?? {};
+  const defaults = old ? preset : atTuning(preset, tuningOf(q, version), tuningRows, notices);
+  const given: Flat = {};
   const unknown: string[] = [];
   const file = decodeFile(q, notices);
   if (file) state.file = file;
@@ -211,8 +215,7 @@ export function decode(hash: string, presets: Record<string, Flat>, opts: Decode
         parsed = value; // bare strings (enum values) may come unquoted
       }
       if (!sameType(parsed, defaults[path])) notices.push(`Setting ${path} = "${value.slice(0, 40)}" has the wrong type; using the default.`);
-      // A value equal to this version's default is no change (version 3 links carry them all).
-      else if (JSON.stringify(parsed) !== JSON.stringify(defaults[path])) state.changed[path] = parsed as Leaf;
+      else given[path] = parsed as Leaf;
     } else if (key.startsWith('view.')) {
       const k = key.slice(5) as keyof ViewState;
       if (!Object.prototype.hasOwnProperty.call(DEFAULT_VIEW, k)) {
@@ -235,15 +238,29 @@ export function decode(hash: string, presets: Record<string, Flat>, opts: Decode
       unknown.push(key);
     }
   }
-  // A setting added after the link was made: the value that computed the link's result.
-  if (!old) {
-    for (const [path, before] of Object.entries(added)) {
-      const known = Object.prototype.hasOwnProperty.call(defaults, path);
-      if (known && !q.has(`s.${path}`) && JSON.stringify(before) !== JSON.stringify(defaults[path])) state.changed[path] = before;
-    }
-  }
+  if ('tuning.version' in given && !tuningRows[String(given['tuning.version'])]) delete given['tuning.version'];
+  // What differs from the preset's current settings: the link's values, and its tuning row's.
+  state.changed = diff({ ...defaults, ...given }, preset);
   if (unknown.length) notices.push(`Ignored unknown key${unknown.length > 1 ? 's' : ''}: ${unknown.slice(0, 8).map((k) => k.slice(0, 40)).join(', ')}.`);
   return { state, notices };
+}
+
+/** The tuning version a link names: its own, or that of the links before versions were named. */
+function tuningOf(q: URLSearchParams, version: string | null): number | null {
+  const named = q.get('s.tuning.version');
+  if (named !== null) return Number.isSafeInteger(Number(named)) ? Number(named) : null;
+  return version !== null && Number(version) < 4 ? UNNAMED_TUNING : null;
+}
+
+/** `preset` with its tuning values replaced by those of tuning `version` (null: as it is). */
+function atTuning(preset: Flat, version: number | null, rows: Record<string, Record<string, unknown>>, notices: string[]): Flat {
+  if (version === null || !('tuning.version' in preset) || preset['tuning.version'] === version) return preset;
+  const row = rows[String(version)];
+  if (!row) {
+    notices.push(`The link's tuning version ${version} is unknown to this app; the current tuning is used.`);
+    return preset;
+  }
+  return { ...preset, ...flatten(row, 'tuning') };
 }
 
 /** The f.* keys: a name (no control characters), a byte count and an optional SHA-256 prefix. */

@@ -26,7 +26,7 @@ impl Evolver {
         times: &mut PhaseTimes,
     ) -> Result<Moved, EvolveError> {
         let t0 = now_ms();
-        let g = &self.settings.guard;
+        let g = &self.settings.tuning.guard;
         let guarded = self.guarded_left > 0 || g.check_every <= 1;
         let pre = (guarded && g.contact).then(|| self.mesh.clone());
         release_held(&mut self.mesh);

@@ -1,4 +1,4 @@
-//! Phase 5 of a step, *contact guard*: every `guard.check_every` steps (each step after a
+//! Phase 5 of a step, *contact guard*: every `tuning.guard.check_every` steps (each step after a
 //! roll-back, and always before the final fit) the surface is checked for intersecting faces.
 //! With the pre-move surface at hand, the move is redone putting back the vertices of the
 //! intersecting faces; without it, the evolution goes back to the last certified state and
@@ -33,7 +33,7 @@ impl Evolver {
         ends: bool,
         times: &mut PhaseTimes,
     ) -> Result<Contact, EvolveError> {
-        let g = &self.settings.guard;
+        let g = &self.settings.tuning.guard;
         let due = pre.is_some() || ends || self.step >= self.checkpoint.step + g.check_every;
         if !(g.contact && due) {
             return Ok(Contact::Checked(ContactReport::default(), false));
@@ -47,7 +47,7 @@ impl Evolver {
             None => {
                 let from = self.step;
                 self.restore_checkpoint();
-                self.guarded_left = 2 * self.settings.guard.check_every.max(1);
+                self.guarded_left = 2 * self.settings.tuning.guard.check_every.max(1);
                 Ok(Contact::RolledBack { from })
             }
         }
@@ -85,7 +85,7 @@ impl Evolver {
         self.mesh = pre;
         release_held(&mut self.mesh);
         self.mesh.positions_mut().copy_from_slice(x);
-        let report = resolve_contacts(&mut self.mesh, old, &self.settings.guard);
+        let report = resolve_contacts(&mut self.mesh, old, &self.settings.tuning.guard);
         times.guard += now_ms() - t0;
         let mut reverted = false;
         if remesh_due {

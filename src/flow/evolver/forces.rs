@@ -45,18 +45,18 @@ impl Evolver {
         let cell = self.field.cell_size();
         let regrow = Regrow {
             d0: self.d0,
-            min_depth: s.flow.regrow_depth * self.d0,
-            reach: s.flow.regrow_cells * cell,
+            min_depth: s.tuning.flow.regrow_depth * self.d0,
+            reach: s.tuning.flow.regrow_cells * cell,
             spacing: 0.5 * cell,
         };
-        let regrows = s.flow.regrow_depth > 0.0 && s.flow.regrow_edges > 0.0;
+        let regrows = s.tuning.flow.regrow_depth > 0.0 && s.tuning.flow.regrow_edges > 0.0;
         // Beyond this distance, a surface with the data in front of it deflates (see
         // `FlowSettings::deflate_far`), once the surgery has cut: before that the surface is
         // the shrinking start, and a part of it far from the data that faces the data has
         // slipped through a gap in a sparse wall, where deflating would drive it on into the
         // inside.
         let operated = self.surgery_events.iter().any(|e| e.kind != "drop");
-        let deflate_beyond = match s.flow.deflate_far {
+        let deflate_beyond = match s.tuning.flow.deflate_far {
             k if k > 0.0 && operated => k * self.empty_distance,
             _ => f64::INFINITY,
         };
@@ -80,7 +80,8 @@ impl Evolver {
                     let sample = |q| self.field.sample(q);
                     let d = self.distances[i];
                     if let Some(along) = outward_to_offset(sample, p, d, normals[i], &regrow) {
-                        let most = s.flow.regrow_edges * self.mesh.mean_edge_length(i as u32);
+                        let most =
+                            s.tuning.flow.regrow_edges * self.mesh.mean_edge_length(i as u32);
                         eta[i] = along.min(most) / self.tau;
                     }
                 }

@@ -308,9 +308,10 @@ impl Evolver {
         self.mesh.triangles()
     }
 
-    /// Per-vertex field distance d in the target's units.
+    /// Per-vertex distance to the target as the field samples it, |d| in the target's units (the
+    /// exact one is the certificate's: `WrapResult::distances`).
     pub fn vertex_distances(&self) -> Vec<f64> {
-        self.distances.iter().map(|d| d / self.phi).collect()
+        self.distances.iter().map(|d| d.abs() / self.phi).collect()
     }
 
     /// The start surface actually built (`Auto` resolved).
@@ -350,7 +351,7 @@ impl Evolver {
     /// guard → schedule → (last step) final fit. On error the surface is the last certified one
     /// and the evolution is over (see [`Evolver::stop_reason`]).
     ///
-    /// The contact guard checks every `guard.check_every` steps (and always before the final
+    /// The contact guard checks every `tuning.guard.check_every` steps (and always before the final
     /// fit). When a check fails, the evolution goes back to the last certified state and redoes
     /// the steps from there checking each one, resolving contacts locally; the report returned
     /// is the requested step's.

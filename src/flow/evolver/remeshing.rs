@@ -49,8 +49,8 @@ impl Evolver {
         let rs = RemeshSettings {
             iterations: s.remesh.iterations,
             smoothing_iterations: s.remesh.smoothing_iterations,
-            features: s.remesh.features.clone(),
-            curved_splits: s.remesh.curved_splits,
+            features: s.tuning.remesh.features.clone(),
+            curved_splits: s.tuning.remesh.curved_splits,
             ..RemeshSettings::with_sizes(self.sizes)
         };
         self.sizes_changed = false;
@@ -107,7 +107,7 @@ impl Evolver {
     }
 
     fn quality_left_band(&self) -> bool {
-        crate::remesh::trigger::needs_remesh(&self.mesh, self.settings.remesh.max_kappa)
+        crate::remesh::trigger::needs_remesh(&self.mesh, self.settings.tuning.remesh.max_kappa)
     }
 
     fn needs_remesh(&self) -> bool {
@@ -117,7 +117,7 @@ impl Evolver {
             RemeshTrigger::Auto => {
                 // The step number, not a counter: a rolled-back step replays the same decision.
                 self.sizes_changed
-                    || self.step % self.settings.remesh.every.max(1) == 0
+                    || self.step % self.settings.tuning.remesh.every.max(1) == 0
                     || self.quality_left_band()
             }
         }

@@ -1,5 +1,5 @@
 //! After the final fit, *a second pass* for a point cloud or mesh that the first left partly
-//! outside (`flow.cover_gaps`, `flow.second_pass_d2`). At a sparse cloud's usual d₀ (1.7 median
+//! outside (`tuning.flow.cover_gaps`, `tuning.flow.second_pass_d2`). At a sparse cloud's usual d₀ (1.7 median
 //! spacings) a tenth of a randomly sampled surface lies farther than d₀ from every point. A
 //! closed surface's wrap only sags into those holes, but round the rim of an open single-layer
 //! scan the two sides of the wrap can slip through them, meet inside the sheet and leave part
@@ -116,10 +116,10 @@ struct Pass {
 
 impl SecondPass {
     /// The second pass of a wrap of `target` whose d₀ is `d0` (stabilised frame, scale `phi`
-    /// about `center`; `fits`: there is a final fit), with D₂ = `flow.second_pass_d2`; a cloud's
+    /// about `center`; `fits`: there is a final fit), with D₂ = `tuning.flow.second_pass_d2`; a cloud's
     /// with d₀ grown to its gap spacing ([`crate::geometry::spatial::spacing::gap_spacing`])
-    /// where that is larger, at most `flow.cover_gaps` times. `None` for a volume's iso-surface
-    /// (a large volume's second pass would double a long run), with `flow.cover_gaps` = 1, and
+    /// where that is larger, at most `tuning.flow.cover_gaps` times. `None` for a volume's iso-surface
+    /// (a large volume's second pass would double a long run), with `tuning.flow.cover_gaps` = 1, and
     /// where it would repeat the first.
     /// Its start is set by [`Self::starting`].
     pub(super) fn new(
@@ -128,7 +128,7 @@ impl SecondPass {
         (d0, phi, center): (f64, f64, DVec3),
         fits: bool,
     ) -> Option<Box<Self>> {
-        let grow = settings.flow.cover_gaps;
+        let grow = settings.tuning.flow.cover_gaps;
         if target.sampled || grow <= 1.0 || !fits {
             return None;
         }
@@ -138,7 +138,7 @@ impl SecondPass {
         };
         let second = d0.max(gap.min(grow * d0));
         // (The same d₀ and D₂ would only repeat the first pass: the obstacle preset on a mesh.)
-        if second == d0 && settings.flow.d2 == settings.flow.second_pass_d2 {
+        if second == d0 && settings.flow.d2 == settings.tuning.flow.second_pass_d2 {
             return None;
         }
         Some(Box::new(SecondPass {
@@ -211,7 +211,7 @@ impl Evolver {
             report: None,
         };
         let mut times = last.times;
-        let d2 = self.settings.flow.second_pass_d2;
+        let d2 = self.settings.tuning.flow.second_pass_d2;
         let second = self.run_pass(&pass, d2, progress, &mut times);
         // (A second pass that leaves fewer points outside but ends far off the data.)
         let far_off = second.as_ref().is_some_and(|s| {

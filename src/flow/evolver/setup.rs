@@ -50,7 +50,7 @@ impl Evolver {
         let ((field, start, mut settings), closed) = start?;
         progress.report(START_PHASE, 1.0);
         if target.sampled {
-            settings = settings.resolved_for_volume();
+            settings.tuning.fit.refine_passes = settings.tuning.fit.volume_refine_passes;
         }
         let center = target.bbox.center();
         let key = FitKey::new(&settings, target, field.cell_size(), start.phi);
@@ -147,14 +147,14 @@ fn without_strays(
     settings: &WrapSettings,
     progress: &mut Progress,
 ) -> Result<Option<(Target, usize)>, EvolveError> {
-    let cloud = target.triangles.is_empty() && settings.field.outlier_spacings > 0.0;
+    let cloud = target.triangles.is_empty() && settings.tuning.field.outlier_spacings > 0.0;
     if cloud {
         progress.report(STRAY_PHASE, 0.0);
         // The median spacing first, remembered for the test: a part of its cost worth a report.
         crate::geometry::spatial::spacing::median_spacing(&target.points);
         progress.report(STRAY_PHASE, 0.3);
     }
-    let cleaned = target.without_isolated_points(settings.field.outlier_spacings);
+    let cleaned = target.without_isolated_points(settings.tuning.field.outlier_spacings);
     if cloud {
         progress.report(STRAY_PHASE, 1.0);
     }
@@ -172,7 +172,7 @@ fn without_specks(
 ) -> Result<Option<(Target, usize)>, EvolveError> {
     let despecked = match target.triangles.is_empty() {
         true => None,
-        false => DistanceField::planned_cell_size(target, &settings.field)
+        false => DistanceField::planned_cell_size(target, &settings.field_options())
             .and_then(|cell| target.without_specks(cell)),
     };
     if let Some((t, _)) = &despecked {
@@ -189,7 +189,7 @@ fn field_and_start(
     settings: &WrapSettings,
     progress: &mut Progress,
 ) -> (Prebuilt, Result<FieldAndStart, EvolveError>) {
-    let plan = DistanceField::plan(target, &settings.field);
+    let plan = DistanceField::plan(target, &settings.field_options());
     let planned = plan.as_ref().ok().map(|p| {
         let cell = p.cell_size();
         // (A cloud's field is never signed; a mesh's is where it is closed, the usual case.)
@@ -200,7 +200,8 @@ fn field_and_start(
     crate::parallel::beside(
         || planned.map(|k| (k, k.build(target, center))),
         || -> Result<_, EvolveError> {
-            let field = DistanceField::new_planned(target, &settings.field, plan?, progress)?;
+            let field =
+                DistanceField::new_planned(target, &settings.field_options(), plan?, progress)?;
             let mut resolved = settings.clone().resolved_for(field.is_signed());
             progress.report(START_PHASE, 0.0);
             // The target's topology where it is closed: for the start's checks and surgery's
@@ -272,12 +273,12 @@ fn fit_view(
     };
     (fit_target, creases)
 }
-/// Surgery's "far from the data" distance in the target's units: `surgery.empty_cells` cells,
-/// on a point cloud at least `surgery.empty_spacings` median point spacings, and at least half
+/// Surgery's "far from the data" distance in the target's units: `tuning.surgery.empty_cells` cells,
+/// on a point cloud at least `tuning.surgery.empty_spacings` median point spacings, and at least half
 /// of `surgery.close_gaps` diagonals (a hole of that width has its centre that far from the
 /// data). 0 when surgery is off: the spacing costs a tree over the points.
 fn empty_distance(target: &Target, cell: f64, settings: &WrapSettings) -> f64 {
-    let s = &settings.surgery;
+    let (s, tuned) = (&settings.surgery, &settings.tuning.surgery);
     if !s.enabled {
         return 0.0;
     }
@@ -286,8 +287,8 @@ fn empty_distance(target: &Target, cell: f64, settings: &WrapSettings) -> f64 {
     } else {
         0.0
     };
-    (s.empty_cells * cell)
-        .max(s.empty_spacings * spacing)
+    (tuned.empty_cells * cell)
+        .max(tuned.empty_spacings * spacing)
         .max(close_gap_distance(target, settings))
 }
 
@@ -307,7 +308,7 @@ fn divergence_limits(
     center: DVec3,
     settings: &WrapSettings,
 ) -> DivergenceLimits {
-    let g = &settings.guard;
+    let g = &settings.tuning.guard;
     let tb = &target.bbox;
     let (mut min, mut max) = (phi * (tb.min - center), phi * (tb.max - center));
     for p in start.positions() {

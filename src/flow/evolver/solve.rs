@@ -1,7 +1,7 @@
 //! Phase 2 of a step, *assemble and solve*: the semi-implicit system (I − τ·ε·Δ)x = x⁰ +
 //! τ(η·N + tangential) for x, y and z at once (docs/method.md §6.1–6.4). A failed solve is retried
 //! with non-negative weights, first at the same τ, then with τ halved each time; after
-//! `flow.max_retries` the surface goes back to the last certified state and the evolution stops.
+//! `tuning.flow.max_retries` the surface goes back to the last certified state and the evolution stops.
 
 use super::forces::Forces;
 use super::{EvolveError, Evolver, PhaseTimes};
@@ -31,7 +31,10 @@ impl Evolver {
         let n = old.len();
         let lap = &f.terms.laplacian;
         let normals = &f.terms.normals;
-        let (solver, max_retries) = (self.settings.solver.clone(), self.settings.flow.max_retries);
+        let (solver, max_retries) = (
+            self.settings.tuning.solver.clone(),
+            self.settings.tuning.flow.max_retries,
+        );
         let mut retries = 0;
         let reach = RUNAWAY_EDGES * longest_edge(&self.mesh);
         loop {

@@ -133,7 +133,7 @@ pub(super) fn finer_start(
         let mut s = requested.clone();
         let n = s.field.cells_per_min_dimension as f64;
         s.field.cells_per_min_dimension = (k * n).round() as u32;
-        let field = DistanceField::new_with_progress(target, &s.field, progress).ok()?;
+        let field = DistanceField::new_with_progress(target, &s.field_options(), progress).ok()?;
         let resolved = s.clone().resolved_for(field.is_signed());
         (resolved.start.surface == StartSurface::Isosurface).then_some(())?;
         let start = build_start(target, &field, &resolved).ok()?;

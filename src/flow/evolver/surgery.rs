@@ -1,4 +1,4 @@
-//! Phase 8 of a step, *surgery*: every `surgery.check_every` steps, membranes that meet far
+//! Phase 8 of a step, *surgery*: every `tuning.surgery.check_every` steps, membranes that meet far
 //! from the data are cut and joined by a tube ([`crate::flow::surgery`]), the seam is remeshed,
 //! and the operated surface becomes the certified state (roll-backs never undo a surgery).
 
@@ -21,16 +21,16 @@ use glam::DVec3;
 const TUNNELS_FROM: f64 = 0.5;
 
 /// Where a cloud's local spacing exceeds this many times its median, surgery reads "far from the
-/// data" at the local spacing: `surgery.empty_spacings` local spacings. (Below, at the median:
+/// data" at the local spacing: `tuning.surgery.empty_spacings` local spacings. (Below, at the median:
 /// a random sampling's local medians scatter about it, and an even sampling keeps the global
 /// reading.)
 const SPARSE: f64 = 1.5;
 
 /// A cloud's median spacing in the stabilised frame, for surgery's reading of local spacing;
-/// None for a mesh or without `surgery.empty_spacings`.
+/// None for a mesh or without `tuning.surgery.empty_spacings`.
 pub(super) fn cloud_spacing(target: &Target, settings: &WrapSettings, phi: f64) -> Option<f64> {
-    let s = &settings.surgery;
-    if !target.triangles.is_empty() || !s.enabled || s.empty_spacings <= 0.0 {
+    let spacings = settings.tuning.surgery.empty_spacings;
+    if !target.triangles.is_empty() || !settings.surgery.enabled || spacings <= 0.0 {
         return None;
     }
     let median = phi * crate::geometry::spatial::spacing::median_spacing(&target.points);
@@ -50,8 +50,8 @@ fn sparse_factor(local: Option<f64>, median: f64, empty: f64, spacings: f64) -> 
 impl Evolver {
     /// Operates when due and needed; the events of this step (empty when nothing happened).
     pub(super) fn surgery_if_due(&mut self, times: &mut PhaseTimes) -> Vec<SurgeryEvent> {
-        let s = &self.settings.surgery;
-        if (self.step % s.check_every.max(1) != 0 && !self.surgery_pending) || self.done {
+        let every = self.settings.tuning.surgery.check_every;
+        if (self.step % every.max(1) != 0 && !self.surgery_pending) || self.done {
             return Vec::new();
         }
         self.surgery_now(times, false)
@@ -78,8 +78,8 @@ impl Evolver {
 
     /// Operates when needed; `last`: no later look will come (see [`Evolver::surgery_last`]).
     fn surgery_now(&mut self, times: &mut PhaseTimes, last: bool) -> Vec<SurgeryEvent> {
-        let s = &self.settings.surgery;
-        if !s.enabled {
+        let s = &self.settings.tuning.surgery;
+        if !self.settings.surgery.enabled {
             return Vec::new();
         }
         let t0 = now_ms();

@@ -43,23 +43,23 @@ pub const FIT_PHASE: &str = "final fit";
 #[derive(Clone, Debug, PartialEq)]
 pub struct FitOptions {
     /// The moves onto the target: the plane fits' radius and points, the longest move
-    /// (`fit.radius_cells`, `fit.max_move_cells`, `fit.max_points`).
+    /// (`fit.radius_cells`, `fit.max_move_cells`, `tuned.max_points`).
     pub snap: SnapParams,
     /// Passes, each of moves and a remesh (`fit.passes`).
     pub passes: u32,
     /// Most extra passes while a mesh target's vertices are still missed
-    /// (`fit.refine_passes`); only with the error sizing on.
+    /// (`tuned.refine_passes`); only with the error sizing on.
     pub refine_passes: u32,
-    /// How far off the wrap a target vertex counts as missed (`fit.refine_error_cells`); 0
+    /// How far off the wrap a target vertex counts as missed (`tuned.refine_error_cells`); 0
     /// turns the error sizing off.
     pub refine_tol: f64,
-    /// The error sizing's vertex budget (`fit.refine_max_vertices`): no new caps past it, and
+    /// The error sizing's vertex budget (`tuned.refine_max_vertices`): no new caps past it, and
     /// an extra pass whose remesh grows the wrap past it is the last.
     pub budget: usize,
-    /// Reach into the concavities the moves bridge (`fit.reach`; mesh targets with the error
+    /// Reach into the concavities the moves bridge (`tuned.reach`; mesh targets with the error
     /// sizing).
     pub reach: bool,
-    /// The contact guard (`guard.contact`): no pass may leave faces intersecting.
+    /// The contact guard (`tuning.guard.contact`): no pass may leave faces intersecting.
     pub contact: bool,
     /// The guard's settings, for putting back the moves that make faces meet.
     pub guard: GuardSettings,
@@ -98,12 +98,12 @@ impl FitOptions {
         phi: f64,
         center: DVec3,
     ) -> Self {
-        let fit = &settings.fit;
+        let (fit, tuned) = (&settings.fit, &settings.tuning.fit);
         let remesh = RemeshSettings {
             iterations: 1,
             use_projection: true,
             smoothing_iterations: settings.remesh.smoothing_iterations,
-            features: settings.remesh.features.clone(),
+            features: settings.tuning.remesh.features.clone(),
             max_splits_per_vertex: Some(FIT_SPLITS_PER_VERTEX),
             ..RemeshSettings::with_sizes(sizes)
         };
@@ -116,15 +116,15 @@ impl FitOptions {
                 radius: fit.radius_cells * cell,
                 max_move: fit.max_move_cells * cell,
                 min_points: 6,
-                max_points: fit.max_points,
+                max_points: tuned.max_points,
             },
             passes: fit.passes,
-            refine_passes: fit.refine_passes,
-            refine_tol: fit.refine_error_cells * cell,
-            budget: fit.refine_max_vertices,
-            reach: fit.reach,
-            contact: settings.guard.contact,
-            guard: settings.guard.clone(),
+            refine_passes: tuned.refine_passes,
+            refine_tol: tuned.refine_error_cells * cell,
+            budget: tuned.refine_max_vertices,
+            reach: tuned.reach,
+            contact: settings.tuning.guard.contact,
+            guard: settings.tuning.guard.clone(),
             remeshing: settings.remesh.enabled,
             remesh,
             first_remesh,

@@ -1,28 +1,12 @@
-//! The flat setting keys of the first releases (`tau`, `remesh_iterations`, `final_fit`, …), still
-//! accepted everywhere a key is read: settings JSON, `lsw wrap --set`, share links. One table,
-//! read by [`super::WrapSettings::from_json`], the CLI and (through the facade) the app.
+//! Keys of earlier settings, still accepted everywhere a key is read (settings JSON,
+//! `lsw wrap --set`, share links): the flat keys of the first releases (`tau`, `final_fit`, …),
+//! one table, and the values the tuning table now holds, at their stage's key before it
+//! (`flow.regrow_depth` is `tuning.flow.regrow_depth`), one rule.
 
 use serde_json::{Map, Value};
 
-/// Settings added since share links carry every setting (version 3), with the value that
-/// computes what a link made before them computed: a link without the key decodes to it, so
-/// the link keeps its result (`flow.regrow_depth` 0 is the flow before `flow::regrow`,
-/// `surgery.tunnel_ratio` 0 the surgery before tunnels, `field.principal_slack` 0 the grid of
-/// the axis-aligned box, `start.part_gap` 0 one icosphere around all, `field.enclosed_cells`
-/// 0 a cloud's field unsigned everywhere, `flow.cover_gaps` 1 a cloud's d₀ from the cell alone,
-/// `flow.deflate_far` 0 no bubble deflated).
-pub const ADDED: &[(&str, f64)] = &[
-    ("flow.regrow_depth", 0.0),
-    ("surgery.tunnel_ratio", 0.0),
-    ("field.principal_slack", 0.0),
-    ("start.part_gap", 0.0),
-    ("field.enclosed_cells", 0.0),
-    ("flow.cover_gaps", 1.0),
-    ("flow.deflate_far", 0.0),
-];
-
 /// `(old flat key, key in the nested settings)`. An old key that was an object (`features`)
-/// also maps its sub-keys (`features.enabled` → `remesh.features.enabled`).
+/// also maps its sub-keys (`features.enabled` → `tuning.remesh.features.enabled`).
 pub const ALIASES: &[(&str, &str)] = &[
     ("start", "start.surface"),
     ("icosphere_level", "start.icosphere_level"),
@@ -67,8 +51,14 @@ pub const ALIASES: &[(&str, &str)] = &[
 /// were leaves, so `start.surface` and `remesh.iterations` are new keys, not old ones.)
 const OBJECT_ALIASES: &[&str] = &["features"];
 
-/// The current key for `key`: itself unless it is an old flat key (or under an old object key).
+/// The current key for `key`: an old flat key's nested key (also under an old object key), and
+/// a tuned value's key under `tuning`.
 pub fn canonical_key(key: &str) -> String {
+    tuned_key(&nested_key(key))
+}
+
+/// `key` with an old flat key (or an old object key's prefix) replaced by its nested key.
+fn nested_key(key: &str) -> String {
     if let Some((_, new)) = ALIASES.iter().find(|(old, _)| *old == key) {
         return (*new).to_string();
     }
@@ -81,12 +71,34 @@ pub fn canonical_key(key: &str) -> String {
     key.to_string()
 }
 
+/// `tuning.{key}` where `key` names no parameter but a value of the tuning table, else `key`.
+fn tuned_key(key: &str) -> String {
+    let (public, tuning) = defaults_split();
+    let at = |root: &Value| key.split('.').try_fold(root, |v, k| v.get(k)).is_some();
+    if !at(&public) && at(&tuning) {
+        format!("tuning.{key}")
+    } else {
+        key.to_string()
+    }
+}
+
+/// The default settings as JSON: the parameters (without `tuning`) and the tuning apart.
+fn defaults_split() -> (Value, Value) {
+    let mut public = serde_json::to_value(super::WrapSettings::default()).unwrap_or_default();
+    let tuning = public
+        .as_object_mut()
+        .and_then(|m| m.remove("tuning"))
+        .unwrap_or_default();
+    (public, tuning)
+}
+
 /// Every old key down to the leaves (`features.detector` as well as `tau`) with its current key:
 /// what a reader that cannot apply [`canonical_key`]'s prefix rule (the app's link decoder) needs.
 pub fn leaf_aliases() -> Vec<(String, String)> {
     let defaults = serde_json::to_value(super::WrapSettings::default()).unwrap_or_default();
     let mut out = Vec::new();
     for (old, new) in ALIASES {
+        let new = tuned_key(new);
         let at = new.split('.').try_fold(&defaults, |v, k| v.get(k));
         match at.and_then(Value::as_object) {
             Some(obj) if OBJECT_ALIASES.contains(old) => {
@@ -94,10 +106,35 @@ pub fn leaf_aliases() -> Vec<(String, String)> {
                     out.push((format!("{old}.{k}"), format!("{new}.{k}")));
                 }
             }
-            _ => out.push(((*old).to_string(), (*new).to_string())),
+            _ => out.push(((*old).to_string(), new)),
+        }
+    }
+    let (_, tuning) = defaults_split();
+    let mut leaves = Vec::new();
+    leaf_paths(&tuning, "", &mut leaves);
+    for leaf in leaves {
+        if leaf != "version" && tuned_key(&leaf) != leaf {
+            out.push((leaf.clone(), format!("tuning.{leaf}")));
         }
     }
     out
+}
+
+/// The dotted paths of every leaf under `v`.
+fn leaf_paths(v: &Value, prefix: &str, out: &mut Vec<String>) {
+    match v.as_object() {
+        Some(m) => {
+            for (k, v) in m {
+                let p = if prefix.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{prefix}.{k}")
+                };
+                leaf_paths(v, &p, out);
+            }
+        }
+        None => out.push(prefix.to_string()),
+    }
 }
 
 /// Whether `value` under the top-level `key` is written in the old flat form: an old key that is
@@ -141,15 +178,47 @@ pub fn migrate(value: Value) -> Value {
     let (mut out, mut old) = (Map::new(), Vec::new());
     for (k, v) in map {
         if is_old_entry(&k, &v) {
-            old.push((canonical_key(&k), v));
+            old.push((nested_key(&k), v));
         } else {
             out.insert(k, v);
         }
     }
     for (path, v) in old {
+        insert_path(&mut out, &nested_key(&path), v);
+    }
+    let mut moved = Vec::new();
+    take_tuned(&mut out, "", &mut moved);
+    for (path, v) in moved {
         insert_path(&mut out, &path, v);
     }
     Value::Object(out)
+}
+
+/// Takes every value outside `tuning` whose key [`tuned_key`] moves out of `map` (whole groups
+/// such as `guard` leaf by leaf), with its new key.
+fn take_tuned(map: &mut Map<String, Value>, prefix: &str, out: &mut Vec<(String, Value)>) {
+    let keys: Vec<String> = map.keys().cloned().collect();
+    for k in keys {
+        let path = if prefix.is_empty() {
+            k.clone()
+        } else {
+            format!("{prefix}.{k}")
+        };
+        if path == "tuning" {
+            continue;
+        }
+        let new = tuned_key(&path);
+        if new != path {
+            if let Some(v) = map.remove(&k) {
+                out.push((new, v));
+            }
+        } else if let Some(Value::Object(sub)) = map.get_mut(&k) {
+            take_tuned(sub, &path, out);
+            if sub.is_empty() {
+                map.remove(&k);
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -162,9 +231,17 @@ mod tests {
         assert_eq!(canonical_key("start"), "start.surface");
         assert_eq!(
             canonical_key("features.detector"),
-            "remesh.features.detector"
+            "tuning.remesh.features.detector"
         );
         assert_eq!(canonical_key("flow.tau"), "flow.tau");
+        assert_eq!(
+            canonical_key("flow.regrow_depth"),
+            "tuning.flow.regrow_depth"
+        );
+        assert_eq!(canonical_key("guard"), "tuning.guard");
+        assert_eq!(canonical_key("max_retries"), "tuning.flow.max_retries");
+        assert_eq!(canonical_key("tuning.version"), "tuning.version");
+        assert_eq!(canonical_key("flow.bogus"), "flow.bogus");
         assert_eq!(canonical_key("start.surface"), "start.surface");
         assert_eq!(canonical_key("field.band_cells"), "field.band_cells");
         // Every alias target is distinct.
@@ -180,7 +257,11 @@ mod tests {
         assert!(leaves.contains(&("tau".into(), "flow.tau".into())));
         assert!(leaves.contains(&(
             "features.detector".into(),
-            "remesh.features.detector".into()
+            "tuning.remesh.features.detector".into()
+        )));
+        assert!(leaves.contains(&(
+            "flow.regrow_depth".into(),
+            "tuning.flow.regrow_depth".into()
         )));
         let defaults = serde_json::to_value(super::super::WrapSettings::default()).unwrap();
         for (old, new) in &leaves {
@@ -191,25 +272,24 @@ mod tests {
     }
 
     #[test]
-    fn added_settings_are_numeric_leaves_whose_old_value_differs_from_the_default() {
-        let defaults = serde_json::to_value(super::super::WrapSettings::default()).unwrap();
-        for &(key, before) in ADDED {
-            let v = key.split('.').try_fold(&defaults, |v, k| v.get(k));
-            let now = v.and_then(|v| v.as_f64());
-            assert!(now.is_some_and(|now| now != before), "{key}: {v:?}");
-        }
-    }
-
-    #[test]
     fn migrate_nests_old_leaves_and_keeps_new_groups() {
         let v = serde_json::json!({"start": "icosphere", "remesh": false, "tau": 0.05,
             "features": {"detector": "both"}, "flow": {"c1": 2.0}, "field": {"band_cells": 4}});
         let m = migrate(v);
         assert_eq!(
             m,
-            serde_json::json!({"start": {"surface": "icosphere"}, "remesh": {"enabled": false,
-                "features": {"detector": "both"}}, "flow": {"c1": 2.0, "tau": 0.05},
-                "field": {"band_cells": 4}})
+            serde_json::json!({"start": {"surface": "icosphere"}, "remesh": {"enabled": false},
+                "flow": {"c1": 2.0, "tau": 0.05}, "field": {"band_cells": 4},
+                "tuning": {"remesh": {"features": {"detector": "both"}}}})
+        );
+        // Values the tuning table now holds move under it, whole groups leaf by leaf; a value
+        // given under `tuning` wins.
+        let v = serde_json::json!({"flow": {"regrow_depth": 0, "tau": 0.1},
+            "guard": {"check_every": 4}, "tuning": {"version": 1, "flow": {"regrow_depth": 2}}});
+        assert_eq!(
+            migrate(v),
+            serde_json::json!({"flow": {"tau": 0.1}, "tuning": {"version": 1,
+                "flow": {"regrow_depth": 2}, "guard": {"check_every": 4}}})
         );
         let nested = serde_json::json!({"start": {"surface": "auto"}, "remesh": {"iterations": 3}});
         assert_eq!(migrate(nested.clone()), nested);

@@ -2,28 +2,39 @@
 //! and the variants of every enum field, read from the Rust sources at compile time so the help
 //! text is the code's own.
 
-/// Sources whose struct fields are documented for the settings panel: (struct name, source).
-const DOC_SOURCES: [(&str, &str, &str); 11] = [
+/// Sources whose struct fields are documented for the settings panel: (key prefix, struct name,
+/// source).
+const DOC_SOURCES: [(&str, &str, &str); 18] = [
     ("", "WrapSettings", include_str!("mod.rs")),
     ("start", "StartSettings", include_str!("stages.rs")),
+    ("field", "FieldParams", include_str!("stages.rs")),
     ("flow", "FlowSettings", include_str!("stages.rs")),
     ("remesh", "RemeshingSettings", include_str!("stages.rs")),
     ("fit", "FitSettings", include_str!("stages.rs")),
     ("stop", "StopSettings", include_str!("stages.rs")),
     ("surgery", "SurgerySettings", include_str!("stages.rs")),
-    ("guard", "GuardSettings", include_str!("../guard.rs")),
-    ("field", "FieldSettings", include_str!("../../field/mod.rs")),
+    ("tuning", "Tuning", include_str!("tuning.rs")),
+    ("tuning.start", "StartTuning", include_str!("tuning.rs")),
+    ("tuning.field", "FieldTuning", include_str!("tuning.rs")),
+    ("tuning.flow", "FlowTuning", include_str!("tuning.rs")),
+    ("tuning.remesh", "RemeshTuning", include_str!("tuning.rs")),
+    ("tuning.fit", "FitTuning", include_str!("tuning.rs")),
+    ("tuning.surgery", "SurgeryTuning", include_str!("tuning.rs")),
+    ("tuning.guard", "GuardSettings", include_str!("../guard.rs")),
     (
-        "solver",
+        "tuning.solver",
         "SolverSettings",
         include_str!("../../solve/mod.rs"),
     ),
     (
-        "remesh.features",
+        "tuning.remesh.features",
         "FeatureSettings",
         include_str!("../../remesh/features.rs"),
     ),
 ];
+
+/// Sources of enums that settings fields name, besides [`DOC_SOURCES`].
+const ENUM_SOURCES: [&str; 1] = [include_str!("../../field/mod.rs")];
 
 /// The text of `pub struct name { … }` in `src`, from its header to before the closing brace.
 fn struct_body<'a>(src: &'a str, name: &str) -> Option<&'a str> {
@@ -69,6 +80,13 @@ pub fn settings_docs() -> Vec<(String, String)> {
     out
 }
 
+/// [`settings_docs`] of the parameters: every key outside `tuning`, and `tuning` itself.
+pub fn parameter_docs() -> Vec<(String, String)> {
+    let mut docs = settings_docs();
+    docs.retain(|(k, _)| !k.starts_with("tuning."));
+    docs
+}
+
 /// CamelCase → snake_case (serde's `rename_all = "snake_case"`, used by every settings enum).
 fn snake_case(name: &str) -> String {
     let mut out = String::new();
@@ -88,7 +106,11 @@ fn snake_case(name: &str) -> String {
 /// The variants (as serialised) of every enum-typed settings field, keyed like
 /// [`settings_docs`]: read from the Rust sources at compile time.
 pub fn settings_enums() -> Vec<(String, Vec<String>)> {
-    let all_src: String = DOC_SOURCES.iter().map(|s| s.2).collect();
+    let all_src: String = DOC_SOURCES
+        .iter()
+        .map(|s| s.2)
+        .chain(ENUM_SOURCES)
+        .collect();
     let mut out = Vec::new();
     for (prefix, name, src) in DOC_SOURCES {
         let Some(body) = struct_body(src, name) else {
@@ -178,7 +200,7 @@ mod tests {
         assert_eq!(get("start.surface"), ["auto", "icosphere", "isosurface"]);
         assert_eq!(get("remesh.trigger"), ["always", "quality_band", "auto"]);
         assert_eq!(
-            get("remesh.features.detector"),
+            get("tuning.remesh.features.detector"),
             ["off", "mean_curvature", "dihedral_angle", "both"]
         );
         assert_eq!(get("field.sign"), ["auto", "unsigned"]);

@@ -8,26 +8,21 @@
 pub mod aliases;
 pub mod docs;
 mod stages;
+pub mod tuning;
 
 pub use stages::{
-    FitSettings, FlowSettings, RemeshTrigger, RemeshingSettings, StartSettings, StartSurface,
-    StopSettings, SurgerySettings,
+    FieldParams, FitSettings, FlowSettings, RemeshTrigger, RemeshingSettings, StartSettings,
+    StartSurface, StopSettings, SurgerySettings,
 };
+pub use tuning::{FieldTuning, Tuning};
 
-use super::guard::GuardSettings;
 use crate::field::FieldSettings;
-use crate::solve::SolverSettings;
 use serde::{Deserialize, Serialize};
 
 /// λ_min of the isosurface start when `auto` picks it: half the isosurface preset's 0.4, fine
 /// enough that the automatic start fits closer than the icosphere full wrap without its cost
 /// (see docs/decisions/).
 pub const AUTO_ISOSURFACE_MIN_EDGE: f64 = 0.2;
-
-/// Error-adaptive fit passes on a volume's iso-surface by default. A volume's misses lie in
-/// folds narrower than a cell, which no pass reaches: the passes multiply the fit's time and
-/// the wrap's vertices for little gain (see docs/decisions/).
-pub const VOLUME_REFINE_PASSES: u32 = 0;
 
 /// A named bundle of settings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -100,29 +95,28 @@ impl Preset {
     }
 }
 
-/// Every setting of a wrap, by stage. Lengths a user sets are relative to the target (cells of
-/// the distance grid, or multiples of the start surface).
+/// Every setting of a wrap: the method's parameters and the user's controls by stage, and the
+/// tuning table's values apart ([`Tuning`]). Lengths are relative to the target (cells of the
+/// distance grid, or multiples of the start surface).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct WrapSettings {
     /// The start surface: icosphere, isosurface of the field, or chosen per target.
     pub start: StartSettings,
     /// The distance field: grid, near band, sign.
-    pub field: FieldSettings,
+    pub field: FieldParams,
     /// The evolution: time step, curvature and advection controls, size schedule.
     pub flow: FlowSettings,
     /// Adaptive remeshing: when, how often, edge sizes, features.
     pub remesh: RemeshingSettings,
     /// The final fit onto the target.
     pub fit: FitSettings,
-    /// Guards: contact (no self-intersection) and divergence.
-    pub guard: GuardSettings,
     /// Topology surgery: handles open where two membranes meet in empty space.
     pub surgery: SurgerySettings,
-    /// The linear solver.
-    pub solver: SolverSettings,
     /// When the evolution ends.
     pub stop: StopSettings,
+    /// The heuristics and constants, from a version of the tuning table (docs/decisions/).
+    pub tuning: Tuning,
 }
 
 /// A setting out of its range.
@@ -193,33 +187,40 @@ pub const RANGES: &[SettingRange] = &[
     SettingRange::new("flow.c2", 0.0, f64::INFINITY, true, "> 0"),
     SettingRange::new("flow.tangential_weight", 0.0, 1.0, false, "0–1"),
     SettingRange::new("flow.iso_level_factor", 0.0, 10.0, false, "0–10"),
-    SettingRange::new("flow.cover_gaps", 1.0, 4.0, false, "1–4"),
-    SettingRange::new("flow.second_pass_d2", 0.0, f64::INFINITY, false, "≥ 0"),
-    SettingRange::new("flow.deflate_far", 0.0, 100.0, false, "0–100"),
+    SettingRange::new("tuning.flow.cover_gaps", 1.0, 4.0, false, "1–4"),
+    SettingRange::new(
+        "tuning.flow.second_pass_d2",
+        0.0,
+        f64::INFINITY,
+        false,
+        "≥ 0",
+    ),
+    SettingRange::new("tuning.flow.deflate_far", 0.0, 100.0, false, "0–100"),
     SettingRange::new("flow.shrink_factor", 0.0, 10.0, true, "(0, 10]"),
     SettingRange::new("flow.decay", 0.0, 1.0, true, "(0, 1]"),
     SettingRange::new("remesh.min_edge_multiplier", 0.0, 10.0, true, "(0, 10]"),
-    SettingRange::new("remesh.every", 1.0, 1000.0, false, "1–1000"),
+    SettingRange::new("tuning.remesh.every", 1.0, 1000.0, false, "1–1000"),
     SettingRange::new("stop.fraction", 0.0, 1.0, true, "(0, 1]"),
     SettingRange::new("start.isosurface_resampling", 0.5, 8.0, false, "0.5–8"),
-    SettingRange::new("start.part_gap", 0.0, 1.0, false, "0–1"),
+    SettingRange::new("tuning.start.part_gap", 0.0, 1.0, false, "0–1"),
     SettingRange::new("flow.c1", 0.0, f64::INFINITY, false, "≥ 0"),
     SettingRange::new("flow.d1", 0.0, f64::INFINITY, false, "≥ 0"),
     SettingRange::new("flow.d2", 0.0, f64::INFINITY, false, "≥ 0"),
-    SettingRange::new("flow.regrow_depth", 0.0, 100.0, false, "0–100"),
-    SettingRange::new("flow.regrow_cells", 0.0, 1000.0, false, "0–1000"),
-    SettingRange::new("flow.regrow_edges", 0.0, 100.0, false, "0–100"),
-    SettingRange::new("fit.max_points", 6.0, 1e6, false, "6–1000000"),
+    SettingRange::new("tuning.flow.regrow_depth", 0.0, 100.0, false, "0–100"),
+    SettingRange::new("tuning.flow.regrow_cells", 0.0, 1000.0, false, "0–1000"),
+    SettingRange::new("tuning.flow.regrow_edges", 0.0, 100.0, false, "0–100"),
+    SettingRange::new("tuning.fit.max_points", 6.0, 1e6, false, "6–1000000"),
     SettingRange::new("fit.crease_angle_deg", 0.0, 180.0, false, "0–180"),
-    SettingRange::new("fit.refine_error_cells", 0.0, 1e6, false, "≥ 0"),
-    SettingRange::new("fit.refine_passes", 0.0, 10.0, false, "0–10"),
-    SettingRange::new("fit.refine_max_vertices", 100.0, 1e9, false, "≥ 100"),
-    SettingRange::new("surgery.check_every", 1.0, 1e6, false, "≥ 1"),
-    SettingRange::new("surgery.empty_cells", 0.0, 1e6, false, "≥ 0"),
-    SettingRange::new("surgery.empty_spacings", 0.0, 1e6, false, "≥ 0"),
-    SettingRange::new("surgery.gap_ratio", 0.0, 1.0, true, "(0, 1]"),
-    SettingRange::new("surgery.tunnel_ratio", 0.0, 1e6, false, "≥ 0"),
-    SettingRange::new("surgery.min_vertices", 3.0, 1e9, false, "≥ 3"),
+    SettingRange::new("tuning.fit.refine_error_cells", 0.0, 1e6, false, "≥ 0"),
+    SettingRange::new("tuning.fit.refine_passes", 0.0, 10.0, false, "0–10"),
+    SettingRange::new("tuning.fit.volume_refine_passes", 0.0, 10.0, false, "0–10"),
+    SettingRange::new("tuning.fit.refine_max_vertices", 100.0, 1e9, false, "≥ 100"),
+    SettingRange::new("tuning.surgery.check_every", 1.0, 1e6, false, "≥ 1"),
+    SettingRange::new("tuning.surgery.empty_cells", 0.0, 1e6, false, "≥ 0"),
+    SettingRange::new("tuning.surgery.empty_spacings", 0.0, 1e6, false, "≥ 0"),
+    SettingRange::new("tuning.surgery.gap_ratio", 0.0, 1.0, true, "(0, 1]"),
+    SettingRange::new("tuning.surgery.tunnel_ratio", 0.0, 1e6, false, "≥ 0"),
+    SettingRange::new("tuning.surgery.min_vertices", 3.0, 1e9, false, "≥ 3"),
     SettingRange::new("surgery.close_gaps", 0.0, 1.0, false, "0–1"),
 ];
 
@@ -300,13 +301,23 @@ impl WrapSettings {
         self
     }
 
-    /// For a volume's iso-surface (`Target::sampled`): the fit's error-adaptive passes, left at
-    /// their default, become [`VOLUME_REFINE_PASSES`].
-    pub fn resolved_for_volume(mut self) -> Self {
-        if self.fit.refine_passes == FitSettings::default().refine_passes {
-            self.fit.refine_passes = VOLUME_REFINE_PASSES;
+    /// The distance field's options: its parameters and its tuning.
+    pub fn field_options(&self) -> FieldSettings {
+        let (p, t) = (&self.field, &self.tuning.field);
+        FieldSettings {
+            cells_per_min_dimension: p.cells_per_min_dimension,
+            expansion: p.expansion,
+            band_cells: p.band_cells,
+            truncation: t.truncation,
+            sign: p.sign,
+            max_sweep_passes: t.max_sweep_passes,
+            sweep_tolerance: t.sweep_tolerance,
+            memory_cap_bytes: p.memory_cap_bytes,
+            min_cell_spacings: t.min_cell_spacings,
+            outlier_spacings: t.outlier_spacings,
+            principal_slack: t.principal_slack,
+            enclosed_cells: t.enclosed_cells,
         }
-        self
     }
 
     /// Checks every setting of [`RANGES`] (the field and solver settings are checked where they
@@ -379,22 +390,28 @@ mod tests {
         assert!(s.check().is_ok());
     }
 
+    /// The parameters stay few: a rule for a class of inputs belongs in the tuning table.
     #[test]
-    fn a_volume_takes_its_own_refine_passes_unless_the_user_chose_some() {
-        let d = WrapSettings::default();
-        assert_ne!(d.fit.refine_passes, VOLUME_REFINE_PASSES);
-        let v = d.clone().resolved_for_volume();
-        assert_eq!(v.fit.refine_passes, VOLUME_REFINE_PASSES);
-        assert_eq!(
-            WrapSettings {
-                fit: d.fit.clone(),
-                ..v
-            },
-            d
+    fn at_most_forty_parameters_outside_the_tuning_table() {
+        fn leaves(v: &serde_json::Value) -> usize {
+            v.as_object().map_or(1, |m| m.values().map(leaves).sum())
+        }
+        let mut json = serde_json::to_value(WrapSettings::default()).unwrap();
+        let tuning = json.as_object_mut().unwrap().remove("tuning").unwrap();
+        let n = leaves(&json);
+        assert!(n <= 40, "{n} parameters");
+        assert!(
+            leaves(&tuning) > n / 2,
+            "the tuning table is where the rest went"
         );
-        let mut mine = WrapSettings::default();
-        mine.fit.refine_passes = 3;
-        assert_eq!(mine.clone().resolved_for_volume(), mine);
+    }
+
+    #[test]
+    fn the_field_options_are_the_field_modules_defaults() {
+        assert_eq!(
+            WrapSettings::default().field_options(),
+            FieldSettings::default()
+        );
     }
 
     #[test]
@@ -488,6 +505,12 @@ mod tests {
             "fit_passes": 1, "max_retries": 2, "guard": {"check_every": 4},
             "field": {"band_cells": 4.0}, "solver": {"max_iterations": 50}}"#;
         let s = WrapSettings::from_json(old).unwrap();
+        let mut tuning = Tuning::default();
+        tuning.flow.max_retries = 2;
+        tuning.remesh.max_kappa = 1.7;
+        tuning.remesh.features.detector = crate::remesh::FeatureDetector::Both;
+        tuning.guard.check_every = 4;
+        tuning.solver.max_iterations = 50;
         let want = WrapSettings {
             start: StartSettings {
                 surface: StartSurface::Isosurface,
@@ -495,7 +518,6 @@ mod tests {
                 icosphere_radius_factor: 1.2,
                 isosurface_level_cells: 2.5,
                 isosurface_resampling: 2.0,
-                ..Default::default()
             },
             flow: FlowSettings {
                 use_target: true,
@@ -511,54 +533,33 @@ mod tests {
                 shrink_factor: 0.3,
                 schedule: vec![2, 4],
                 decay: 0.5,
-                max_retries: 2,
-                ..FlowSettings::default()
             },
             remesh: RemeshingSettings {
                 enabled: false,
                 from_step: 2,
                 trigger: RemeshTrigger::QualityBand,
-                every: 4,
-                max_kappa: 1.7,
                 min_edge_multiplier: 0.2,
                 iterations: 3,
                 smoothing_iterations: 4,
-                features: crate::remesh::FeatureSettings {
-                    detector: crate::remesh::FeatureDetector::Both,
-                    ..Default::default()
-                },
-                curved_splits: true,
             },
             fit: FitSettings {
                 enabled: false,
                 radius_cells: 3.0,
                 max_move_cells: 4.0,
                 passes: 1,
-                max_points: 64,
                 crease_angle_deg: 40.0,
-                refine_error_cells: 0.25,
-                refine_passes: 5,
-                refine_max_vertices: 80_000,
-                reach: true,
             },
             stop: StopSettings {
                 steps: 30,
                 fraction: 0.9,
                 displacement_cells: 0.01,
             },
-            guard: GuardSettings {
-                check_every: 4,
-                ..Default::default()
-            },
             surgery: SurgerySettings::default(),
-            field: FieldSettings {
+            field: FieldParams {
                 band_cells: 4.0,
                 ..Default::default()
             },
-            solver: SolverSettings {
-                max_iterations: 50,
-                ..Default::default()
-            },
+            tuning,
         };
         assert_eq!(s, want);
         // The nested form round-trips, and the old keys cover every leaf they name.

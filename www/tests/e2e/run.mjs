@@ -473,7 +473,7 @@ test('a share link opened in a fresh page reproduces the same result hash; bad k
   const hash1 = await resultHash(page);
   await page.click('[data-testid=copy-link]');
   const link = await page.inputValue('[data-testid=share-url]');
-  assert(/#v=3&/.test(link) && /s\.stop\.steps=40/.test(link) && /d=demo%3Anoisy-sphere/.test(link), `link lacks state: ${link}`);
+  assert(/#v=4&/.test(link) && /s\.stop\.steps=40/.test(link) && /d=demo%3Anoisy-sphere/.test(link), `link lacks state: ${link}`);
   const fresh = await browser.newPage({ viewport: { width: 1280, height: 800 } });
   await fresh.goto(link + '&s.nonsense=3');
   await fresh.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });

@@ -304,7 +304,7 @@ test('a link for a dropped file names it (name, size, fingerprint); the receiver
   await page.waitForFunction(() => /f\.sha=/.test(document.querySelector('[data-testid=share-url]').value), null, { timeout: 10000 });
   const link = await page.inputValue('[data-testid=share-url]');
   const hash1 = await page.evaluate(() => window.__lsw.resultHash());
-  assert(/#v=3&/.test(link) && /f\.name=octahedron\.obj/.test(link) && new RegExp(`f\\.size=${octahedron.length}`).test(link) && /f\.sha=[0-9a-f]{16}/.test(link), `link: ${link}`);
+  assert(/#v=4&/.test(link) && /f\.name=octahedron\.obj/.test(link) && new RegExp(`f\\.size=${octahedron.length}`).test(link) && /f\.sha=[0-9a-f]{16}/.test(link), `link: ${link}`);
   await page.click('[data-testid=copy-link]');
   assert(/cannot carry the file/.test(await page.textContent('[data-testid=notice]')), 'no notice on copying a link of a dropped file');
   const fresh = await openApp(browser, link);

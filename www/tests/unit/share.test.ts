@@ -13,7 +13,7 @@ describe('URL state codec', () => {
       view: { ...DEFAULT_VIEW, wire: false, cmap: 'kappa', yaw: 1.25 },
     };
     const hash = encode(state);
-    expect(hash.startsWith('v=3')).toBe(true);
+    expect(hash.startsWith('v=4')).toBe(true);
     const { state: back, notices } = decode('#' + hash, presets, { colourMaps: ['distance', 'kappa', 'none'] });
     expect(notices).toEqual([]);
     expect(back).toEqual(state);
@@ -96,16 +96,25 @@ describe('URL state codec', () => {
     expect(decode('v=1&s.flow.tau=0.04', nested, { aliases }).state.changed).toEqual({ 'flow.tau': 0.04 });
   });
 
-  it('a link made before a setting was added gets the value that computed its result', () => {
-    const nested: Record<string, Flat> = { 'full-wrap': flatten({ flow: { tau: 0.07, regrow_depth: 1.5 } }) };
-    const added = { 'flow.regrow_depth': 0 };
-    // Made before: the key is missing, so the flow of then (0), not today's default.
-    expect(decode('v=3&p=full-wrap&s.flow.tau=0.07', nested, { added }).state.changed).toEqual({ 'flow.regrow_depth': 0 });
-    // Made after: the link carries the key, today's default stays no change.
-    expect(decode('v=3&p=full-wrap&s.flow.tau=0.07&s.flow.regrow_depth=1.5', nested, { added }).state.changed).toEqual({});
-    expect(decode('v=3&s.flow.regrow_depth=2', nested, { added }).state.changed).toEqual({ 'flow.regrow_depth': 2 });
+  it('a link decodes against the tuning version it was made with', () => {
+    const nested: Record<string, Flat> = { 'full-wrap': flatten({ flow: { tau: 0.07 }, tuning: { version: 2, flow: { regrow_depth: 1.5, max_retries: 4 } } }) };
+    const tuningRows = { '1': { version: 1, flow: { regrow_depth: 0, max_retries: 4 } }, '2': { version: 2, flow: { regrow_depth: 1.5, max_retries: 4 } } };
+    const aliases = { 'flow.regrow_depth': 'tuning.flow.regrow_depth' };
+    const opts = { aliases, tuningRows };
+    // A version-3 link made before the regrowth lacks the key: the tuning of then (row 1).
+    expect(decode('v=3&p=full-wrap&s.flow.tau=0.07', nested, opts).state.changed).toEqual({ 'tuning.version': 1, 'tuning.flow.regrow_depth': 0 });
+    // Made after it, the link carries the key under its stage's earlier name: its value counts.
+    expect(decode('v=3&p=full-wrap&s.flow.tau=0.07&s.flow.regrow_depth=1.5', nested, opts).state.changed).toEqual({ 'tuning.version': 1 });
+    expect(decode('v=3&s.flow.regrow_depth=2', nested, opts).state.changed).toEqual({ 'tuning.version': 1, 'tuning.flow.regrow_depth': 2 });
+    // A version-4 link names its tuning version; the current one is no change.
+    expect(decode('v=4&s.tuning.version=2&s.flow.tau=0.05', nested, opts).state.changed).toEqual({ 'flow.tau': 0.05 });
+    expect(decode('v=4&s.tuning.version=1', nested, opts).state.changed).toEqual({ 'tuning.version': 1, 'tuning.flow.regrow_depth': 0 });
+    // An unknown tuning version is said and dropped.
+    const future = decode('v=4&s.tuning.version=9', nested, opts);
+    expect(future.state.changed).toEqual({});
+    expect(future.notices.join(' ')).toMatch(/tuning version 9/);
     // A link without a version uses no settings at all.
-    expect(decode('p=full-wrap', nested, { added }).state.changed).toEqual({});
+    expect(decode('p=full-wrap', nested, opts).state.changed).toEqual({});
   });
 
   it('unknown keys, wrong types and bad values fall back to defaults with notices', () => {
