@@ -3,6 +3,7 @@
 //! `valid` is the first promise of the tool — closed, manifold, oriented, finite and without a
 //! single intersecting face pair; a result that is not valid is never presented as done.
 
+use super::faithful::{faithfulness, DataNear, Faithfulness};
 use super::intersections::count_self_intersections;
 use crate::geometry::spatial::bvh::TriangleBvh;
 use crate::geometry::spatial::point_grid::PointGrid;
@@ -42,6 +43,11 @@ pub struct Certificate {
     pub distance_max: Option<f64>,
     /// The first broken property in words, or `None` when valid.
     pub problem: Option<String>,
+    /// How close to the data the wrap stays, in the data's own spacing, and how its faces fold
+    /// and are shaped (closed manifold wraps measured against a target; see
+    /// [`super::faithful`]).
+    #[serde(default)]
+    pub faithfulness: Option<Faithfulness>,
     /// Genus and components (1) of the target's triangles when they form one closed manifold
     /// part (None for clouds, open or non-manifold meshes, and targets of several parts: a wrap
     /// takes the outside of nested shells, of a noisy iso-surface's specks, of overlapping
@@ -118,6 +124,9 @@ pub struct CertificateTarget {
     /// The target points tested for lying outside the wrap, and how far out counts.
     samples: Vec<DVec3>,
     outside_tolerance: f64,
+    /// A cloud's spacing were it sampled evenly: closer to the data than half of it, a place
+    /// lies on the data whatever the local spacing.
+    even_spacing: f64,
 }
 
 enum Near {
@@ -143,6 +152,7 @@ impl CertificateTarget {
             topology: t.one_closed_part(),
             samples: outside_samples(t),
             outside_tolerance: OUTSIDE_TOLERANCE * t.bbox.diagonal(),
+            even_spacing: t.bbox.diagonal() / (t.points.len().max(1) as f64).sqrt(),
         }
     }
 
@@ -151,6 +161,35 @@ impl CertificateTarget {
             Near::Points(grid) => grid.nearest(p).map_or(f64::INFINITY, |n| n.d2.sqrt()),
             Near::Triangles(bvh) => bvh.distance(p),
         }
+    }
+}
+
+impl DataNear for CertificateTarget {
+    fn spacing_near(&self, p: DVec3) -> Option<f64> {
+        match &self.near {
+            Near::Points(grid) => {
+                let d = grid.nearest(p)?.d2.sqrt();
+                match d < 0.5 * self.even_spacing {
+                    true => Some(self.even_spacing),
+                    false => crate::geometry::spatial::local_spacing::spacing_near(grid, p),
+                }
+            }
+            Near::Triangles(bvh) => {
+                let hit = bvh.closest_point(p)?;
+                let [a, b, c] =
+                    bvh.triangles()[hit.triangle as usize].map(|v| bvh.positions()[v as usize]);
+                Some(((b - a).length() + (c - b).length() + (a - c).length()) / 3.0)
+            }
+        }
+    }
+
+    fn normal_near(&self, p: DVec3) -> Option<DVec3> {
+        let Near::Triangles(bvh) = &self.near else {
+            return None;
+        };
+        let hit = bvh.closest_point(p)?;
+        let [a, b, c] = bvh.triangles()[hit.triangle as usize].map(|v| bvh.positions()[v as usize]);
+        Some((b - a).cross(c - a).normalize_or_zero())
     }
 }
 
@@ -296,6 +335,10 @@ pub fn certify_measuring(
         },
     );
     let target_topology = target.and_then(|t| t.topology);
+    let faithfulness = match (&distances, target) {
+        (Some(d), Some(t)) if closed && manifold => Some(faithfulness(positions, triangles, d, t)),
+        _ => None,
+    };
     let distance_min = distances
         .as_ref()
         .map(|d| d.iter().copied().fold(f64::INFINITY, f64::min));
@@ -316,6 +359,7 @@ pub fn certify_measuring(
         distance_min,
         distance_max,
         problem: if valid { None } else { problem },
+        faithfulness,
         target_genus: target_topology.map(|t| t.genus),
         target_components: target_topology.map(|t| t.components),
         target_points_outside: outside,

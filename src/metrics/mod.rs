@@ -15,6 +15,7 @@ pub mod certificate;
 pub mod creases;
 pub mod distance;
 pub mod error_budget;
+pub mod faithful;
 pub mod histogram;
 pub mod intersections;
 pub mod quality;

@@ -302,6 +302,7 @@ mod tests {
             degenerate_faces: 0,
             distance_min: Some(0.0),
             distance_max: Some(0.01234),
+            faithfulness: None,
             problem: None,
             target_genus: None,
             target_components: None,
