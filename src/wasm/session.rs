@@ -83,7 +83,7 @@ impl WrapSession {
 }
 
 /// What was read (`WrapSession.targetInfo`).
-#[derive(Serialize, Debug, Clone)]
+#[derive(Serialize, Debug, Clone, tsify::Tsify)]
 #[serde(rename_all = "camelCase")]
 pub struct TargetInfo {
     /// The format's short name (see [`Format::name`]).
@@ -103,7 +103,7 @@ pub struct TargetInfo {
 
 /// The current surface certified, with the core's verdict on it (`WrapSession.outcome`; keys
 /// in snake_case).
-#[derive(Serialize, Debug, Clone)]
+#[derive(Serialize, Debug, Clone, tsify::Tsify)]
 pub struct Outcome {
     pub certificate: Certificate,
     pub verdict: Verdict,

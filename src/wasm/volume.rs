@@ -20,7 +20,7 @@ fn options(iso: Option<f64>, frame: u32, dark: bool) -> VolumeOptions {
 }
 
 /// A voxel volume's facts (`VolumeView.info`).
-#[derive(Serialize, Debug, Clone)]
+#[derive(Serialize, Debug, Clone, tsify::Tsify)]
 #[serde(rename_all = "camelCase")]
 pub struct VolumeInfo {
     /// The format's short name (see [`Format::name`]).

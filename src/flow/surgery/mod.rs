@@ -28,6 +28,7 @@ pub const OPENED_MARGIN: f64 = 1.5;
 /// `"drop"`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub enum SurgeryKind {
     /// Two membranes cut and joined by a tube: genus +1.
     Handle,
@@ -41,6 +42,7 @@ pub enum SurgeryKind {
 
 /// One topology change, for the statistics and the app's timeline.
 #[derive(Clone, Debug, PartialEq, Serialize)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct SurgeryEvent {
     /// The step after which it happened.
     pub step: u32,
