@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 /// Whether a target is a bare point cloud or carries triangles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub enum TargetKind {
     /// Points only (no connectivity, no normals needed).
     Points,

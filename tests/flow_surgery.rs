@@ -13,7 +13,7 @@ use lsw::demo::shapes::generate;
 use lsw::demo::{sample_mesh, Rng};
 use lsw::flow::surgery::bridge::Cut;
 use lsw::flow::surgery::detect::FacingQuery;
-use lsw::flow::surgery::{drop_empty_components, events, open_handles, SurgeryEvent};
+use lsw::flow::surgery::{drop_empty_components, events, open_handles, SurgeryEvent, SurgeryKind};
 use lsw::flow::{Evolver, StartSurface, WrapSettings};
 use lsw::geometry::icosphere::icosphere;
 use lsw::mesh::HalfedgeMesh;
@@ -75,7 +75,7 @@ fn sphere_to_torus_and_double_torus_on_clouds() {
         let (g, events) = wrap(name, StartSurface::Auto);
         assert_eq!(g, genus, "{name}");
         assert_eq!(events.len(), genus as usize, "{name}: one tube per handle");
-        assert!(events.iter().all(|e| e.kind == "handle"));
+        assert!(events.iter().all(|e| e.kind == SurgeryKind::Handle));
         assert_eq!(events[0].genus_before, 0);
     }
 }
@@ -179,8 +179,8 @@ fn a_neck_between_two_separate_spheres_pinches_into_two_components() {
     let c = certify(&ev.positions(), &ev.triangles(), Some(&target));
     assert!(c.valid && c.self_intersections == 0, "{c:?}");
     assert_eq!((c.components, c.genus), (Some(2), Some(0)), "{c:?}");
-    let kinds: Vec<&str> = ev.surgery_events().iter().map(|e| e.kind).collect();
-    assert!(kinds.contains(&"pinch"), "{kinds:?}");
+    let kinds: Vec<SurgeryKind> = ev.surgery_events().iter().map(|e| e.kind).collect();
+    assert!(kinds.contains(&SurgeryKind::Pinch), "{kinds:?}");
 }
 
 /// A fat torus (R 0.5, r 0.44) whose hole is 0.12 wide at its waist, 6 % of its width: the
@@ -201,7 +201,10 @@ fn a_hole_squeezed_by_the_flow_is_not_pinched_shut() {
         WrapSettings::default(),
     );
     assert_eq!(genus, 1, "{events:?}");
-    assert!(events.iter().all(|e| e.kind != "pinch"), "{events:?}");
+    assert!(
+        events.iter().all(|e| e.kind != SurgeryKind::Pinch),
+        "{events:?}"
+    );
 }
 
 #[test]
@@ -324,7 +327,7 @@ fn two_spheres_approaching_in_empty_space_merge_through_a_tube() {
         .expect("the spheres merge");
     assert_eq!((op.components_before, op.components_after), (2, 1));
     assert_eq!((op.genus_before, op.genus_after), (0, 0));
-    assert_eq!(events(&op, 1, 1.0, |p| p)[0].kind, "merge");
+    assert_eq!(events(&op, 1, 1.0, |p| p)[0].kind, SurgeryKind::Merge);
     let pairs = self_intersecting_pairs_brute_force(op.mesh.positions(), &op.mesh.triangles());
     assert!(pairs.is_empty(), "{pairs:?}");
 }
@@ -387,7 +390,9 @@ fn a_neck_in_empty_space_is_cut_and_capped() {
     // Each ring cut adds a component (the icosphere's symmetry may give more than one ring).
     assert_eq!(op.components_after, 1 + op.tubes.len());
     assert_eq!(op.genus_after, 0);
-    assert!(events(&op, 1, 1.0, |p| p).iter().all(|e| e.kind == "pinch"));
+    assert!(events(&op, 1, 1.0, |p| p)
+        .iter()
+        .all(|e| e.kind == SurgeryKind::Pinch));
     let pairs = self_intersecting_pairs_brute_force(op.mesh.positions(), &op.mesh.triangles());
     assert!(pairs.is_empty(), "{pairs:?}");
     // Both stumps enclose nothing (all far from the data): nothing certain, nothing dropped;

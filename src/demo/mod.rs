@@ -211,6 +211,7 @@ pub fn shape(name: &str) -> Result<(Vec<DVec3>, Vec<[u32; 3]>), DemoError> {
 
 /// Sampled control functions for plotting (stabilised frame, δ = d − d₀).
 #[derive(Clone, Debug, Serialize, PartialEq)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct ControlCurves {
     /// δ samples.
     pub delta: Vec<f64>,

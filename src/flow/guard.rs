@@ -65,6 +65,7 @@ impl Default for GuardSettings {
 
 /// What the contact guard did in one call.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct ContactReport {
     /// Intersecting face pairs found before any revert.
     pub pairs: usize,

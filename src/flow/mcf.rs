@@ -95,6 +95,7 @@ pub fn lesson_steps_left(r0: f64, tau: f64, step: u32) -> u32 {
 /// What a time step τ means for the sphere lesson, worked out before it runs.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "camelCase")]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct TauAdvice {
     /// The τ asked about.
     pub tau: f64,

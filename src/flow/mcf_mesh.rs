@@ -108,6 +108,10 @@ pub enum MeshMcfError {
 /// Statistics of the current state of a mesh lesson (serialised camelCase for the page).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "camelCase")]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
+// The page gets these through `serde_wasm_bindgen`'s JSON-compatible serialiser (see
+// `wasm::mcf::McfSession::stats`), which writes `None` as null: say so in the TypeScript type.
+#[cfg_attr(target_arch = "wasm32", tsify(missing_as_null))]
 pub struct MeshFlowStats {
     /// Steps taken.
     pub step: u32,
@@ -146,6 +150,7 @@ pub struct MeshFlowStats {
 /// What a relative time step τ/D² means for the mesh lesson, worked out before it runs.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "camelCase")]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct MeshTauAdvice {
     /// The τ/D² asked about.
     pub tau: f64,

@@ -95,6 +95,7 @@ pub struct ReadResult {
 /// invalid (E57), grid cells without a return (PTX). Reported so that a cloud smaller than its
 /// file's count is not a surprise.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct LeftOut {
     /// How many.
     pub points: usize,

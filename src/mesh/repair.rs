@@ -31,6 +31,7 @@ use serde::{Deserialize, Serialize};
 
 /// What [`repair`] changed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct Repairs {
     /// Vertices merged into an earlier one at the same position.
     pub merged_vertices: usize,

@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 /// Counts of values in `bins` equal bins over `[lo, hi)`, with under- and overflow.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct Histogram {
     /// Lower edge of the first bin.
     pub lo: f64,

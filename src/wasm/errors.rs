@@ -8,7 +8,7 @@ use std::fmt::Display;
 use wasm_bindgen::JsValue;
 
 /// An error as the UI sees it: a stable machine code, a sentence, and what to try.
-#[derive(Serialize, Debug, Clone, PartialEq)]
+#[derive(Serialize, Debug, Clone, PartialEq, tsify::Tsify)]
 pub struct UiError {
     /// Stable identifier, one of [`crate::error::CODES`] (e.g. `bad-parameter`, `solve-failed`).
     pub code: &'static str,

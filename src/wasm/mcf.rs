@@ -18,11 +18,14 @@ use js_sys::{Float32Array, Uint32Array};
 use serde::Serialize;
 use wasm_bindgen::prelude::*;
 
-/// Statistics of the current MCF state, for the UI's plots and labels.
-#[derive(Serialize, Debug, Clone)]
+/// Statistics of the current MCF state, for the UI's plots and labels (`SphereStats` in
+/// TypeScript, where `McfStats` is either lesson's).
+#[derive(Serialize, Debug, Clone, tsify::Tsify)]
 #[serde(rename_all = "camelCase")]
+#[tsify(rename = "SphereStats")]
 pub struct McfStats {
     /// Which lesson: always "sphere" here ("mesh" for [`MeshLessonStats`]).
+    #[tsify(type = "\"sphere\"")]
     pub lesson: &'static str,
     /// Steps taken since creation.
     pub step: u32,
@@ -47,11 +50,14 @@ pub struct McfStats {
 }
 
 /// Statistics of the mesh lesson: the core's [`MeshFlowStats`] (camelCase, flattened, `volume`
-/// and `volumeRatio` null for an open mesh) with `lesson: "mesh"` and the wall time per step.
-#[derive(Serialize, Debug, Clone)]
+/// and `volumeRatio` null for an open mesh) with `lesson: "mesh"` and the wall time per step
+/// (`MeshStats` in TypeScript).
+#[derive(Serialize, Debug, Clone, tsify::Tsify)]
 #[serde(rename_all = "camelCase")]
+#[tsify(rename = "MeshStats")]
 pub struct MeshLessonStats {
     /// Always "mesh".
+    #[tsify(type = "\"mesh\"")]
     pub lesson: &'static str,
     #[serde(flatten)]
     pub flow: MeshFlowStats,

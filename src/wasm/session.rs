@@ -5,12 +5,14 @@
 
 use super::errors::{ui_error, UiError};
 use super::{index_array, scalar_array, to_js, vec3_array};
-use crate::flow::{ColourMap, StepReport, WrapSettings};
+use crate::flow::{ColourMap, StartedOver, StepReport, WrapSettings};
 use crate::io::Format;
-use crate::metrics::certificate::CertificateTarget;
-use crate::pipeline::{WrapResult, WrapRun};
+use crate::metrics::certificate::{Certificate, CertificateTarget};
+use crate::pipeline::{Verdict, WrapResult, WrapRun};
 use crate::progress::Progress;
+use crate::target::TargetKind;
 use js_sys::{Float32Array, Uint32Array};
+use serde::Serialize;
 use wasm_bindgen::prelude::*;
 
 /// A wrap of a dropped file, advanced step by step from the worker.
@@ -99,6 +101,39 @@ impl WrapSession {
     }
 }
 
+/// What was read (`WrapSession.targetInfo`).
+#[derive(Serialize, Debug, Clone, tsify::Tsify)]
+#[serde(rename_all = "camelCase")]
+pub struct TargetInfo {
+    /// The format's short name (see [`Format::name`]).
+    pub format: &'static str,
+    pub kind: TargetKind,
+    pub points: usize,
+    pub triangles: usize,
+    /// The bounding box's corners and diagonal, in the target's units.
+    pub bbox_min: [f64; 3],
+    pub bbox_max: [f64; 3],
+    pub diagonal: f64,
+    /// What reading mended in a mesh's indices (none: nothing).
+    pub repairs: Option<crate::mesh::Repairs>,
+    /// Points the file marks unusable, which were not read (none: none).
+    pub left_out: Option<crate::io::LeftOut>,
+}
+
+/// The current surface certified, with the core's verdict on it (`WrapSession.outcome`; keys
+/// in snake_case).
+#[derive(Serialize, Debug, Clone, tsify::Tsify)]
+pub struct Outcome {
+    pub certificate: Certificate,
+    pub verdict: Verdict,
+    /// Fingerprint of the surface (see [`crate::mesh::fingerprint::mesh_hash`]).
+    pub hash: String,
+    /// Why the wrap stopped before its rule said so, if it did.
+    pub stop_reason: Option<String>,
+    /// How a target the first pass left partly outside was wrapped again, if it was.
+    pub started_over: Option<StartedOver>,
+}
+
 /// The most points a cloud may have in the browser, where wasm32 gives the core 4 GiB of memory
 /// at most: a wrap's peak memory grows with the points, and a larger cloud would run out of it
 /// part-way (in the stray-point test), so it is refused at once instead.
@@ -180,22 +215,22 @@ impl WrapSession {
         to_js(&self.last)
     }
 
-    /// What was read: format, kind, counts, bounding box, and what reading mended (null when
-    /// nothing: `{merged_vertices, dropped_faces, flipped_faces, split_vertices, filled_holes}`).
+    /// What was read: format, kind, counts, bounding box, what reading mended and what it left
+    /// out (see [`TargetInfo`]).
     #[wasm_bindgen(js_name = targetInfo)]
     pub fn target_info(&self) -> Result<JsValue, JsValue> {
         let t = &self.target;
-        to_js(&serde_json::json!({
-            "format": self.format.name(),
-            "kind": t.kind(),
-            "points": t.points.len(),
-            "triangles": t.triangles.len(),
-            "bboxMin": t.bbox.min.to_array(),
-            "bboxMax": t.bbox.max.to_array(),
-            "diagonal": t.bbox.diagonal(),
-            "repairs": self.repairs,
-            "leftOut": self.left_out,
-        }))
+        to_js(&TargetInfo {
+            format: self.format.name(),
+            kind: t.kind(),
+            points: t.points.len(),
+            triangles: t.triangles.len(),
+            bbox_min: t.bbox.min.to_array(),
+            bbox_max: t.bbox.max.to_array(),
+            diagonal: t.bbox.diagonal(),
+            repairs: self.repairs,
+            left_out: self.left_out,
+        })
     }
 
     /// Target points (or mesh vertices) as a flat `Float32Array`.
@@ -245,18 +280,17 @@ impl WrapSession {
         to_js(&self.result().certificate)
     }
 
-    /// The current surface certified, with the core's verdict on it:
-    /// `{certificate, verdict, hash, stop_reason, started_over}` (keys in snake_case; see
+    /// The current surface certified, with the core's verdict on it (see [`Outcome`] and
     /// [`crate::pipeline::Verdict`]). The page shows the verdict as it is.
     pub fn outcome(&self) -> Result<JsValue, JsValue> {
-        let r = self.result();
-        to_js(&serde_json::json!({
-            "certificate": r.certificate,
-            "verdict": r.verdict,
-            "hash": r.hash,
-            "stop_reason": r.stop_reason,
-            "started_over": r.started_over,
-        }))
+        let r = self.result().into_owned();
+        to_js(&Outcome {
+            certificate: r.certificate,
+            verdict: r.verdict,
+            hash: r.hash,
+            stop_reason: r.stop_reason,
+            started_over: r.started_over,
+        })
     }
 
     /// Histogram of the per-triangle κ(J_Δ) (equilateral = 1) of the current surface over

@@ -7,6 +7,7 @@ use super::errors::{ui_error, UiError};
 use super::{index_array, set_key, to_js, vec3_array, WrapSession};
 use crate::io::{Format, Inside, VolumeOptions, VoxelVolume};
 use js_sys::{Float32Array, Float64Array};
+use serde::Serialize;
 use wasm_bindgen::prelude::*;
 
 fn options(iso: Option<f64>, frame: u32, dark: bool) -> VolumeOptions {
@@ -16,6 +17,31 @@ fn options(iso: Option<f64>, frame: u32, dark: bool) -> VolumeOptions {
         inside: if dark { Inside::Dark } else { Inside::Bright },
         array: None,
     }
+}
+
+/// A voxel volume's facts (`VolumeView.info`).
+#[derive(Serialize, Debug, Clone, tsify::Tsify)]
+#[serde(rename_all = "camelCase")]
+pub struct VolumeInfo {
+    /// The format's short name (see [`Format::name`]).
+    pub format: &'static str,
+    /// Voxel counts (nx, ny, nz) and the voxel size in mm.
+    pub dims: [usize; 3],
+    pub voxel_size: [f64; 3],
+    /// The sample type stored in the file.
+    pub datatype: &'static str,
+    /// The range of the values (0, 0 when none is finite).
+    pub min: f64,
+    pub max: f64,
+    /// The world frame, in words.
+    pub frame: String,
+    /// The volume read (0-based) of the file's `frames`.
+    pub frame_index: usize,
+    pub frames: usize,
+    /// Otsu's threshold, when the values have one.
+    pub otsu: Option<f64>,
+    /// Index → world (mm), 16 numbers, row-major.
+    pub affine: Vec<f64>,
 }
 
 /// A voxel volume read from bytes (NIfTI, NRRD, VTI, MetaImage), kept for viewing.
@@ -41,25 +67,23 @@ impl VolumeView {
         })
     }
 
-    /// `{format, dims, voxelSize, datatype, min, max, frame, frameIndex, frames, otsu, affine}`
-    /// (`affine`: 16 numbers, row-major, index → world mm).
+    /// The volume's facts (see [`VolumeInfo`]).
     pub fn info(&self) -> Result<JsValue, JsValue> {
         let v = &self.volume;
         let (min, max) = v.value_range().unwrap_or((0.0, 0.0));
-        let info = serde_json::json!({
-            "format": self.format.name(),
-            "dims": v.dims,
-            "voxelSize": v.voxel_size(),
-            "datatype": v.datatype.name(),
-            "min": min,
-            "max": max,
-            "frame": v.frame,
-            "frameIndex": v.frame_index,
-            "frames": v.frames,
-            "otsu": v.otsu(),
-            "affine": v.affine_rows().concat(),
-        });
-        to_js(&info)
+        to_js(&VolumeInfo {
+            format: self.format.name(),
+            dims: v.dims,
+            voxel_size: v.voxel_size(),
+            datatype: v.datatype.name(),
+            min,
+            max,
+            frame: v.frame.clone(),
+            frame_index: v.frame_index,
+            frames: v.frames,
+            otsu: v.otsu(),
+            affine: v.affine_rows().concat(),
+        })
     }
 
     /// `{min, max, counts}` with `counts` a Float64Array of `bins` equal bins.

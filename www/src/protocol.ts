@@ -1,96 +1,27 @@
 // Messages between the UI thread and the worker: the one source of truth for both sides.
 // Meshes travel as flat typed arrays (Transferables), never as JSON.
 
-// The certificate, the verdict and the second pass's account are generated from their Rust types
-// (tsify, into the wasm-bindgen declarations): not mirrored here.
-import type { Certificate, StartedOver, Verdict } from '../pkg/lsw';
-export type { Certificate, StartedOver, ThirdPass, Verdict, VerdictState } from '../pkg/lsw';
+// What the core hands the page (statistics, reports, advice, the certificate and the verdict,
+// what was read, errors) has its TypeScript type generated from the Rust type that is serialised
+// (tsify, into the wasm-bindgen declarations): not mirrored here. The facade returns them as
+// plain objects; the worker casts its `JsValue`s to these types.
+import type {
+  Certificate, ControlCurves, Histogram, LeftOut, MeshStats, MeshTauAdvice, Repairs, SphereStats, StartedOver, StepReport, TargetInfo, TauAdvice, UiError,
+  Verdict, VolumeInfo,
+} from '../pkg/lsw';
+export type {
+  Certificate, ContactReport, ControlCurves, FitTimes, Histogram, LeftOut, MeshFlowStats, MeshStats, MeshTauAdvice, Outcome, PhaseTimes, RemeshReport,
+  RemeshTimings, Repairs, SphereStats, StartedOver, StepReport, SurgeryEvent, SurgeryKind, TargetInfo, TargetKind, TauAdvice, ThirdPass, UiError, Verdict,
+  VerdictState, VolumeInfo,
+} from '../pkg/lsw';
 
-/** An error as produced by the Rust facade: stable code, message naming the problem, and a hint. */
-export interface UiError {
-  code: string;
-  message: string;
-  hint: string;
-}
-
-/** Statistics of the MCF sphere lesson (mirrors `McfStats` in src/wasm/mcf.rs, camelCase via serde). */
-export interface SphereStats {
-  lesson: 'sphere';
-  step: number;
-  time: number;
-  meanRadius: number;
-  exactRadius: number;
-  covolumeMin: number;
-  covolumeMean: number;
-  covolumeMax: number;
-  solverIterations: number;
-  solverResidual: number;
-  msPerStep: number;
-  vertices: number;
-  faces: number;
-}
-
-/** Statistics of the MCF lesson on a loaded mesh (mirrors `MeshLessonStats` in src/wasm/mcf.rs:
- * `flow::MeshFlowStats` plus `lesson` and `msPerStep`). Times in squared mesh units; `relativeTime` = t/D². */
-export interface MeshStats {
-  lesson: 'mesh';
-  step: number;
-  time: number;
-  relativeTime: number;
-  tau: number;
-  diagonal: number;
-  area: number;
-  areaRatio: number;
-  /** Enclosed volume and its ratio to the start; null for an open mesh. */
-  volume: number | null;
-  volumeRatio: number | null;
-  meanAbsH: number;
-  maxAbsH: number;
-  covolumeMin: number;
-  covolumeMean: number;
-  covolumeMax: number;
-  solverIterations: number;
-  solverResidual: number;
-  msPerStep: number;
-  vertices: number;
-  faces: number;
-  boundaryVertices: number;
-  closed: boolean;
-}
-
-/** Statistics of either MCF lesson, told apart by `lesson`. */
+/** Statistics of either MCF lesson, told apart by `lesson` (`McfSession.stats()`). */
 export type McfStats = SphereStats | MeshStats;
 
 /** Which MCF lesson: the sphere against its exact law, or the loaded mesh. */
 export type LessonKind = McfStats['lesson'];
 
-/** What a relative time step τ/D² means for the mesh lesson (mirrors `flow::MeshTauAdvice`). */
-export interface MeshTauAdvice {
-  tau: number;
-  /** The lesson's end, t/D². */
-  horizon: number;
-  steps: number;
-  tauMin: number;
-  tauMax: number;
-  sensible: boolean;
-  warning: string;
-}
-
-/** What a time step τ means for the lesson (mirrors `flow::mcf::TauAdvice`, camelCase). */
-export interface TauAdvice {
-  tau: number;
-  /** t* = r0²/4, when the sphere vanishes. */
-  extinctionTime: number;
-  /** Steps the lesson will take. */
-  steps: number;
-  /** The sensible range of τ. */
-  tauMin: number;
-  tauMax: number;
-  sensible: boolean;
-  /** What is wrong with τ ('' when sensible). */
-  warning: string;
-}
-
+/** The sphere lesson's parameters (the arguments of `new McfSession(level, radius, tau)`). */
 export interface McfParams {
   level: number;
   radius: number;
@@ -178,86 +109,13 @@ export interface SettingRange {
 /** A per-vertex scalar the core can colour by (a `Catalog.colourMaps` name, `WrapSession.scalar`), or 'none'. */
 export type ColourMap = string;
 
-/** Phase times of a wrap step in ms (mirrors `PhaseTimes`). */
-export interface PhaseTimes {
-  normals: number;
-  assembly: number;
-  solve: number;
-  remesh: number;
-  total: number;
-}
-
-/** One wrap step's report (mirrors `StepReport` in src/flow/evolver.rs, snake_case via serde). */
-export interface StepReport {
-  step: number;
-  vertices: number;
-  faces: number;
-  tau: number;
-  retries: number;
-  covolume_min: number;
-  covolume_mean: number;
-  covolume_max: number;
-  distance_mean: number;
-  distance_max: number;
-  settled_fraction: number;
-  /** Genus of the surface after the step. */
-  genus: number;
-  /** Topology changes made at the end of the step (mirrors `flow::surgery::SurgeryEvent`). */
-  surgery?: SurgeryEvent[];
-  times: PhaseTimes;
-  done: boolean;
-}
-
-/** One topology change (mirrors `flow::surgery::SurgeryEvent`). */
-export interface SurgeryEvent {
-  step: number;
-  kind: 'handle' | 'merge' | 'pinch' | 'drop';
-  position: [number, number, number];
-  radius: number;
-  genus_before: number;
-  genus_after: number;
-  components_before: number;
-  components_after: number;
-}
-
-/** What was read (mirrors `WrapSession.targetInfo`). */
-export interface TargetInfo {
-  format: string;
-  kind: 'points' | 'mesh';
-  points: number;
-  triangles: number;
-  bboxMin: [number, number, number];
-  bboxMax: [number, number, number];
-  diagonal: number;
-  /** What reading mended in a mesh's indices (null: nothing). */
-  repairs: Repairs | null;
-  /** Points the file marks unusable, which were not read (mirrors `io::LeftOut`; null: none). */
-  leftOut: LeftOut | null;
-}
-
-/** Points a cloud file marks as unusable and the reader left out. */
-export interface LeftOut {
-  points: number;
-  /** A phrase after the count: "points without a measurement (NaN pixels)". */
-  why: string;
-}
-
 /** Points left out on reading, as a clause of the input's description ('' when none). */
-export function leftOutNote(l: LeftOut | null | undefined): string {
+export function leftOutNote(l?: LeftOut): string {
   return l ? `; ${l.points} ${l.why} left out` : '';
 }
 
-/** Index repairs of a mesh (mirrors `mesh::Repairs`). */
-export interface Repairs {
-  merged_vertices: number;
-  dropped_faces: number;
-  flipped_faces: number;
-  split_vertices: number;
-  filled_holes: number;
-}
-
 /** What reading mended, as a clause of the input's description ('' when nothing). */
-export function repairsNote(r: Repairs | null): string {
+export function repairsNote(r?: Repairs): string {
   if (!r) return '';
   const parts = [
     [r.merged_vertices, 'coincident vertices merged'],
@@ -267,23 +125,6 @@ export function repairsNote(r: Repairs | null): string {
     [r.filled_holes, 'small holes closed'],
   ].filter(([n]) => Number(n) > 0).map(([n, what]) => `${n} ${what}`);
   return parts.length ? ` (mended: ${parts.join(', ')})` : '';
-}
-
-/** Histogram as produced by the core (`metrics::histogram::Histogram`). */
-export interface Histogram {
-  lo: number;
-  hi: number;
-  counts: number[];
-  below: number;
-  above: number;
-}
-
-/** ε(δ), η(δ) samples (mirrors `demo::ControlCurves`). */
-export interface ControlCurves {
-  delta: number[];
-  epsilon: number[];
-  eta_facing: number[];
-  eta_side: number[];
 }
 
 /** How the distance field is shown: off, a node plane normal to x / y / z, or an isosurface. */
@@ -352,8 +193,8 @@ export interface Frame {
   stats?: McfStats;
   /** MCF: the lesson's last frame (kept by the scrubber whatever its stride). */
   final?: boolean;
-  /** Wrap step report (mode wrap; null before the first step). */
-  report?: StepReport | null;
+  /** Wrap step report (mode wrap; absent before the first step). */
+  report?: StepReport;
   /** Reports of every step since the previous frame (for the per-step plots). */
   reports?: StepReport[];
   /** κ histogram of this frame (mode wrap). */
@@ -390,23 +231,6 @@ export type FromWorker =
   /** The input is a voxel volume: its facts, value histogram and the iso-value being wrapped. */
   | { type: 'volume'; run: number; info: VolumeInfo; histogram: { min: number; max: number; counts: Float64Array }; iso: number }
   | VolumeSliceMsg;
-
-/** A voxel volume's facts (mirrors `VolumeView.info`). */
-export interface VolumeInfo {
-  format: string;
-  dims: [number, number, number];
-  voxelSize: [number, number, number];
-  datatype: string;
-  min: number;
-  max: number;
-  /** The world frame, in words. */
-  frame: string;
-  frameIndex: number;
-  frames: number;
-  otsu: number | null;
-  /** Index → world (mm), 16 numbers, row-major. */
-  affine: number[];
-}
 
 /** One slice of voxel values (`VolumeView.slice`): `width × height`, u fastest. */
 export interface VolumeSliceMsg {

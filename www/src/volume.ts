@@ -112,7 +112,7 @@ export class VolumePanel {
     this.label.textContent =
       `${info.format} ${nx}×${ny}×${nz} voxels of ${vs} mm, ${info.datatype}, values ${fmt(info.min)}…${fmt(info.max)}` +
       (info.frames > 1 ? `, volume ${info.frameIndex + 1} of ${info.frames}` : '') +
-      `; Otsu ${info.otsu === null ? '—' : fmt(info.otsu)}; frame: ${info.frame}`;
+      `; Otsu ${info.otsu === undefined ? '—' : fmt(info.otsu)}; frame: ${info.frame}`;
     this.frameRow.hidden = info.frames < 2;
     this.frameInput.max = String(info.frames);
     this.frameInput.value = String(info.frameIndex + 1);

@@ -5,7 +5,7 @@ import init, {
   McfSession, WrapSession, presetSettings, settingsDocs, settingsEnums, settingAliases, catalog, demoShape, demoMesh, controlCurves, exportMesh,
   VolumeView, phantomVolume,
 } from '../pkg/lsw.js';
-import type { Catalog, Certificate, ColourMap, CreaseReply, CreaseRequest, FieldView, FromWorker, Histogram, McfStats, MeshTauAdvice, Source, StartedOver, StepReport, TargetInfo, TauAdvice, ToWorker, Verdict, VolumeInfo } from './protocol';
+import type { Catalog, ColourMap, CreaseReply, CreaseRequest, FieldView, FromWorker, Histogram, McfStats, MeshTauAdvice, Outcome, Source, StartedOver, StepReport, TargetInfo, TauAdvice, ToWorker, VolumeInfo } from './protocol';
 import { failureError } from './protocol';
 import { batchSize } from './schedule';
 import { colorize, robustRange } from './colormap';
@@ -35,13 +35,6 @@ const clock = new Stopwatch();
 let runId = 0;
 /** The page's number for the current wrap, echoed in frames so the page can drop stale ones. */
 let pageRun = 0;
-
-/** serde_json objects arrive as Maps; the protocol carries plain objects. */
-function plain(v: unknown): unknown {
-  if (v instanceof Map) return Object.fromEntries([...v].map(([k, x]) => [k, plain(x)]));
-  if (Array.isArray(v)) return v.map(plain);
-  return v;
-}
 
 function post(msg: FromWorker, transfer: Transferable[] = []): void {
   (self as unknown as Worker).postMessage(msg, transfer);
@@ -158,7 +151,7 @@ function sendField(): void {
     return;
   }
   if (fieldView === 'iso') {
-    const diagonal = Number((plain(session.targetInfo()) as TargetInfo).diagonal) || 1;
+    const diagonal = (session.targetInfo() as TargetInfo).diagonal || 1;
     const o = session.fieldIsosurface(fieldT * 0.25 * diagonal) as unknown as { level: number; positions: Float32Array; indices: Uint32Array };
     const label = `isosurface d = ${o.level.toPrecision(3)} · ${o.indices.length / 3} triangles`;
     post({ type: 'field', run: pageRun, view: fieldView, iso: { positions: o.positions, indices: o.indices }, range: [o.level, o.level], label }, [o.positions.buffer, o.indices.buffer]);
@@ -221,7 +214,7 @@ function openVolume(input: { bytes: Uint8Array; name: string }): void {
 /** Posts the volume's facts and histogram, and the iso-value being wrapped. */
 function postVolume(): void {
   if (!volume) return;
-  const info = plain(volume.view.info()) as VolumeInfo;
+  const info = volume.view.info() as VolumeInfo;
   const h = volume.view.histogram(128) as { min: number; max: number; counts: Float64Array };
   const iso = volume.iso ?? info.otsu ?? 0.5 * (info.min + info.max);
   post({ type: 'volume', run: pageRun, info, histogram: h, iso }, [h.counts.buffer]);
@@ -266,7 +259,7 @@ function sendWrapFrame(session: WrapSession): void {
   const indices = session.indices();
   const values = scalarOf(session);
   const { colors, range } = colours(values, colour === 'features' ? [0, 1] : undefined);
-  const report = session.report() as StepReport | null;
+  const report = session.report() as StepReport | undefined;
   const histogram = session.kappaHistogram(40, 2.0) as Histogram;
   const transfer: Transferable[] = [positions.buffer, normals.buffer, indices.buffer];
   if (colors) transfer.push(colors.buffer);
@@ -291,9 +284,9 @@ function finish(session: WrapSession): void {
   const positions = session.positions();
   const normals = session.normals();
   const indices = session.indices();
-  const report = session.report() as StepReport | null;
+  const report = session.report() as StepReport | undefined;
   post({ type: 'loading', what: 'Checking the result (certificate)…' });
-  const outcome = plain(session.outcome()) as { certificate: Certificate; verdict: Verdict };
+  const outcome = session.outcome() as Outcome;
   clock.pause();
   post(
     {
@@ -301,7 +294,7 @@ function finish(session: WrapSession): void {
       certificate: outcome.certificate, verdict: outcome.verdict, stopReason: session.stopReason() ?? null, start: session.startSurface(), wasmBytes: wasmMemory?.buffer.byteLength ?? 0,
       isolated: session.isolatedPoints(),
       specks: session.specksLeftOut(),
-      startedOver: plain(session.startedOver()) as StartedOver | null,
+      startedOver: (session.startedOver() as StartedOver | undefined) ?? null,
     },
     [positions.buffer, normals.buffer, indices.buffer],
   );
@@ -429,7 +422,7 @@ async function startSession(autoplay: boolean, id: number): Promise<void> {
   const ti = session.targetIndices();
   const why = lessonMeshWhy(ti);
   lessonMesh = why ? null : { positions: tp.slice(), indices: ti.slice() };
-  post({ type: 'target', run: pageRun, positions: tp, indices: ti, info: plain(session.targetInfo()) as TargetInfo, name: source.name, lessonMesh: why }, [tp.buffer, ti.buffer]);
+  post({ type: 'target', run: pageRun, positions: tp, indices: ti, info: session.targetInfo() as TargetInfo, name: source.name, lessonMesh: why }, [tp.buffer, ti.buffer]);
   sendWrapFrame(session);
   if (fieldView !== 'off') sendField();
   if (autoplay) {
@@ -541,7 +534,7 @@ self.onmessage = async (ev: MessageEvent<ToWorker>) => {
         break;
       case 'volume-slice':
         if (volume) {
-          const [nx, ny, nz] = (plain(volume.view.info()) as VolumeInfo).dims;
+          const [nx, ny, nz] = (volume.view.info() as VolumeInfo).dims;
           const [width, height] = msg.axis === 0 ? [ny, nz] : msg.axis === 1 ? [nx, nz] : [nx, ny];
           const values = volume.view.slice(msg.axis, msg.index);
           post({ type: 'volume-slice', axis: msg.axis, index: msg.index, width, height, values }, [values.buffer]);

@@ -8,6 +8,7 @@ use crate::flow::controls::Controls;
 use crate::flow::guard::held_mask;
 use crate::flow::regrow::{outward_to_offset, Regrow};
 use crate::flow::surface_terms::SurfaceTerms;
+use crate::flow::surgery::SurgeryKind;
 use glam::DVec3;
 
 /// What the solve needs from the current surface.
@@ -55,7 +56,10 @@ impl Evolver {
         // the shrinking start, and a part of it far from the data that faces the data has
         // slipped through a gap in a sparse wall, where deflating would drive it on into the
         // inside.
-        let operated = self.surgery_events.iter().any(|e| e.kind != "drop");
+        let operated = self
+            .surgery_events
+            .iter()
+            .any(|e| e.kind != SurgeryKind::Drop);
         let deflate_beyond = match s.tuning.flow.deflate_far {
             k if k > 0.0 && operated => k * self.empty_distance,
             _ => f64::INFINITY,

@@ -60,6 +60,7 @@ pub use super::evolve_error::EvolveError;
 
 /// Wall time of the phases of one step, in milliseconds.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct PhaseTimes {
     /// Surface terms (normals, cotangent weights, co-volumes, tangential sums, in one pass
     /// over the faces) and control functions.
@@ -89,6 +90,7 @@ pub struct PhaseTimes {
 /// What one step did. Distances are in the target's units; co-volumes in the stabilised frame
 /// (where the method expects their mean to shrink from τ/σ towards τ).
 #[derive(Clone, Debug, PartialEq, Serialize)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct StepReport {
     /// Steps completed (1 after the first).
     pub step: u32,

@@ -8,7 +8,7 @@ use crate::flow::settings::WrapSettings;
 use crate::flow::snap::SnapTarget;
 use crate::flow::surgery::detect::FacingQuery;
 use crate::flow::surgery::{
-    drop_empty_components, events, open_handles, SurgeryEvent, OPENED_MARGIN,
+    drop_empty_components, events, open_handles, SurgeryEvent, SurgeryKind, OPENED_MARGIN,
 };
 use crate::geometry::spatial::local_spacing::spacing_near;
 use crate::metrics::intersections::count_self_intersections;
@@ -178,7 +178,7 @@ impl Evolver {
                 self.refresh_distances();
                 out.push(SurgeryEvent {
                     step: self.step,
-                    kind: "drop",
+                    kind: SurgeryKind::Drop,
                     position: (centroid / phi + center).to_array(),
                     radius: 0.0,
                     genus_before: g0,

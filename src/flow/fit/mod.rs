@@ -163,6 +163,7 @@ pub struct FitReport {
 
 /// Where the final fit's time goes, in milliseconds (summed over its passes).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct FitTimes {
     /// Moves onto the target (plane fits or closest points) and reaches into concavities.
     pub moves: f64,

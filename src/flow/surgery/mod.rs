@@ -24,15 +24,30 @@ const RIM: f64 = 2.0;
 /// membrane left around the tube is at most `empty` from the data, with a margin.
 pub const OPENED_MARGIN: f64 = 1.5;
 
+/// What a topology change did (serialised in lower case: `"handle"`, `"merge"`, `"pinch"`,
+/// `"drop"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
+pub enum SurgeryKind {
+    /// Two membranes cut and joined by a tube: genus +1.
+    Handle,
+    /// A tube between two components.
+    Merge,
+    /// A neck in empty space cut and both sides capped.
+    Pinch,
+    /// A component enclosing no data removed.
+    Drop,
+}
+
 /// One topology change, for the statistics and the app's timeline.
 #[derive(Clone, Debug, PartialEq, Serialize)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct SurgeryEvent {
     /// The step after which it happened.
     pub step: u32,
-    /// What happened: `"handle"` (two membranes cut and joined by a tube: genus +1), `"merge"`
-    /// (a tube between two components), `"pinch"` (a neck in empty space cut and both sides
-    /// capped), `"drop"` (a component enclosing no data removed).
-    pub kind: &'static str,
+    /// What happened.
+    pub kind: SurgeryKind,
     /// Where (centre of the tube), in the target's units.
     pub position: [f64; 3],
     /// Radius of the cut (farthest loop vertex from `position`), in the target's units.
@@ -356,9 +371,9 @@ pub fn events(
         .map(|t| SurgeryEvent {
             step,
             kind: match t.cut {
-                Cut::Pinch => "pinch",
-                Cut::Tube if op.components_after < op.components_before => "merge",
-                Cut::Tube => "handle",
+                Cut::Pinch => SurgeryKind::Pinch,
+                Cut::Tube if op.components_after < op.components_before => SurgeryKind::Merge,
+                Cut::Tube => SurgeryKind::Handle,
             },
             position: to_target(t.position).to_array(),
             radius: t.radius / scale,
@@ -423,6 +438,33 @@ pub fn drop_empty_components(
 mod tests {
     use super::*;
     use crate::geometry::icosphere::icosphere;
+
+    #[test]
+    fn events_keep_their_json_keys_and_kind_names() {
+        // `surgery` in `lsw wrap`'s JSON and the app's timeline read these names.
+        let e = SurgeryEvent {
+            step: 3,
+            kind: SurgeryKind::Handle,
+            position: [1.0, 2.0, 3.0],
+            radius: 0.5,
+            genus_before: 0,
+            genus_after: 1,
+            components_before: 1,
+            components_after: 1,
+        };
+        assert_eq!(
+            serde_json::to_string(&e).unwrap(),
+            r#"{"step":3,"kind":"handle","position":[1.0,2.0,3.0],"radius":0.5,"genus_before":0,"genus_after":1,"components_before":1,"components_after":1}"#
+        );
+        let names = [
+            SurgeryKind::Handle,
+            SurgeryKind::Merge,
+            SurgeryKind::Pinch,
+            SurgeryKind::Drop,
+        ]
+        .map(|k| serde_json::to_value(k).unwrap());
+        assert_eq!(names, ["handle", "merge", "pinch", "drop"]);
+    }
 
     #[test]
     fn eroding_a_region_unpairs_its_rim_ring_and_only_its_own() {

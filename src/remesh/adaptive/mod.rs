@@ -158,6 +158,7 @@ pub enum RemeshError {
 
 /// What one remesh call did.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct RemeshReport {
     /// Vertex count before.
     pub vertices_before: usize,
@@ -185,6 +186,7 @@ pub struct RemeshReport {
 
 /// Milliseconds spent per phase of one remesh call (summed over the outer iterations).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub struct RemeshTimings {
     /// Curvatures, features, locks and the sizing field.
     pub sizing: f64,

@@ -56,7 +56,7 @@ describe('error mapping', () => {
 
 describe('repairs note', () => {
   it('names only what changed, and nothing for an untouched mesh', () => {
-    expect(repairsNote(null)).toBe('');
+    expect(repairsNote(undefined)).toBe('');
     expect(repairsNote({ merged_vertices: 0, dropped_faces: 0, flipped_faces: 0, split_vertices: 0, filled_holes: 0 })).toBe('');
     expect(repairsNote({ merged_vertices: 12, dropped_faces: 0, flipped_faces: 3, split_vertices: 0, filled_holes: 2 })).toBe(
       ' (mended: 12 coincident vertices merged, 3 faces turned to agree, 2 small holes closed)',
