@@ -10,6 +10,7 @@ use crate::io::Format;
 use crate::metrics::certificate::CertificateTarget;
 use crate::pipeline::{WrapResult, WrapRun};
 use crate::progress::Progress;
+use crate::target::Surface;
 use js_sys::{Float32Array, Uint32Array};
 use wasm_bindgen::prelude::*;
 
@@ -52,8 +53,8 @@ impl WrapSession {
             ..
         } = read;
         drop(volume);
-        if target.triangles.is_empty() {
-            check_cloud_size(target.points.len())?;
+        if let Surface::Points(points) = target.oracle().surface() {
+            check_cloud_size(points.len())?;
         }
         let run = with_progress(progress.as_ref(), |p| {
             WrapRun::new(&target, settings.clone(), p)

@@ -300,8 +300,8 @@ impl WrapSettings {
         self
     }
 
-    /// For a volume's iso-surface (`Target::sampled`): the fit's error-adaptive passes, left at
-    /// their default, become [`VOLUME_REFINE_PASSES`].
+    /// For a target whose oracle says the fit's error-adaptive passes do not help (a volume's
+    /// iso-surface): those passes, left at their default, become [`VOLUME_REFINE_PASSES`].
     pub fn resolved_for_volume(mut self) -> Self {
         if self.fit.refine_passes == FitSettings::default().refine_passes {
             self.fit.refine_passes = VOLUME_REFINE_PASSES;
