@@ -184,3 +184,59 @@ fn no_two_modules_import_each_other() {
         circles.join("\n")
     );
 }
+
+/// Receivers of `.triangles` that are no target: the writers' `WriteInput` (a mesh to write).
+const NOT_TARGETS: &[&str] = &["input"];
+
+/// Whether a line of code tests a target's kind by hand: `x.triangles.is_empty()` (a cloud),
+/// `x.sampled` (a volume's iso-surface) or a `TargetKind::` variant.
+fn tests_kind(line: &str) -> bool {
+    let ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    let empty = line.match_indices(".triangles.is_empty()").any(|(i, _)| {
+        let before = &line[..i];
+        let receiver = &before[before.trim_end_matches(ident).len()..];
+        !NOT_TARGETS.contains(&receiver)
+    });
+    let sampled = line
+        .match_indices(".sampled")
+        .any(|(i, m)| !line[i + m.len()..].starts_with(ident));
+    empty || sampled || line.contains("TargetKind::")
+}
+
+/// What a target's kind means (point cloud, triangle mesh or soup, volume iso-surface) is asked
+/// of its oracle (`Target::oracle`): no code outside `src/target/` tests the kind by hand.
+#[test]
+fn no_kind_test_outside_the_target_oracles() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&root, &mut files);
+    let mut found = Vec::new();
+    for file in &files {
+        let rel = file.strip_prefix(&root).unwrap();
+        if rel.starts_with("target") {
+            continue;
+        }
+        let text = std::fs::read_to_string(file).unwrap();
+        for (n, line) in text.lines().enumerate() {
+            let code = line.trim_start();
+            if !code.starts_with("//") && tests_kind(code) {
+                found.push(format!("src/{}:{}: {code}", rel.display(), n + 1));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "kind tests outside src/target/ (ask target.oracle() instead):\n{}",
+        found.join("\n")
+    );
+}
+
+#[test]
+fn the_kind_scanner_sees_targets_only() {
+    assert!(tests_kind("if !target.triangles.is_empty() {"));
+    assert!(tests_kind("let v = t.sampled;"));
+    assert!(tests_kind("if t.kind() == TargetKind::Mesh {"));
+    assert!(!tests_kind("if triangles.is_empty() {"));
+    assert!(!tests_kind("if !input.triangles.is_empty() {"));
+    assert!(!tests_kind("let s = g.sampled_nodes; sampled: true,"));
+}

@@ -3,7 +3,7 @@
 
 use crate::io::{read_path_with, ReadResult};
 use crate::mesh::HalfedgeMesh;
-use crate::target::TargetKind;
+use crate::target::Surface;
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -47,7 +47,11 @@ pub fn info_json(file: &str, r: &ReadResult) -> serde_json::Value {
             .expect("object")
             .insert("points_left_out".into(), json!(l));
     }
-    if t.kind() == TargetKind::Mesh {
+    let faces = match t.oracle().surface() {
+        Surface::Triangles { triangles, .. } => Some(triangles),
+        Surface::Points(_) => None,
+    };
+    if faces.is_some() {
         v.as_object_mut()
             .expect("object")
             .insert("repairs".into(), json!(r.repairs));
@@ -57,21 +61,21 @@ pub fn info_json(file: &str, r: &ReadResult) -> serde_json::Value {
             .expect("object")
             .insert("volume".into(), super::volume::volume_json(vr));
     }
-    if t.kind() == TargetKind::Mesh {
+    if let Some(triangles) = faces {
         let crate::mesh::EdgeCounts {
             edges,
             boundary,
             non_manifold: over,
-        } = crate::mesh::edge_counts(&t.triangles);
+        } = crate::mesh::edge_counts(triangles);
         let mut used = vec![false; t.points.len()];
-        for &i in t.triangles.iter().flatten() {
+        for &i in triangles.iter().flatten() {
             used[i as usize] = true;
         }
         let nused = used.iter().filter(|&&u| u).count();
         let closed = boundary == 0 && over == 0;
         // Manifold: the halfedge structure can be built (edge-manifold, consistently oriented,
         // no bow-tie boundary vertex) and, when closed, no vertex has two separate fans.
-        let problem = match HalfedgeMesh::from_triangles(t.points.clone(), &t.triangles) {
+        let problem = match HalfedgeMesh::from_triangles(t.points.clone(), triangles) {
             Err(e) => Some(e.to_string()),
             Ok(m) if closed => match m.validate() {
                 Err(e @ crate::mesh::ValidationError::NonManifoldVertex { .. }) => {
@@ -87,7 +91,7 @@ pub fn info_json(file: &str, r: &ReadResult) -> serde_json::Value {
         o.insert("manifold_problem".into(), json!(problem));
         o.insert(
             "euler_characteristic".into(),
-            json!(nused as i64 - edges as i64 + t.triangles.len() as i64),
+            json!(nused as i64 - edges as i64 + triangles.len() as i64),
         );
         o.insert("edges".into(), json!(edges));
         o.insert("boundary_edges".into(), json!(boundary));

@@ -44,7 +44,7 @@ use crate::metrics::distance::{two_sided_distance_values, DistanceStats, TwoSide
 use crate::metrics::histogram::Histogram;
 use crate::metrics::quality::{covolume_stats, face_quality, quality_stats, CovolumeStats};
 use crate::metrics::volume::enclosed_volume;
-use crate::target::{Target, TargetKind};
+use crate::target::{CreaseSource, Surface, Target};
 use glam::DVec3;
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -103,12 +103,8 @@ pub fn run(a: &MetricsArgs) -> Result<String, String> {
 /// Writes `--error-map` (mesh vertices → target) and `--target-error-map` (target points →
 /// mesh), each with the scalars `error` and `error_percent`.
 fn write_error_maps(a: &MetricsArgs, mesh: &Target, target: &Target) -> Result<(), String> {
-    let (there, back) = two_sided_distance_values(
-        &mesh.points,
-        &mesh.triangles,
-        &target.points,
-        &target.triangles,
-    );
+    let (there, back) =
+        two_sided_distance_values(&mesh.points, &mesh.triangles, target.oracle().surface());
     let diagonal = target.bbox.diagonal().max(f64::MIN_POSITIVE);
     let write = |path: &PathBuf, shape: &Target, d: &[f64]| {
         let percent: Vec<f64> = d.iter().map(|x| 100.0 * x / diagonal).collect();
@@ -252,7 +248,7 @@ fn target_json(
     hist: Option<&mut serde_json::Map<String, Value>>,
 ) {
     let diag = tg.bbox.diagonal();
-    let (there, back) = two_sided_distance_values(p, t, &tg.points, &tg.triangles);
+    let (there, back) = two_sided_distance_values(p, t, tg.oracle().surface());
     let (a, b) = (
         DistanceStats::from_distances(&there),
         DistanceStats::from_distances(&back),
@@ -273,7 +269,11 @@ fn target_json(
             json!(Histogram::auto(&pct(&back), 20)),
         );
     }
-    let tvol = (tg.kind() == TargetKind::Mesh).then(|| enclosed_volume(&tg.points, &tg.triangles));
+    let oracle = tg.oracle();
+    let tvol = match oracle.surface() {
+        Surface::Triangles { points, triangles } => Some(enclosed_volume(points, triangles)),
+        Surface::Points(_) => None,
+    };
     o.insert(
         "target".into(),
         json!({
@@ -286,7 +286,7 @@ fn target_json(
             "volume_ratio": tvol.map(|tv| volume / tv),
         }),
     );
-    let creases = tg.has_creases().then(|| {
+    let creases = (oracle.creases() == Some(CreaseSource::Dihedral)).then(|| {
         let c = detect_creases(&tg.points, &tg.triangles, CREASE_ANGLE_DEG.to_radians());
         crease_fidelity(p, t, &c, CREASE_OFFSET * diag)
     });

@@ -31,7 +31,7 @@ pub use sign::Signedness;
 
 use crate::geometry::aabb::Aabb;
 use crate::progress::Progress;
-use crate::target::Target;
+use crate::target::{Surface, Target};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
@@ -266,9 +266,9 @@ impl DistanceField {
         let bbox = Aabb::from_points(&target.points);
         let beta = grid::reference_length_of(&target.points, settings.principal_slack);
         let mut grid = Grid::for_box(&bbox, beta, settings)?;
-        if target.triangles.is_empty() && settings.min_cell_spacings > 0.0 {
-            let floor = settings.min_cell_spacings
-                * crate::geometry::spatial::spacing::median_spacing(&target.points);
+        let spacing = (settings.min_cell_spacings > 0.0).then(|| target.oracle().spacing());
+        if let Some(spacing) = spacing.flatten() {
+            let floor = settings.min_cell_spacings * spacing;
             if grid.cell < floor {
                 let n = ((beta / floor).floor() as u32).clamp(2, settings.cells_per_min_dimension);
                 let coarse = FieldSettings {
@@ -336,29 +336,18 @@ impl DistanceField {
         let init = settings.truncation.map_or(f64::INFINITY, |t| t * beta);
 
         let t1 = crate::clock::now_ms();
-        let mesh = !target.triangles.is_empty();
+        let oracle = target.oracle();
         // (The band's own reports come after each batch: its start is announced here.)
         progress.report(band::PHASE, 0.0);
-        let b = if mesh && target.triangles.len() >= band::NODE_QUERY_TRIANGLES {
-            band::triangles_band_by_nodes(
-                &grid,
-                &target.points,
-                &target.triangles,
-                settings.band_cells,
-                init,
-                progress,
-            )
-        } else if mesh {
-            band::triangles_band(
-                &grid,
-                &target.points,
-                &target.triangles,
-                settings.band_cells,
-                init,
-                progress,
-            )
-        } else {
-            band::points_band(&grid, &target.points, settings.band_cells, init, progress)
+        let (cells, by_nodes) = (settings.band_cells, band::NODE_QUERY_TRIANGLES);
+        let b = match oracle.surface() {
+            Surface::Triangles { points, triangles } if triangles.len() >= by_nodes => {
+                band::triangles_band_by_nodes(&grid, points, triangles, cells, init, progress)
+            }
+            Surface::Triangles { points, triangles } => {
+                band::triangles_band(&grid, points, triangles, cells, init, progress)
+            }
+            Surface::Points(points) => band::points_band(&grid, points, cells, init, progress),
         };
         let band::Band {
             mut values,
@@ -397,7 +386,7 @@ impl DistanceField {
         );
         let t3 = crate::clock::now_ms();
         sign::negate_inside(&mut values, inside.as_deref());
-        let enclosed = if mesh || settings.enclosed_cells == 0.0 {
+        let enclosed = if oracle.has_inside() || settings.enclosed_cells == 0.0 {
             0
         } else {
             sign::negate_enclosed(&grid, &mut values, settings.enclosed_cells * grid.cell)

@@ -15,7 +15,7 @@ use crate::geometry::eigen3::smallest_eigenvector;
 use crate::geometry::spatial::bvh::TriangleBvh;
 use crate::geometry::spatial::point_grid::{Near, PointGrid};
 use crate::mesh::HalfedgeMesh;
-use crate::target::Target;
+use crate::target::{Surface, Target};
 use glam::{DMat3, DVec3};
 
 /// Settings of the final fit, in the stabilised frame's units (the evolver converts cells).
@@ -45,11 +45,16 @@ impl SnapTarget {
     /// The target in the stabilised frame (`phi·(p − center)`): a point grid of cell `radius`
     /// for clouds, a BVH for meshes.
     pub fn new(target: &Target, center: DVec3, phi: f64, radius: f64) -> Self {
-        let pts: Vec<DVec3> = target.points.iter().map(|&p| phi * (p - center)).collect();
-        if target.triangles.is_empty() {
-            SnapTarget::Points(std::sync::Arc::new(PointGrid::new(&pts, radius)))
-        } else {
-            SnapTarget::Triangles(TriangleBvh::new(&pts, &target.triangles))
+        let framed = |points: &[DVec3]| -> Vec<DVec3> {
+            points.iter().map(|&p| phi * (p - center)).collect()
+        };
+        match target.oracle().surface() {
+            Surface::Points(points) => {
+                SnapTarget::Points(std::sync::Arc::new(PointGrid::new(&framed(points), radius)))
+            }
+            Surface::Triangles { points, triangles } => {
+                SnapTarget::Triangles(TriangleBvh::new(&framed(points), triangles))
+            }
         }
     }
 }

@@ -11,7 +11,6 @@ use crate::field::DistanceField;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::icosphere::icosphere;
 use crate::geometry::spatial::parts::parts_apart;
-use crate::geometry::spatial::spacing::median_spacing;
 use crate::mesh::HalfedgeMesh;
 use crate::metrics::intersections::count_self_intersections;
 use crate::remesh::adaptive::{remesh, RemeshSettings};
@@ -49,7 +48,7 @@ fn icosphere_radius(target: &Target, settings: &WrapSettings) -> f64 {
 /// [`PART_POINTS`] points and the spheres must not overlap, else one sphere as the method has it.
 fn spheres_apart(target: &Target, settings: &WrapSettings) -> Option<Vec<(DVec3, f64)>> {
     let share = settings.tuning.start.part_gap;
-    if !target.triangles.is_empty() || share <= 0.0 {
+    if !target.oracle().splits_start_by_parts() || share <= 0.0 {
         return None;
     }
     let points = &target.points;
@@ -161,10 +160,10 @@ pub fn build_start(
             if iso <= d0 {
                 iso = 1.1 * d0;
             }
-            if !field.is_signed() && target.triangles.is_empty() {
-                // A cloud: the exterior must not leak through the gaps between its points, which
-                // reach about three median spacings in a random sampling.
-                iso = iso.max(ISO_SPACINGS * median_spacing(&target.points));
+            // Unsigned, the exterior must not leak through the gaps between a sampling's points,
+            // which reach about three median spacings in a random sampling.
+            if let (false, Some(spacing)) = (field.is_signed(), target.oracle().spacing()) {
+                iso = iso.max(ISO_SPACINGS * spacing);
             }
             let c_r = settings.start.isosurface_resampling * c;
             let (pos, tris) =

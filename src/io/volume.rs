@@ -576,11 +576,7 @@ impl Target {
             let (min, max) = volume.value_range().unwrap_or((f64::NAN, f64::NAN));
             return Err(TargetError::NoIsosurface { iso, min, max });
         }
-        let target = Self::new(points, triangles)?;
-        Ok(Self {
-            sampled: true,
-            ..target
-        })
+        Self::iso_surface(points, triangles)
     }
 }
 

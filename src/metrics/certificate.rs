@@ -8,7 +8,7 @@ use super::intersections::count_self_intersections;
 use crate::geometry::spatial::bvh::TriangleBvh;
 use crate::geometry::spatial::point_grid::PointGrid;
 use crate::mesh::{edge_counts, HalfedgeMesh, MeshBuildError, ValidationError};
-use crate::target::Target;
+use crate::target::{Surface, Target};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
@@ -137,15 +137,18 @@ enum Near {
 impl CertificateTarget {
     /// A point grid for a cloud, a BVH for a mesh, and the topology of a closed one.
     pub fn new(t: &Target) -> Self {
-        let near = if t.triangles.is_empty() {
-            // A counting-sort grid builds in a fraction of a tree's time on millions of points.
-            // Cells no smaller than a surface sampled by this many points would need: on a
-            // sparse cloud a nearest-point query otherwise opens rings of empty cells.
-            let sampled = t.bbox.diagonal() / (t.points.len() as f64).sqrt();
-            let cell = (t.bbox.diagonal() / CLOUD_GRID_DIVISIONS).max(sampled);
-            Near::Points(PointGrid::new(&t.points, cell))
-        } else {
-            Near::Triangles(TriangleBvh::new(&t.points, &t.triangles))
+        let near = match t.oracle().surface() {
+            Surface::Points(points) => {
+                // A counting-sort grid builds in a fraction of a tree's time on millions of
+                // points. Cells no smaller than a surface sampled by this many points would need:
+                // on a sparse cloud a nearest-point query otherwise opens rings of empty cells.
+                let sampled = t.bbox.diagonal() / (points.len() as f64).sqrt();
+                let cell = (t.bbox.diagonal() / CLOUD_GRID_DIVISIONS).max(sampled);
+                Near::Points(PointGrid::new(points, cell))
+            }
+            Surface::Triangles { points, triangles } => {
+                Near::Triangles(TriangleBvh::new(points, triangles))
+            }
         };
         CertificateTarget {
             near,

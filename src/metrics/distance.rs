@@ -13,6 +13,7 @@
 
 use super::quality::percentile_sorted;
 use crate::geometry::spatial::bvh::{PointBvh, TriangleBvh};
+use crate::target::Surface;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
@@ -104,8 +105,8 @@ pub fn two_sided_distances(
     target_points: &[DVec3],
     target_triangles: &[[u32; 3]],
 ) -> TwoSidedDistances {
-    let (there, back) =
-        two_sided_distance_values(positions, triangles, target_points, target_triangles);
+    let target = Surface::of(target_points, target_triangles);
+    let (there, back) = two_sided_distance_values(positions, triangles, target);
     let a = DistanceStats::from_distances(&there);
     let b = DistanceStats::from_distances(&back);
     TwoSidedDistances {
@@ -120,17 +121,18 @@ pub fn two_sided_distances(
 pub fn two_sided_distance_values(
     positions: &[DVec3],
     triangles: &[[u32; 3]],
-    target_points: &[DVec3],
-    target_triangles: &[[u32; 3]],
+    target: Surface<'_>,
 ) -> (Vec<f64>, Vec<f64>) {
     let mesh_bvh = TriangleBvh::new(positions, triangles);
-    let there = if target_triangles.is_empty() {
-        distances_to_points(positions, &PointBvh::new(target_points))
-    } else {
-        distances_to_triangles(
-            positions,
-            &TriangleBvh::new(target_points, target_triangles),
-        )
+    let (there, target_points) = match target {
+        Surface::Points(points) => (
+            distances_to_points(positions, &PointBvh::new(points)),
+            points,
+        ),
+        Surface::Triangles { points, triangles } => (
+            distances_to_triangles(positions, &TriangleBvh::new(points, triangles)),
+            points,
+        ),
     };
     let back = distances_to_triangles(target_points, &mesh_bvh);
     (there, back)

@@ -19,7 +19,7 @@
 use crate::geometry::creases::detect_creases;
 use crate::geometry::spatial::bvh::{PointBvh, TriangleBvh};
 use crate::metrics::distance::{distances_to_points, distances_to_triangles};
-use crate::target::Target;
+use crate::target::{CreaseSource, Surface, Target};
 use glam::DVec3;
 use serde::Serialize;
 
@@ -58,18 +58,20 @@ pub fn error_budget(
     crease_angle_deg: f64,
 ) -> ErrorBudget {
     let diag = target.bbox.diagonal().max(f64::MIN_POSITIVE);
-    let is_mesh = !target.triangles.is_empty();
-    // Wrap vertices → target.
-    let off: Vec<f64> = if is_mesh {
-        distances_to_triangles(
-            positions,
-            &TriangleBvh::new(&target.points, &target.triangles),
-        )
-    } else {
-        distances_to_points(positions, &PointBvh::new(&target.points))
+    let oracle = target.oracle();
+    // Wrap vertices → target, and how close counts as on it.
+    let (off, on_tol): (Vec<f64>, f64) = match oracle.surface() {
+        Surface::Triangles { points, triangles } => (
+            distances_to_triangles(positions, &TriangleBvh::new(points, triangles)),
+            0.01 * cell,
+        ),
+        Surface::Points(points) => (
+            distances_to_points(positions, &PointBvh::new(points)),
+            0.25 * cell,
+        ),
     };
-    let on_tol = if is_mesh { 0.01 * cell } else { 0.25 * cell };
-    let creases = (target.has_creases() && crease_angle_deg > 0.0).then(|| {
+    let dihedral = oracle.creases() == Some(CreaseSource::Dihedral);
+    let creases = (dihedral && crease_angle_deg > 0.0).then(|| {
         detect_creases(
             &target.points,
             &target.triangles,

@@ -10,7 +10,7 @@ use crate::io::Format;
 use crate::metrics::certificate::{Certificate, CertificateTarget};
 use crate::pipeline::{Verdict, WrapResult, WrapRun};
 use crate::progress::Progress;
-use crate::target::TargetKind;
+use crate::target::{Surface, TargetKind};
 use js_sys::{Float32Array, Uint32Array};
 use serde::Serialize;
 use wasm_bindgen::prelude::*;
@@ -56,8 +56,8 @@ impl WrapSession {
             ..
         } = read;
         drop(volume);
-        if target.triangles.is_empty() {
-            check_cloud_size(target.points.len())?;
+        if let Surface::Points(points) = target.oracle().surface() {
+            check_cloud_size(points.len())?;
         }
         let run = with_progress(progress.as_ref(), |p| {
             WrapRun::new(&target, settings.clone(), p)

@@ -8,7 +8,7 @@ use crate::geometry::cloud_creases::detect_cloud_creases;
 use crate::geometry::creases::{detect_creases, Creases};
 use crate::geometry::spatial::point_grid::PointGrid;
 use crate::parallel::Later;
-use crate::target::Target;
+use crate::target::{CreaseSource, Target};
 use glam::DVec3;
 
 /// A cloud's creases before the final fit.
@@ -105,8 +105,8 @@ pub(super) struct FitKey {
     pub(super) phi: f64,
     /// The fit's neighbourhood radius (stabilised frame).
     pub(super) fit_radius: f64,
-    /// The crease angle (radians); None: no crease detection (none on a volume's iso-surface:
-    /// see `Target::sampled`).
+    /// The crease angle (radians); None: no crease detection (none where the target's oracle
+    /// finds no creases).
     pub(super) crease_angle: Option<f64>,
     /// Whether there is a final fit.
     pub(super) fits: bool,
@@ -119,7 +119,9 @@ impl FitKey {
         Self {
             phi,
             fit_radius: settings.fit.radius_cells * cell * phi,
-            crease_angle: (fits && !target.sampled && settings.fit.crease_angle_deg > 0.0)
+            crease_angle: (fits
+                && target.oracle().creases().is_some()
+                && settings.fit.crease_angle_deg > 0.0)
                 .then(|| settings.fit.crease_angle_deg.to_radians()),
             fits,
         }
@@ -147,10 +149,10 @@ impl FitKey {
         target: &Target,
         center: DVec3,
     ) -> (Option<SnapTarget>, Option<Creases>) {
-        let mesh = !target.triangles.is_empty();
+        let dihedral = target.oracle().creases() == Some(CreaseSource::Dihedral);
         let (creases, fit_target) = crate::parallel::beside(
             || {
-                self.crease_angle.filter(|_| mesh).map(|angle| {
+                self.crease_angle.filter(|_| dihedral).map(|angle| {
                     detect_creases(&self.framed(target, center), &target.triangles, angle)
                 })
             },

@@ -116,11 +116,11 @@ struct Pass {
 
 impl SecondPass {
     /// The second pass of a wrap of `target` whose d₀ is `d0` (stabilised frame, scale `phi`
-    /// about `center`; `fits`: there is a final fit), with D₂ = `tuning.flow.second_pass_d2`; a cloud's
-    /// with d₀ grown to its gap spacing ([`crate::geometry::spatial::spacing::gap_spacing`])
-    /// where that is larger, at most `tuning.flow.cover_gaps` times. `None` for a volume's iso-surface
-    /// (a large volume's second pass would double a long run), with `tuning.flow.cover_gaps` = 1, and
-    /// where it would repeat the first.
+    /// about `center`; `fits`: there is a final fit), with D₂ = `tuning.flow.second_pass_d2`; a
+    /// sampling's with d₀ grown to its gap spacing (the oracle's `gap_spacing`) where that is
+    /// larger, at most `tuning.flow.cover_gaps` times. `None` where the oracle says a second pass does
+    /// not pay (a volume's iso-surface), with `tuning.flow.cover_gaps` = 1, and where it would repeat
+    /// the first.
     /// Its start is set by [`Self::starting`].
     pub(super) fn new(
         target: &Target,
@@ -129,13 +129,11 @@ impl SecondPass {
         fits: bool,
     ) -> Option<Box<Self>> {
         let grow = settings.tuning.flow.cover_gaps;
-        if target.sampled || grow <= 1.0 || !fits {
+        let oracle = target.oracle();
+        if !oracle.second_pass_pays() || grow <= 1.0 || !fits {
             return None;
         }
-        let gap = match target.triangles.is_empty() {
-            true => phi * crate::geometry::spatial::spacing::gap_spacing(&target.points),
-            false => 0.0, // (A mesh's field has no gaps.)
-        };
+        let gap = oracle.gap_spacing().map_or(0.0, |g| phi * g);
         let second = d0.max(gap.min(grow * d0));
         // (The same d₀ and D₂ would only repeat the first pass: the obstacle preset on a mesh.)
         if second == d0 && settings.flow.d2 == settings.tuning.flow.second_pass_d2 {

@@ -14,7 +14,7 @@ use crate::geometry::creases::Creases;
 use crate::mesh::{HalfedgeMesh, MeshReport};
 use crate::parallel::Later;
 use crate::progress::Progress;
-use crate::target::Target;
+use crate::target::{CreaseSource, Target};
 use glam::DVec3;
 
 /// The field, the start and the settings of that start, with the target's closed topology.
@@ -49,7 +49,7 @@ impl Evolver {
         let (prebuilt, start) = field_and_start(target, &settings, progress);
         let ((field, start, mut settings), closed) = start?;
         progress.report(START_PHASE, 1.0);
-        if target.sampled {
+        if !target.oracle().refine_passes_help() {
             settings.tuning.fit.refine_passes = settings.tuning.fit.volume_refine_passes;
         }
         let center = target.bbox.center();
@@ -147,15 +147,16 @@ fn without_strays(
     settings: &WrapSettings,
     progress: &mut Progress,
 ) -> Result<Option<(Target, usize)>, EvolveError> {
-    let cloud = target.triangles.is_empty() && settings.tuning.field.outlier_spacings > 0.0;
-    if cloud {
+    let oracle = target.oracle();
+    let strays = oracle.removes_strays() && settings.tuning.field.outlier_spacings > 0.0;
+    if strays {
         progress.report(STRAY_PHASE, 0.0);
-        // The median spacing first, remembered for the test: a part of its cost worth a report.
-        crate::geometry::spatial::spacing::median_spacing(&target.points);
+        // The spacing first, remembered for the test: a part of its cost worth a report.
+        oracle.spacing();
         progress.report(STRAY_PHASE, 0.3);
     }
     let cleaned = target.without_isolated_points(settings.tuning.field.outlier_spacings);
-    if cloud {
+    if strays {
         progress.report(STRAY_PHASE, 1.0);
     }
     if let Some((t, _)) = &cleaned {
@@ -170,9 +171,9 @@ fn without_specks(
     target: &Target,
     settings: &WrapSettings,
 ) -> Result<Option<(Target, usize)>, EvolveError> {
-    let despecked = match target.triangles.is_empty() {
-        true => None,
-        false => DistanceField::planned_cell_size(target, &settings.field_options())
+    let despecked = match target.oracle().removes_specks() {
+        false => None,
+        true => DistanceField::planned_cell_size(target, &settings.field_options())
             .and_then(|cell| target.without_specks(cell)),
     };
     if let Some((t, _)) = &despecked {
@@ -192,8 +193,8 @@ fn field_and_start(
     let plan = DistanceField::plan(target, &settings.field_options());
     let planned = plan.as_ref().ok().map(|p| {
         let cell = p.cell_size();
-        // (A cloud's field is never signed; a mesh's is where it is closed, the usual case.)
-        let guess = settings.clone().resolved_for(!target.triangles.is_empty());
+        // (A field is signed where the target has an inside and is closed, the usual case.)
+        let guess = settings.clone().resolved_for(target.oracle().has_inside());
         FitKey::new(&guess, target, cell, start_scale(target, cell, &guess))
     });
     let center = target.bbox.center();
@@ -206,7 +207,7 @@ fn field_and_start(
             progress.report(START_PHASE, 0.0);
             // The target's topology where it is closed: for the start's checks and surgery's
             // least genus.
-            let closed = crate::mesh::closed_topology(target.points.len(), &target.triangles);
+            let closed = target.oracle().topology();
             let start = start_choice::build_start_with_fallback(
                 target,
                 closed.as_ref(),
@@ -241,7 +242,8 @@ fn fit_view(
     prebuilt: Prebuilt,
     progress: &mut Progress,
 ) -> (Option<SnapTarget>, PendingCreases) {
-    if !target.triangles.is_empty() {
+    // Creases from plane fits are found on the fit's grid, later; the others with the fit target.
+    if target.oracle().creases() != Some(CreaseSource::PlaneFits) {
         let (fit_target, creases) = match prebuilt {
             Some((made, built)) if made == key => built,
             _ => key.build(target, center),
@@ -282,11 +284,7 @@ fn empty_distance(target: &Target, cell: f64, settings: &WrapSettings) -> f64 {
     if !s.enabled {
         return 0.0;
     }
-    let spacing = if target.triangles.is_empty() {
-        crate::geometry::spatial::spacing::median_spacing(&target.points)
-    } else {
-        0.0
-    };
+    let spacing = target.oracle().spacing().unwrap_or(0.0);
     (tuned.empty_cells * cell)
         .max(tuned.empty_spacings * spacing)
         .max(close_gap_distance(target, settings))

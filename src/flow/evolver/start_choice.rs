@@ -76,7 +76,7 @@ pub(super) fn build_start_with_fallback(
     // the noise's, and the icosphere there costs time for no better genus.)
     let wrong_topology = |start: &Start| {
         settings.start.surface == StartSurface::Isosurface
-            && !target.sampled
+            && target.oracle().start_keeps_genus()
             && closed.is_some_and(|t| t.components == 1)
             && !same_topology(&start.mesh, target, closed)
     };
@@ -115,7 +115,7 @@ pub(super) fn finer_start(
     let auto = requested.start.surface == StartSurface::Auto;
     let fell_back = resolved.start.surface == StartSurface::Icosphere;
     let volume_off = || {
-        target.sampled
+        !target.oracle().start_keeps_genus()
             && resolved.start.surface == StartSurface::Isosurface
             && !same_topology(&start.mesh, target, closed)
     };

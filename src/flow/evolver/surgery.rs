@@ -27,13 +27,12 @@ const TUNNELS_FROM: f64 = 0.5;
 const SPARSE: f64 = 1.5;
 
 /// A cloud's median spacing in the stabilised frame, for surgery's reading of local spacing;
-/// None for a mesh or without `tuning.surgery.empty_spacings`.
+/// None for a target without a point spacing or without `tuning.surgery.empty_spacings`.
 pub(super) fn cloud_spacing(target: &Target, settings: &WrapSettings, phi: f64) -> Option<f64> {
-    let spacings = settings.tuning.surgery.empty_spacings;
-    if !target.triangles.is_empty() || !settings.surgery.enabled || spacings <= 0.0 {
+    if !settings.surgery.enabled || settings.tuning.surgery.empty_spacings <= 0.0 {
         return None;
     }
-    let median = phi * crate::geometry::spatial::spacing::median_spacing(&target.points);
+    let median = phi * target.oracle().spacing()?;
     (median > 0.0).then_some(median)
 }
 

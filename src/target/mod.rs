@@ -1,19 +1,15 @@
-//! The thing to wrap: a point cloud or a triangle soup/mesh, as read from a file.
+//! The thing to wrap: a point cloud, a triangle soup/mesh, or a volume's iso-surface, as read
+//! from a file; its construction and cleaning here, and what each kind answers to the pipeline
+//! in its oracle ([`Target::oracle`]): nothing outside this module branches on the kind.
+
+mod cloud;
+mod iso_surface;
+pub mod oracle;
+mod soup;
 
 use crate::geometry::aabb::Aabb;
 use glam::DVec3;
-use serde::{Deserialize, Serialize};
-
-/// Whether a target is a bare point cloud or carries triangles.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
-pub enum TargetKind {
-    /// Points only (no connectivity, no normals needed).
-    Points,
-    /// A triangle soup or mesh (faces index into `points`).
-    Mesh,
-}
+pub use oracle::{CreaseSource, Surface, TargetKind, TargetOracle};
 
 /// A target for wrapping: points plus optional triangles indexing them.
 ///
@@ -27,10 +23,9 @@ pub struct Target {
     pub triangles: Vec<[u32; 3]>,
     /// Axis-aligned bounding box of `points`.
     pub bbox: Aabb,
-    /// The triangles are a voxel volume's iso-surface (see [`Target::from_volume`]): their
-    /// dihedral angles are the sampling's, not the object's, so they have no creases (a voxel
-    /// staircase turns by more than any crease angle at countless edges, and the crease fit
-    /// would spend its time on them).
+    /// The triangles are a voxel volume's iso-surface (see [`Target::iso_surface`]): their
+    /// angles and genus are the sampling's, not the object's. Ask [`Target::oracle`] what that
+    /// means rather than reading it.
     pub sampled: bool,
 }
 
@@ -105,12 +100,32 @@ pub const MIN_CLOUD_POINTS: usize = 20;
 pub const MOST_ISOLATED: f64 = 0.1;
 
 impl Target {
-    /// Genus and components of a mesh target of one closed manifold part, whose genus a wrap
-    /// must keep (the certificate's `target_genus`, the start's and the surgery's checks); None
-    /// for clouds, open or non-manifold meshes, and meshes of several parts.
+    /// What this target's kind answers to the pipeline's questions.
+    pub fn oracle(&self) -> Box<dyn TargetOracle<'_> + '_> {
+        let (points, triangles) = (&self.points[..], &self.triangles[..]);
+        let mesh = soup::Soup { points, triangles };
+        match (triangles.is_empty(), self.sampled) {
+            (true, _) => Box::new(cloud::Cloud { points }),
+            (false, false) => Box::new(mesh),
+            (false, true) => Box::new(iso_surface::IsoSurface { mesh }),
+        }
+    }
+
+    /// Genus and components of a target of one closed manifold part, whose genus a wrap must
+    /// keep (the certificate's `target_genus`, the start's and the surgery's checks); None for
+    /// clouds, open or non-manifold meshes, and meshes of several parts.
     pub fn one_closed_part(&self) -> Option<crate::mesh::MeshReport> {
-        crate::mesh::closed_topology(self.points.len(), &self.triangles)
-            .filter(|t| t.components == 1)
+        self.oracle().topology().filter(|t| t.components == 1)
+    }
+
+    /// The target of a sampled iso-surface (a voxel volume's, see `Target::from_volume`),
+    /// checked as [`Target::new`] checks.
+    pub fn iso_surface(points: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> Result<Self, TargetError> {
+        let target = Self::new(points, triangles)?;
+        Ok(Self {
+            sampled: true,
+            ..target
+        })
     }
 
     /// Builds a target, checking that coordinates are finite and indices in range.
@@ -169,10 +184,11 @@ impl Target {
     /// none, for meshes, for `spacings` = 0, and when more than [`MOST_ISOLATED`] of the points
     /// would go (then the cloud is sparse in places, not strewn with strays).
     pub fn without_isolated_points(&self, spacings: f64) -> Option<(Target, usize)> {
-        if !self.triangles.is_empty() || spacings.is_nan() || spacings <= 0.0 {
+        let oracle = self.oracle();
+        if !oracle.removes_strays() || spacings.is_nan() || spacings <= 0.0 {
             return None;
         }
-        let spacing = crate::geometry::spatial::spacing::median_spacing(&self.points);
+        let spacing = oracle.spacing()?;
         let isolated =
             crate::geometry::spatial::isolated::stray_points(&self.points, spacings * spacing);
         let removed = isolated.iter().filter(|&&i| i).count();
@@ -310,18 +326,9 @@ impl Target {
         Ok(())
     }
 
-    /// Whether the target can have sharp creases: a mesh that is not a sampled iso-surface.
-    pub fn has_creases(&self) -> bool {
-        self.kind() == TargetKind::Mesh && !self.sampled
-    }
-
     /// Points or mesh.
     pub fn kind(&self) -> TargetKind {
-        if self.triangles.is_empty() {
-            TargetKind::Points
-        } else {
-            TargetKind::Mesh
-        }
+        self.oracle().kind()
     }
 }
 
@@ -442,15 +449,47 @@ mod tests {
         ));
     }
 
+    /// Each kind answers through its own oracle: a cloud by its points, a mesh by its faces, an
+    /// iso-surface as a mesh but for what its sampling makes of angles, genus and extra passes.
+    #[test]
+    fn each_kind_answers_through_its_oracle() {
+        let tet = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+        let faces = vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+        let mesh = Target::new(tet.clone(), faces.clone()).unwrap();
+        let iso = Target::iso_surface(tet, faces).unwrap();
+        let grid = (0..27).map(|i| DVec3::new((i % 3) as f64, (i / 3 % 3) as f64, (i / 9) as f64));
+        let cloud = Target::new(grid.collect(), vec![]).unwrap();
+        let (c, m, v) = (cloud.oracle(), mesh.oracle(), iso.oracle());
+        assert!(matches!(c.surface(), Surface::Points(p) if p.len() == 27));
+        assert!(
+            matches!(v.surface(), Surface::Triangles { triangles, .. } if triangles.len() == 4)
+        );
+        assert_eq!(
+            (c.kind(), m.kind(), v.kind()),
+            (TargetKind::Points, TargetKind::Mesh, TargetKind::Mesh)
+        );
+        assert_eq!(
+            (c.has_inside(), m.has_inside(), v.has_inside()),
+            (false, true, true)
+        );
+        assert_eq!((c.spacing(), m.spacing()), (Some(1.0), None));
+        assert_eq!(m.topology().map(|t| (t.genus, t.components)), Some((0, 1)));
+        assert_eq!(v.topology(), m.topology());
+        assert!(c.topology().is_none() && m.start_keeps_genus() && !v.start_keeps_genus());
+        assert!(c.removes_strays() && !m.removes_strays() && m.removes_specks());
+        assert!(m.second_pass_pays() && !v.second_pass_pays() && !v.refine_passes_help());
+    }
+
     /// A volume's iso-surface is sampled: no creases on it, while a mesh of the same triangles
-    /// has them.
+    /// has them at its edges and a cloud of the same points where plane fits meet.
     #[test]
     fn a_volume_target_has_no_creases() {
         let volume = crate::demo::phantom::phantom_volume(24);
         let t = Target::from_volume(&volume, 130.0, crate::io::volume::Inside::Bright).unwrap();
-        assert!(t.sampled && !t.has_creases());
+        assert_eq!(t.oracle().creases(), None);
         let mesh = Target::new(t.points.clone(), t.triangles.clone()).unwrap();
-        assert!(!mesh.sampled && mesh.has_creases());
-        assert!(!Target::new(t.points, vec![]).unwrap().has_creases());
+        assert_eq!(mesh.oracle().creases(), Some(CreaseSource::Dihedral));
+        let cloud = Target::new(t.points, vec![]).unwrap();
+        assert_eq!(cloud.oracle().creases(), Some(CreaseSource::PlaneFits));
     }
 }
