@@ -29,7 +29,7 @@ const NEIGHBOURS: usize = 32;
 const MAX_TESTED: usize = 50_000;
 /// Surface variation above which a point may lie near a crease (a 40° crease through the
 /// middle of a disk gives about 0.016; noise of 3 % of the radius about 0.002).
-const CANDIDATE_VARIATION: f64 = 0.004;
+pub const CANDIDATE_VARIATION: f64 = 0.004;
 /// Surface variation below which a neighbourhood counts as flat.
 const FLAT_VARIATION: f64 = 0.002;
 /// Largest angle between a group's normals and their mean, as a fraction of the crease angle.
@@ -203,7 +203,7 @@ struct Group {
 
 /// The unit normal and surface variation of the PCA plane through `points`; None when they do
 /// not determine one.
-fn plane_fit(points: impl Iterator<Item = DVec3> + Clone) -> Option<(DVec3, f64)> {
+pub fn plane_fit(points: impl Iterator<Item = DVec3> + Clone) -> Option<(DVec3, f64)> {
     let (mut c, mut k) = (DVec3::ZERO, 0usize);
     for q in points.clone() {
         c += q;

@@ -124,9 +124,9 @@ pub struct CertificateTarget {
     /// The target points tested for lying outside the wrap, and how far out counts.
     samples: Vec<DVec3>,
     outside_tolerance: f64,
-    /// A cloud's spacing were it sampled evenly: closer to the data than half of it, a place
+    /// A cloud's median point spacing (0 for a mesh): within [`ON_DATA_SPACINGS`] of it a place
     /// lies on the data whatever the local spacing.
-    even_spacing: f64,
+    median_spacing: f64,
 }
 
 enum Near {
@@ -155,7 +155,7 @@ impl CertificateTarget {
             topology: t.one_closed_part(),
             samples: outside_samples(t),
             outside_tolerance: OUTSIDE_TOLERANCE * t.bbox.diagonal(),
-            even_spacing: t.bbox.diagonal() / (t.points.len().max(1) as f64).sqrt(),
+            median_spacing: t.oracle().spacing().unwrap_or(0.0),
         }
     }
 
@@ -167,33 +167,85 @@ impl CertificateTarget {
     }
 }
 
+/// Median spacings within which a place lies on a cloud's data (see [`DataNear`]): the gaps of a
+/// random sampling reach about this far, and a local spacing costs a patch search.
+const ON_DATA_SPACINGS: f64 = 1.5;
+
+/// Points of a cloud's patch whose plane fit tells whether the data turns there.
+const PATCH_POINTS: usize = 32;
+
+/// Radians by which a mesh's normals turn between two places for the mesh to have a crease
+/// there.
+const MESH_CREASE_TURN: f64 = std::f64::consts::FRAC_PI_3;
+
 impl DataNear for CertificateTarget {
-    fn spacing_near(&self, p: DVec3) -> Option<f64> {
+    fn spacings(&self, points: &[DVec3], distances: &[f64]) -> Vec<Option<f64>> {
+        let grid = match &self.near {
+            Near::Points(grid) => grid,
+            Near::Triangles(bvh) => {
+                return crate::parallel::map(points.len(), |i| {
+                    let [a, b, c] = closest_triangle(bvh, points[i])?;
+                    Some(((b - a).length() + (c - b).length() + (a - c).length()) / 3.0)
+                })
+            }
+        };
+        // Off the data, the spacing of the patch round the nearest point: found once per point
+        // (the vertices over a gap share the points of its rim).
+        let on = ON_DATA_SPACINGS * self.median_spacing;
+        let nearest = crate::parallel::map(points.len(), |i| {
+            (distances[i] > on)
+                .then(|| grid.nearest(points[i]))
+                .flatten()
+        });
+        let mut rim: Vec<(u32, DVec3)> = nearest
+            .iter()
+            .flatten()
+            .map(|n| (n.index, n.point))
+            .collect();
+        rim.sort_unstable_by_key(|r| r.0);
+        rim.dedup_by_key(|r| r.0);
+        let spacing = crate::parallel::map(rim.len(), |k| {
+            crate::geometry::spatial::local_spacing::spacing_at(grid, rim[k].1)
+        });
+        nearest
+            .iter()
+            .map(|n| match n {
+                None => Some(self.median_spacing),
+                Some(n) => rim
+                    .binary_search_by_key(&n.index, |r| r.0)
+                    .ok()
+                    .and_then(|k| spacing[k]),
+            })
+            .collect()
+    }
+
+    fn turns_between(&self, a: DVec3, b: DVec3) -> bool {
+        use crate::geometry::cloud_creases::{plane_fit, CANDIDATE_VARIATION};
         match &self.near {
             Near::Points(grid) => {
-                let d = grid.nearest(p)?.d2.sqrt();
-                match d < 0.5 * self.even_spacing {
-                    true => Some(self.even_spacing),
-                    false => crate::geometry::spatial::local_spacing::spacing_near(grid, p),
-                }
+                let mut patch = Vec::new();
+                grid.nearest_within(0.5 * (a + b), grid.diagonal(), PATCH_POINTS, &mut patch);
+                plane_fit(patch.iter().map(|n| n.point))
+                    .is_none_or(|(_, variation)| variation > CANDIDATE_VARIATION)
             }
             Near::Triangles(bvh) => {
-                let hit = bvh.closest_point(p)?;
-                let [a, b, c] =
-                    bvh.triangles()[hit.triangle as usize].map(|v| bvh.positions()[v as usize]);
-                Some(((b - a).length() + (c - b).length() + (a - c).length()) / 3.0)
+                let normal = |p| {
+                    closest_triangle(bvh, p)
+                        .map(|[a, b, c]| (b - a).cross(c - a).normalize_or_zero())
+                };
+                match (normal(a), normal(b)) {
+                    (Some(m), Some(n)) => m.dot(n) < crate::fmath::cos(MESH_CREASE_TURN),
+                    _ => true,
+                }
             }
         }
     }
+}
 
-    fn normal_near(&self, p: DVec3) -> Option<DVec3> {
-        let Near::Triangles(bvh) = &self.near else {
-            return None;
-        };
-        let hit = bvh.closest_point(p)?;
-        let [a, b, c] = bvh.triangles()[hit.triangle as usize].map(|v| bvh.positions()[v as usize]);
-        Some((b - a).cross(c - a).normalize_or_zero())
-    }
+/// The corners of `bvh`'s triangle closest to `p`.
+fn closest_triangle(bvh: &TriangleBvh, p: DVec3) -> Option<[DVec3; 3]> {
+    let hit = bvh.closest_point(p)?;
+    Some(bvh.triangles()[hit.triangle as usize].map(|v| bvh.positions()[v as usize]))
 }
 
 /// Certifies `(positions, triangles)`; with `target`, also measures vertex → target distances.
@@ -433,6 +485,29 @@ pub fn outside_miss(outside: &[f64], checked: usize) -> f64 {
 mod tests {
     use super::*;
     use crate::geometry::icosphere::icosphere;
+
+    /// A wrap on its data is faithful; one 10 spacings off a cloud has every vertex far (brute
+    /// force: the cloud is a fine sphere's vertices, the wrap a coarse sphere around them).
+    #[test]
+    fn faithfulness_reads_distances_in_the_data_spacing() {
+        let fine = icosphere(5, 1.0, DVec3::ZERO).unwrap();
+        let coarse = icosphere(2, 1.0, DVec3::ZERO).unwrap();
+        let (p, t) = (coarse.positions().to_vec(), coarse.triangles());
+        let mesh = Target::new(fine.positions().to_vec(), fine.triangles()).unwrap();
+        let on = certify(&p, &t, Some(&mesh)).faithfulness.unwrap();
+        assert_eq!((on.far_vertices, on.folds), (0, 0), "{on:?}");
+        assert!(
+            on.distance_max_spacings < 0.1 && on.kappa_good_share > 0.9,
+            "{on:?}"
+        );
+        let cloud = Target::new(fine.positions().to_vec(), vec![]).unwrap();
+        let h = crate::geometry::spatial::spacing::median_spacing(&cloud.points);
+        let off: Vec<DVec3> = p.iter().map(|q| *q * (1.0 + 10.0 * h)).collect();
+        let far = certify(&off, &t, Some(&cloud)).faithfulness.unwrap();
+        assert_eq!(far.far_vertices, p.len(), "{far:?}");
+        assert!((7.0..13.0).contains(&far.distance_p99_spacings), "{far:?}");
+        assert_eq!(far.flagged_vertices.len(), p.len());
+    }
 
     #[test]
     fn sphere_is_valid_broken_ones_are_not() {

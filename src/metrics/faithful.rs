@@ -16,20 +16,17 @@ pub const FAR_SPACINGS: f64 = 3.0;
 /// Adjacent faces whose normals turn by more than this (radians) fold over.
 pub const FOLD_TURN: f64 = std::f64::consts::FRAC_PI_2;
 
-/// A fold where the target itself turns by more than this (radians) between the places nearest
-/// to the two faces follows a crease of the target, and is not counted.
-pub const TARGET_CREASE_TURN: f64 = std::f64::consts::FRAC_PI_3;
-
 /// Faces with κ(J_Δ) at most this are well shaped (the remesher's quality band).
 pub const GOOD_KAPPA: f64 = 1.5;
 
-/// What the data says near a place: its local spacing, and the target's normal there where
-/// the target has one (a mesh).
+/// What the data says near a place: its local spacing, and whether it has a crease there.
 pub trait DataNear {
-    /// The spacing of the data near `p` (the sampling's for a cloud, the edges' for a mesh).
-    fn spacing_near(&self, p: DVec3) -> Option<f64>;
-    /// The target's unit normal at the place nearest to `p`, where the target has normals.
-    fn normal_near(&self, p: DVec3) -> Option<DVec3>;
+    /// The spacing of the data near each of `points`, which lie `distances` from it (the
+    /// sampling's for a cloud, the edges' for a mesh).
+    fn spacings(&self, points: &[DVec3], distances: &[f64]) -> Vec<Option<f64>>;
+    /// Whether the data itself turns sharply between the places nearest to `a` and `b` (a crease
+    /// or corner the wrap should follow).
+    fn turns_between(&self, a: DVec3, b: DVec3) -> bool;
 }
 
 /// The faithfulness measurements of a wrap.
@@ -62,26 +59,21 @@ pub fn faithfulness(
     distances: &[f64],
     data: &(impl DataNear + Sync),
 ) -> Faithfulness {
-    let ratios = crate::parallel::map(positions.len(), |i| {
-        let s = data.spacing_near(positions[i]).filter(|s| *s > 0.0);
-        s.map_or(0.0, |s| distances[i] / s)
-    });
-    let mut sorted = ratios.clone();
-    sorted.sort_by(f64::total_cmp);
-    let mut flagged: Vec<u32> = (0..positions.len() as u32)
-        .filter(|&v| ratios[v as usize] >= FAR_SPACINGS)
-        .collect();
+    // The distances' part and the faces' part are independent: natively one beside the other.
+    let ((sorted, mut flagged), (folds, interior, fold_ends, min_angle_rad, good)) =
+        crate::parallel::beside(
+            || far_from_data(positions, distances, data),
+            || {
+                let mut ends = Vec::new();
+                let (folds, interior) = folded_edges(positions, triangles, data, &mut ends);
+                let (m, g) = shape(positions, triangles);
+                (folds, interior, ends, m, g)
+            },
+        );
     let far_vertices = flagged.len();
-    let (folds, interior) = folded_edges(positions, triangles, data, &mut flagged);
+    flagged.extend(fold_ends);
     flagged.sort_unstable();
     flagged.dedup();
-    let (min_angle_rad, good) = triangles.iter().fold((f64::INFINITY, 0usize), |(m, g), t| {
-        let [a, b, c] = t.map(|v| positions[v as usize]);
-        (
-            m.min(min_angle(a, b, c)),
-            g + usize::from(kappa(a, b, c) <= GOOD_KAPPA),
-        )
-    });
     Faithfulness {
         distance_max_spacings: sorted.last().copied().unwrap_or(0.0),
         distance_p99_spacings: super::quality::percentile_sorted(&sorted, 0.99),
@@ -98,9 +90,40 @@ pub fn faithfulness(
     }
 }
 
-/// The edges whose two faces turn by more than [`FOLD_TURN`] where the target turns by less than
-/// [`TARGET_CREASE_TURN`] between them, and the interior edges counted; the folded edges' ends
-/// go to `flagged`.
+/// Every vertex's distance in local spacings, ascending, and the vertices [`FAR_SPACINGS`] or
+/// more off.
+fn far_from_data(
+    positions: &[DVec3],
+    distances: &[f64],
+    data: &impl DataNear,
+) -> (Vec<f64>, Vec<u32>) {
+    let spacings = data.spacings(positions, distances);
+    let ratios: Vec<f64> = spacings
+        .iter()
+        .zip(distances)
+        .map(|(s, d)| s.filter(|s| *s > 0.0).map_or(0.0, |s| d / s))
+        .collect();
+    let far = (0..positions.len() as u32)
+        .filter(|&v| ratios[v as usize] >= FAR_SPACINGS)
+        .collect();
+    let mut sorted = ratios;
+    sorted.sort_by(f64::total_cmp);
+    (sorted, far)
+}
+
+/// The smallest angle of any face (radians) and how many faces are well shaped.
+fn shape(positions: &[DVec3], triangles: &[[u32; 3]]) -> (f64, usize) {
+    triangles.iter().fold((f64::INFINITY, 0usize), |(m, g), t| {
+        let [a, b, c] = t.map(|v| positions[v as usize]);
+        (
+            m.min(min_angle(a, b, c)),
+            g + usize::from(kappa(a, b, c) <= GOOD_KAPPA),
+        )
+    })
+}
+
+/// The edges whose two faces turn by more than [`FOLD_TURN`] where the data does not turn
+/// between them, and the interior edges counted; the folded edges' ends go to `flagged`.
 fn folded_edges(
     positions: &[DVec3],
     triangles: &[[u32; 3]],
@@ -119,11 +142,7 @@ fn folded_edges(
         if nf.dot(ng) >= crate::fmath::cos(FOLD_TURN) {
             continue;
         }
-        let target_turns = match (data.normal_near(cf), data.normal_near(cg)) {
-            (Some(a), Some(b)) => a.dot(b) < crate::fmath::cos(TARGET_CREASE_TURN),
-            _ => false,
-        };
-        if !target_turns {
+        if !data.turns_between(cf, cg) {
             folds += 1;
             flagged.extend([u, v]);
         }
@@ -158,11 +177,11 @@ mod tests {
     /// Data sampled every `spacing` everywhere, with normal +z.
     struct Even(f64);
     impl DataNear for Even {
-        fn spacing_near(&self, _: DVec3) -> Option<f64> {
-            Some(self.0)
+        fn spacings(&self, p: &[DVec3], _: &[f64]) -> Vec<Option<f64>> {
+            vec![Some(self.0); p.len()]
         }
-        fn normal_near(&self, _: DVec3) -> Option<DVec3> {
-            Some(DVec3::Z)
+        fn turns_between(&self, _: DVec3, _: DVec3) -> bool {
+            false
         }
     }
 
@@ -206,11 +225,11 @@ mod tests {
         assert_eq!(f.flagged_vertices, [0, 1, 2]);
         struct Creased;
         impl DataNear for Creased {
-            fn spacing_near(&self, _: DVec3) -> Option<f64> {
-                Some(1.0)
+            fn spacings(&self, p: &[DVec3], _: &[f64]) -> Vec<Option<f64>> {
+                vec![Some(1.0); p.len()]
             }
-            fn normal_near(&self, p: DVec3) -> Option<DVec3> {
-                Some(if p.z > 1e-3 { -DVec3::Z } else { DVec3::Z })
+            fn turns_between(&self, a: DVec3, b: DVec3) -> bool {
+                (a.z > 1e-3) != (b.z > 1e-3)
             }
         }
         assert_eq!(faithfulness(&p, &t, &[0.0; 4], &Creased).folds, 0);

@@ -15,7 +15,12 @@ pub const SAMPLES: usize = 32;
 /// The median spacing of the patch of `grid`'s points around the one nearest to `p`; None when
 /// the grid holds fewer than two distinct points there.
 pub fn spacing_near(grid: &PointGrid, p: DVec3) -> Option<f64> {
-    let q = grid.nearest(p)?.point;
+    spacing_at(grid, grid.nearest(p)?.point)
+}
+
+/// The median spacing of the patch of `grid`'s points around its point `q` (see
+/// [`spacing_near`]).
+pub fn spacing_at(grid: &PointGrid, q: DVec3) -> Option<f64> {
     let mut patch: Vec<Near> = Vec::new();
     grid.nearest_within(q, grid.diagonal(), SAMPLES, &mut patch);
     let mut around = Vec::new();
