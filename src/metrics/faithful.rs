@@ -39,6 +39,9 @@ pub struct Faithfulness {
     pub distance_p99_spacings: f64,
     /// Vertices [`FAR_SPACINGS`] or more from the data.
     pub far_vertices: usize,
+    /// `far_vertices` over all vertices.
+    #[serde(default)]
+    pub far_share: f64,
     /// Edges whose faces turn by more than [`FOLD_TURN`] where the target does not.
     pub folds: usize,
     /// `folds` over the interior edges.
@@ -78,6 +81,7 @@ pub fn faithfulness(
         distance_max_spacings: sorted.last().copied().unwrap_or(0.0),
         distance_p99_spacings: super::quality::percentile_sorted(&sorted, 0.99),
         far_vertices,
+        far_share: far_vertices as f64 / positions.len().max(1) as f64,
         folds,
         fold_share: folds as f64 / interior.max(1) as f64,
         min_angle_deg: if triangles.is_empty() {

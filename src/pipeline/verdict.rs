@@ -4,6 +4,7 @@
 
 use crate::flow::StartedOver;
 use crate::metrics::certificate::Certificate;
+use crate::metrics::faithful::Faithfulness;
 use serde::{Deserialize, Serialize};
 
 /// What a result is, most severe first is `Invalid`.
@@ -75,6 +76,7 @@ impl Verdict {
         };
         let mut notes = left_out_notes(left_out);
         notes.extend(again.map(second_pass_note));
+        notes.extend(c.faithfulness.as_ref().map_or(vec![], faithfulness_notes));
         Verdict {
             state,
             certified,
@@ -233,6 +235,37 @@ fn left_out_notes(l: LeftOut) -> Vec<String> {
     notes
 }
 
+/// A share of vertices far from the data above which the verdict says so: a sampling's own gaps
+/// leave fewer (see docs/decisions/0026-faithfulness-notes.md).
+pub const FAR_NOTE_SHARE: f64 = 0.02;
+
+/// A share of folded edges above which the verdict says so.
+pub const FOLD_NOTE_SHARE: f64 = 0.001;
+
+/// What the faithfulness measurements show that a user should look at: regions far from the data,
+/// folds. Notes, not warnings: a far region may be an opening of the data the wrap had to span.
+fn faithfulness_notes(f: &Faithfulness) -> Vec<String> {
+    let mut notes = Vec::new();
+    if f.far_share >= FAR_NOTE_SHARE {
+        notes.push(format!(
+            "{} vertices ({:.1} %) lie {} or more local spacings from the data: an opening of \
+             the data spanned, or a membrane left in empty space",
+            f.far_vertices,
+            100.0 * f.far_share,
+            crate::metrics::faithful::FAR_SPACINGS
+        ));
+    }
+    if f.fold_share >= FOLD_NOTE_SHARE {
+        notes.push(format!(
+            "{} edges fold over ({:.2} %): their faces turn by more than a right angle where the \
+             data does not",
+            f.folds,
+            100.0 * f.fold_share
+        ));
+    }
+    notes
+}
+
 /// What the second pass over a cloud the first left partly outside did (and a third, where the
 /// second ended far off the data).
 fn second_pass_note(s: &StartedOver) -> String {
@@ -287,6 +320,32 @@ fn significant(x: f64, digits: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn far_regions_and_folds_are_noted_not_warned() {
+        let mut c = certified();
+        c.faithfulness = Some(Faithfulness {
+            far_vertices: 500,
+            far_share: 0.05,
+            folds: 40,
+            fold_share: 0.002,
+            ..Default::default()
+        });
+        let v = Verdict::of(&c, None, None, LeftOut::default());
+        assert_eq!(v.state, VerdictState::Valid);
+        assert_eq!(v.notes.len(), 2, "{:?}", v.notes);
+        assert!(
+            v.notes[0].starts_with("500 vertices (5.0 %)") && v.notes[1].starts_with("40 edges")
+        );
+        c.faithfulness = Some(Faithfulness {
+            far_share: 0.01,
+            fold_share: 0.0005,
+            ..Default::default()
+        });
+        assert!(Verdict::of(&c, None, None, LeftOut::default())
+            .notes
+            .is_empty());
+    }
 
     fn certified() -> Certificate {
         Certificate {
