@@ -91,6 +91,7 @@ export class WrapRun {
     if (!settings.panel) return;
     const busy = status.busy;
     mode.set('wrap');
+    const demoPreset = input.kind === 'demo' ? null : settings.restoreOwn();
     this.input = input;
     this.stamp = null;
     if (input.kind === 'file') void this.stampInput(input.file);
@@ -102,7 +103,8 @@ export class WrapRun {
     this.volume.hide();
     this.volumeIso = this.linkIso;
     this.linkIso = null;
-    status.set('loading', `Loading ${name}…`);
+    status.set('loading', `Loading ${name}${settings.inForce()}…`);
+    if (demoPreset) status.notice([`The demo's preset (${demoPreset}) was the demo's own: ${name} is wrapped with your settings${settings.inForce() || ' (the default preset)'}.`]);
     revealView();
     this.d.share();
     if (busy) {
@@ -181,7 +183,7 @@ export class WrapRun {
     if (this.live) {
       status.error(null);
       send({ type: 'play' });
-      status.set('running', `Wrapping ${this.name}`);
+      status.set('running', `Wrapping ${this.name}${this.d.settings.inForce()}`);
     } else this.again(true);
   }
 
@@ -200,7 +202,7 @@ export class WrapRun {
     if (!this.input) return;
     this.clear();
     showPending(this.d.health, 'certificate: when the wrap ends');
-    this.d.status.set('loading', `Loading ${this.name}…`);
+    this.d.status.set('loading', `Loading ${this.name}${this.d.settings.inForce()}…`);
     void this.load(autoplay);
   }
 
@@ -243,7 +245,7 @@ export class WrapRun {
   /** A frame of the current run (already drawn): progress, plots, status. */
   frame(msg: Frame): void {
     this.d.readout.frame(msg);
-    if (msg.playing) this.d.status.set('running', `Wrapping ${this.name} — step ${msg.report?.step ?? 0}`);
+    if (msg.playing) this.d.status.set('running', `Wrapping ${this.name}${this.d.settings.inForce()} — step ${msg.report?.step ?? 0}`);
   }
 
   /** The scrubber shows the frame of `step` (null: the live end): the badge follows it. */
@@ -284,7 +286,7 @@ export class WrapRun {
     if (reason === 'finished' && k && k.verdict.state !== 'valid') status.set('invalid', `${k.verdict.headline} — ${k.why}`);
     else if (reason === 'finished') {
       const notes = k && k.verdict.notes.length > 0 ? `; ${k.verdict.notes.join('; ')}` : '';
-      status.set('done', `Done — ${this.name} wrapped in ${(this.workMs / 1000).toFixed(1)} s${notes}`);
+      status.set('done', `Done — ${this.name} wrapped in ${(this.workMs / 1000).toFixed(1)} s${this.d.settings.inForce()}${notes}`);
     }
     else if (reason === 'cancelled') {
       this.live = false;

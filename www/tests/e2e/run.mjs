@@ -458,6 +458,35 @@ test('a malformed file gives a readable error; the page and the previous result 
   await page.close();
 });
 
+test('a demo\'s preset is the demo\'s: a file dropped after Genus 2 is wrapped with the user\'s own preset, and the status says which', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  // The user's own choice: the obstacle preset. Genus 2 borrows the isosurface start.
+  await page.selectOption('#preset', 'obstacle');
+  await page.click('[data-demo=genus2]');
+  await page.waitForSelector('[data-testid=status][data-state=done], [data-testid=status][data-state=invalid]', { timeout: 120000 });
+  assert((await page.inputValue('#preset')) === 'isosurface', `genus 2 ran with ${await page.inputValue('#preset')}`);
+  await dropFile(page, 'octahedron.obj', Buffer.from(octahedron));
+  await page.waitForSelector('[data-testid=status][data-state=done], [data-testid=status][data-state=invalid]', { timeout: 120000 });
+  const preset = await page.inputValue('#preset');
+  const status = await page.textContent('[data-testid=status]');
+  const link = await page.inputValue('[data-testid=share-url]');
+  assert(preset === 'obstacle', `the dropped file was wrapped with ${preset}, not the user's obstacle`);
+  assert(/obstacle/.test(status), `the status does not name the preset in force: "${status}"`);
+  assert(/[#&]p=obstacle/.test(link), `the link names another preset: ${link}`);
+  await page.screenshot({ path: join(out, 'demo-preset-restored.png') });
+  // A fresh page with the default preset: genus 2, then a drop, gives the default back.
+  const fresh = await openApp(browser, url);
+  await fresh.page.click('[data-demo=genus2]');
+  await fresh.page.waitForSelector('[data-testid=status][data-state=done], [data-testid=status][data-state=invalid]', { timeout: 120000 });
+  await dropFile(fresh.page, 'octahedron.obj', Buffer.from(octahedron));
+  await fresh.page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
+  assert((await fresh.page.inputValue('#preset')) === 'full-wrap', `after genus 2 the drop ran with ${await fresh.page.inputValue('#preset')}`);
+  assert(errors.length === 0 && fresh.errors.length === 0, `console errors: ${[...errors, ...fresh.errors].join(' | ')}`);
+  console.log(`   after genus 2: "${status}"`);
+  await fresh.page.close();
+  await page.close();
+});
+
 test('a share link opened in a fresh page reproduces the same result hash; bad keys give a notice', async (browser, url) => {
   const { page } = await openApp(browser, url);
   await page.click('[data-demo=noisy-sphere]');
