@@ -138,10 +138,7 @@ function onWorkerMessage(msg: FromWorker): void {
     case 'error':
       // (Compute replaces the worker afterwards if the error may have left it unusable.)
       status.fail(msg.error);
-      if (mode.current === 'wrap') {
-        run.lost();
-        kept.restore();
-      }
+      if (mode.current === 'wrap') run.failed();
       return;
   }
 }

@@ -181,6 +181,16 @@ export class HistogramPlot {
     this.redraw();
   }
 
+  /** The bars shown (bin centres, counts), to put back with `put`. */
+  bars(): number[][] {
+    return this.data.map((c) => [...c]);
+  }
+
+  put(data: number[][]): void {
+    this.data = data.map((c) => [...c]);
+    this.redraw();
+  }
+
   private redraw(): void {
     const data = this.data;
     drawLater(this.plot, () => this.plot.setData(data as uPlot.AlignedData));

@@ -20,6 +20,15 @@ import type { WrapReadout } from './wrap-readout';
  * gallery shape or address the worker generates or downloads itself. */
 type Input = { kind: 'file'; file: File } | Extract<Source, { kind: 'demo' | 'url' }>;
 
+/** The input of the kept result, with its name, dataset, file stamp and iso-value. */
+interface Committed {
+  input: Input;
+  dataset: string | null;
+  name: string;
+  stamp: FileStamp | null;
+  volumeIso: number | null;
+}
+
 export interface WrapRunDeps {
   mode: ModeSwitch;
   status: StatusLine;
@@ -69,6 +78,10 @@ export class WrapRun {
   /** The current run's target, kept with its result. */
   private target: TargetMesh | null = null;
   private readonly volume: VolumePanel;
+  /** The kept result's input and what described it: a run that fails gives way to it again. */
+  private committed: Committed | null = null;
+  /** Whether the frames, plots and readout on screen are the kept result's (since its result). */
+  private keptShown = false;
 
   constructor(private readonly d: WrapRunDeps) {
     this.volume = new VolumePanel(byId('volume'), {
@@ -90,6 +103,7 @@ export class WrapRun {
     const { mode, status, settings, kept, health } = this.d;
     if (!settings.panel) return;
     const busy = status.busy;
+    const aside = this.keptShown && mode.current === 'wrap';
     mode.set('wrap');
     const demoPreset = input.kind === 'demo' ? null : settings.restoreOwn();
     this.input = input;
@@ -97,7 +111,7 @@ export class WrapRun {
     if (input.kind === 'file') void this.stampInput(input.file);
     this.dataset = dataset;
     this.name = name;
-    this.clear();
+    this.clear(aside);
     showPending(health, 'certificate: when the wrap ends');
     kept.showPrevious();
     this.volume.hide();
@@ -120,6 +134,7 @@ export class WrapRun {
     const stamp = await stampFile(file);
     if (this.input?.kind !== 'file' || this.input.file !== file) return;
     this.stamp = stamp;
+    if (this.committed?.input === this.input) this.committed.stamp = stamp;
     this.d.share();
     const expected = this.linkFile;
     if (!expected) return;
@@ -146,14 +161,17 @@ export class WrapRun {
   }
 
   /** Clears the previous run's readout, plots, frames, field view and input description; its
-   * messages still in flight are stale from now on. */
-  private clear(): void {
+   * messages still in flight are stale from now on. `aside`: they are the kept result's, kept
+   * for a run that fails. */
+  private clear(aside = false): void {
     const { status, readout, draw } = this.d;
+    if (aside) readout.setAside();
+    draw({ type: 'clear-frames', aside: aside ? 'set' : 'keep' });
+    this.keptShown = false;
     this.seq++;
     status.error(null);
     status.clearReadout();
     readout.clear();
-    draw({ type: 'clear-frames' });
     draw({ type: 'refit' });
     draw({ type: 'field' });
     byId('target-info').textContent = '';
@@ -179,7 +197,7 @@ export class WrapRun {
   /** Play: steps on, or (no session since a cancel or a restart) loads the input again and plays. */
   play(): void {
     const { status, send } = this.d;
-    if (!this.input) return;
+    if (!this.input) return void status.set(status.state, 'Nothing to wrap yet — drop a file, pick one or choose a demo');
     if (this.live) {
       status.error(null);
       send({ type: 'play' });
@@ -200,10 +218,27 @@ export class WrapRun {
 
   private again(autoplay: boolean): void {
     if (!this.input) return;
-    this.clear();
+    this.clear(this.keptShown);
     showPending(this.d.health, 'certificate: when the wrap ends');
     this.d.status.set('loading', `Loading ${this.name}${this.d.settings.inForce()}…`);
     void this.load(autoplay);
+  }
+
+  /** The worker reported an error. A run without a result gives way to the kept one: its input,
+   * link, frames, plots and readout come back with it, and Play wraps it again. */
+  failed(): void {
+    const { status, kept, readout, draw } = this.d;
+    this.live = false;
+    kept.restore();
+    if (this.keptShown) return; // the error came after this run's own result
+    const failed = this.name, c = this.committed;
+    this.seq++; // frames of the failed run still in flight are stale
+    this.keptShown = readout.restore();
+    if (this.keptShown) draw({ type: 'restore-frames' });
+    this.input = c?.input ?? null;
+    [this.dataset, this.name, this.stamp, this.volumeIso] = c ? [c.dataset, c.name, c.stamp, c.volumeIso] : [null, 'result', null, null];
+    this.d.share();
+    status.set('error', c ? `${failed} could not be wrapped — the result of ${c.name} is kept; Play wraps ${c.name} again` : `${failed} could not be wrapped — drop another file, pick one or choose a demo`);
   }
 
   /** The worker lost its session (replaced after a crash or an unanswered cancel). */
@@ -268,6 +303,8 @@ export class WrapRun {
   result(msg: Extract<FromWorker, { type: 'result' }>): void {
     if (!this.isCurrent(msg.run)) return;
     this.d.kept.keep(msg, this.target);
+    this.keptShown = true;
+    if (this.input) this.committed = { input: this.input, dataset: this.dataset, name: this.name, stamp: this.stamp, volumeIso: this.volumeIso };
     this.wasmBytes = msg.wasmBytes;
     this.workMs = msg.elapsedMs;
     this.phases = msg.phases;

@@ -487,6 +487,40 @@ test('a demo\'s preset is the demo\'s: a file dropped after Genus 2 is wrapped w
   await page.close();
 });
 
+test('a file that fails leaves the previous result fully in place (link, hash, badge, plots, frames, info); Play wraps it again', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  await page.click('[data-demo=noisy-sphere]');
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
+  await page.waitForTimeout(300); // the link is rewritten after the task
+  const shown = () => page.evaluate(() => ({
+    link: document.querySelector('[data-testid=share-url]').value,
+    hash: document.querySelector('[data-testid=result-hash]').textContent,
+    badge: document.querySelector('[data-testid=health]').textContent,
+    info: document.querySelector('[data-testid=target-info]').textContent,
+    stats: document.querySelector('#stats').textContent,
+    progress: document.querySelector('#progress-text').textContent,
+    distance: window.__lsw.distanceSeries()[0].length,
+    frames: document.querySelector('[data-testid=scrubber]').max,
+  }));
+  const before = await shown();
+  await dropFile(page, 'broken.ply', Buffer.from('ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1 2\n'));
+  await page.waitForSelector('[data-testid=status][data-state=error]', { timeout: 20000 });
+  await page.waitForTimeout(500);
+  const after = await shown();
+  for (const k of Object.keys(before)) assert(after[k] === before[k], `${k} changed after the failed file: ${JSON.stringify(before[k])} → ${JSON.stringify(after[k])}`);
+  const status = await page.textContent('[data-testid=status]');
+  assert(/broken\.ply/.test(status) && /noisy-sphere/.test(status), `the status does not say what failed and what is kept: "${status}"`);
+  await page.screenshot({ path: join(out, 'failed-file-kept.png') });
+  // Play wraps the kept result's input again, to the same result.
+  await page.click('[data-testid=play]');
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
+  const again = await page.textContent('[data-testid=status]');
+  assert(/noisy-sphere/.test(again) && (await shown()).hash === before.hash, `Play after the failure: "${again}"`);
+  assert(errors.filter((e) => !/broken/.test(e)).length === 0, `console errors: ${errors.join(' | ')}`);
+  console.log(`   after the failure: "${status}"`);
+  await page.close();
+});
+
 test('a share link opened in a fresh page reproduces the same result hash; bad keys give a notice', async (browser, url) => {
   const { page } = await openApp(browser, url);
   await page.click('[data-demo=noisy-sphere]');
