@@ -50,6 +50,13 @@ export class Lesson {
     return { level: Number(byId<HTMLSelectElement>('level').value), radius: 1, tau: Number(byId<HTMLInputElement>('tau').value) };
   }
 
+  /** A link's parameters (a number it lacks, or a level the menu has not, stays as it is). */
+  setParams(p: { level: number; tau: number }): void {
+    const level = byId<HTMLSelectElement>('level');
+    if ([...level.options].some((o) => Number(o.value) === p.level)) level.value = String(p.level);
+    if (Number.isFinite(p.tau)) byId<HTMLInputElement>('tau').value = String(p.tau);
+  }
+
   /** The lesson buttons, from the catalog, at the end of the demo gallery. */
   menu(lessons: CatalogLesson[]): void {
     this.entries = lessons;

@@ -69,10 +69,12 @@ const kept = new KeptResult(draw, health);
 const lesson = new Lesson({ mode, status, field, draw, send, share: updateShare });
 const run = new WrapRun({ mode, status, settings, kept, readout, field, health, draw, send, cancel: () => compute.cancel(), share: updateShare });
 const exporter = new Exporter(send, kept, () => run.name);
+const sphereLesson = () => mode.current === 'mcf' && lesson.kind === 'sphere'; // its link names the lesson and its parameters
 const share = new ShareLink(
   () =>
     settings.panel && {
-      dataset: mode.current === 'mcf' && lesson.kind === 'sphere' ? 'demo:mcf' : run.dataset,
+      dataset: sphereLesson() ? 'demo:mcf' : run.dataset,
+      lesson: sphereLesson() ? lesson.params() : undefined,
       preset: settings.panel.preset,
       changed: settings.panel.changed(),
       settings: settings.panel.all(),
@@ -157,6 +159,7 @@ function onReady(msg: Extract<FromWorker, { type: 'ready' }>): void {
   const d = state.dataset;
   run.linkIso = state.iso ?? null;
   run.linkFile = state.file ?? null;
+  if (state.lesson) lesson.setParams(state.lesson);
   if (state.file) status.notice([...notices, `This link was made with ${describeFile(state.file)}: drop it here to reproduce the result.`]);
   if (d && d !== 'demo:mcf') {
     if (d.startsWith('demo:')) startDemo(d.slice(5));

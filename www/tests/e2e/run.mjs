@@ -521,6 +521,23 @@ test('a file that fails leaves the previous result fully in place (link, hash, b
   await page.close();
 });
 
+test('the lesson\'s link carries its parameters: level 3, τ = 0.001 reopen as level 3, τ = 0.001', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  await page.selectOption('#level', '3');
+  await page.fill('#tau', '0.001');
+  await page.dispatchEvent('#tau', 'change');
+  await page.waitForSelector('[data-testid=status][data-state=idle]');
+  await page.waitForTimeout(300); // the link is rewritten after the task
+  const link = await page.inputValue('[data-testid=share-url]');
+  const other = await openApp(browser, link.replace(/^[^#]*/, url));
+  const got = { level: await other.page.inputValue('#level'), tau: await other.page.inputValue('#tau'), stats: await other.page.textContent('#stats') };
+  assert(got.level === '3' && Number(got.tau) === 0.001, `the link ${link} reopened as ${JSON.stringify(got)}`);
+  await other.page.screenshot({ path: join(out, 'lesson-link.png') });
+  assert(errors.length === 0 && other.errors.length === 0, `console errors: ${[...errors, ...other.errors].join(' | ')}`);
+  await other.page.close();
+  await page.close();
+});
+
 test('a share link opened in a fresh page reproduces the same result hash; bad keys give a notice', async (browser, url) => {
   const { page } = await openApp(browser, url);
   await page.click('[data-demo=noisy-sphere]');
