@@ -61,7 +61,7 @@ renderer.onError((e) => status.fail({ code: 'worker', message: `The render worke
 const updateShare = () => share.update();
 const view = new ViewControls(draw, send, updateShare);
 mode.onSwitch = (m) => view.offer(colourMenu(m));
-const scrubber = new Scrubber(draw, { shown: (step) => run.scrubbed(step), frames: (steps) => readout.topology.place(steps) });
+const scrubber = new Scrubber(draw, { shown: (step) => (mode.current === 'mcf' ? lesson.scrubbed(step) : run.scrubbed(step)), frames: (steps) => readout.topology.place(steps) });
 const field = new FieldControls(draw, send);
 const settings = new RunSettings(byId('preset'), byId('gui'), send, updateShare);
 const readout = new WrapReadout();
@@ -101,7 +101,7 @@ function startDemo(id: string): void {
 function onFrame(msg: Frame): void {
   if (msg.mode !== mode.current || (msg.mode === 'wrap' && !run.isCurrent(msg.run))) return; // a stale frame still in flight
   drawFrame(draw, msg);
-  if (msg.mode === 'mcf' && msg.stats) lesson.frame(msg.stats, msg.playing);
+  if (msg.mode === 'mcf' && msg.stats) lesson.frame({ ...msg, stats: msg.stats });
   else run.frame(msg);
 }
 

@@ -538,6 +538,39 @@ test('the lesson\'s link carries its parameters: level 3, τ = 0.001 reopen as l
   await page.close();
 });
 
+test('the lesson\'s scrubber moves the numbers, the legend and a marker on the radius plot with the frame', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  await page.selectOption('#level', '3');
+  await page.fill('#tau', '0.002');
+  await page.dispatchEvent('#tau', 'change');
+  await page.waitForSelector('[data-testid=status][data-state=idle]');
+  await page.click('[data-testid=play]');
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 60000 });
+  await page.waitForFunction(() => !document.querySelector('[data-testid=scrubber]').disabled, null, { timeout: 10000 });
+  const shown = () => page.evaluate(() => ({
+    step: /^step (\d+)/.exec(document.querySelector('#stats').textContent)?.[1],
+    max: document.querySelector('#legend-max').textContent,
+    marker: document.querySelector('#plot').dataset.marker ?? null,
+    label: document.querySelector('#scrub-label').textContent,
+  }));
+  const end = await shown();
+  await page.fill('[data-testid=scrubber]', '0');
+  await page.waitForTimeout(300);
+  const first = await shown();
+  assert(first.step === '0' && first.step !== end.step, `numbers at frame 0: ${JSON.stringify(first)} (end ${JSON.stringify(end)})`);
+  assert(first.max !== end.max, `the legend at frame 0 still shows the last frame's range ${end.max}`);
+  assert(first.marker === '0', `no marker at t = 0 on the radius plot: ${first.marker}`);
+  await page.screenshot({ path: join(out, 'mcf-scrub-first.png') });
+  const max = await page.getAttribute('[data-testid=scrubber]', 'max');
+  await page.fill('[data-testid=scrubber]', max);
+  await page.waitForTimeout(300);
+  const back = await shown();
+  assert(back.step === end.step && back.max === end.max && back.marker === null, `back at the end: ${JSON.stringify(back)} (end ${JSON.stringify(end)})`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+  console.log(`   frame 0: ${JSON.stringify(first)}; end: ${JSON.stringify(end)}`);
+  await page.close();
+});
+
 test('a share link opened in a fresh page reproduces the same result hash; bad keys give a notice', async (browser, url) => {
   const { page } = await openApp(browser, url);
   await page.click('[data-demo=noisy-sphere]');
