@@ -164,6 +164,13 @@ export class SettingsPanel {
  * settings (`panel` is null). The worker computes the control curves of the settings, so every
  * change is sent to it.
  */
+/** What `RunSettings.snapshot` keeps: the preset and changes in force, and the user's own. */
+export interface SettingsState {
+  preset: string;
+  changed: Flat;
+  own: { preset: string; changed: Flat } | null;
+}
+
 export class RunSettings {
   panel: SettingsPanel | null = null;
   private readonly detail = byId<HTMLSelectElement>('detail');
@@ -280,6 +287,16 @@ export class RunSettings {
     this.own = null;
     this.show(own.preset, own.changed);
     return borrowed;
+  }
+
+  /** The settings in force and the user's own set aside, to put back with `put`. */
+  snapshot(): SettingsState {
+    return { preset: this.panel?.preset ?? DEFAULT_PRESET, changed: this.panel?.changed() ?? {}, own: this.own };
+  }
+
+  put(s: SettingsState): void {
+    this.own = s.own;
+    this.show(s.preset, s.changed);
   }
 
   /** The preset in force for the status line: '' for the default, else " (preset: label)". */

@@ -7,7 +7,7 @@ import { showPending } from './health';
 import { revealView } from './layout';
 import type { KeptResult, TargetMesh } from './kept';
 import type { ModeSwitch } from './mode';
-import type { RunSettings } from './panel';
+import type { RunSettings, SettingsState } from './panel';
 import type { Draw, Frame, FromWorker, Send, Source, StopReason, TargetInfo } from './protocol';
 import { leftOutNote, repairsNote } from './protocol';
 import { describeFile, sameFile, validDataset, type FileStamp } from './share';
@@ -82,6 +82,9 @@ export class WrapRun {
   private committed: Committed | null = null;
   /** Whether the frames, plots and readout on screen are the kept result's (since its result). */
   private keptShown = false;
+  /** The settings before this run's input gave the user's own back from a demo (null: untouched):
+   * a run that fails puts them back with the kept result. */
+  private settingsBefore: SettingsState | null = null;
 
   constructor(private readonly d: WrapRunDeps) {
     this.volume = new VolumePanel(byId('volume'), {
@@ -105,7 +108,9 @@ export class WrapRun {
     const busy = status.busy;
     const aside = this.keptShown && mode.current === 'wrap';
     mode.set('wrap');
+    const before = settings.snapshot();
     const demoPreset = input.kind === 'demo' ? null : settings.restoreOwn();
+    if (demoPreset) this.settingsBefore = before; // (kept until a result or a failure)
     this.input = input;
     this.stamp = null;
     if (input.kind === 'file') void this.stampInput(input.file);
@@ -235,6 +240,8 @@ export class WrapRun {
     this.seq++; // frames of the failed run still in flight are stale
     this.keptShown = readout.restore();
     if (this.keptShown) draw({ type: 'restore-frames' });
+    if (this.settingsBefore) this.d.settings.put(this.settingsBefore);
+    this.settingsBefore = null;
     this.input = c?.input ?? null;
     [this.dataset, this.name, this.stamp, this.volumeIso] = c ? [c.dataset, c.name, c.stamp, c.volumeIso] : [null, 'result', null, null];
     this.d.share();
@@ -304,6 +311,7 @@ export class WrapRun {
     if (!this.isCurrent(msg.run)) return;
     this.d.kept.keep(msg, this.target);
     this.keptShown = true;
+    this.settingsBefore = null;
     if (this.input) this.committed = { input: this.input, dataset: this.dataset, name: this.name, stamp: this.stamp, volumeIso: this.volumeIso };
     this.wasmBytes = msg.wasmBytes;
     this.workMs = msg.elapsedMs;
