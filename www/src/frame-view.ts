@@ -12,8 +12,13 @@ export function drawFrame(draw: Draw, msg: Frame): void {
   if (msg.colors) transfer.push(msg.colors.buffer);
   const step = msg.mode === 'mcf' ? msg.stats?.step ?? 0 : msg.report?.step ?? 0;
   draw({ type: 'geometry', positions: msg.positions, normals: msg.normals, indices: msg.indices, colors: msg.colors, step, record: true, final: !!msg.report?.done || !!msg.final }, transfer);
-  byId('legend').hidden = !msg.colors;
-  byId('legend-title').textContent = legends[msg.colour] ?? msg.colour;
-  byId('legend-min').textContent = msg.range[0].toPrecision(4);
-  byId('legend-max').textContent = msg.range[1].toPrecision(4);
+  showLegend(msg.colour, msg.range, !!msg.colors);
+}
+
+/** The legend of colour map `colour` over `range` (hidden for plain shading). */
+export function showLegend(colour: string, range: [number, number], coloured: boolean): void {
+  byId('legend').hidden = !coloured;
+  byId('legend-title').textContent = legends[colour] ?? colour;
+  byId('legend-min').textContent = range[0].toPrecision(4);
+  byId('legend-max').textContent = range[1].toPrecision(4);
 }

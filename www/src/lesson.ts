@@ -7,7 +7,8 @@ import { byId } from './dom';
 import type { FieldControls } from './field-view';
 import type { ModeSwitch } from './mode';
 import { LinePlot, RadiusPlot } from './plots';
-import type { CatalogLesson, Draw, LessonKind, McfParams, McfStats, MeshStats, MeshTauAdvice, Send, SphereStats, StopReason, TauAdvice } from './protocol';
+import { showLegend } from './frame-view';
+import type { CatalogLesson, Draw, Frame, LessonKind, McfParams, McfStats, MeshStats, MeshTauAdvice, Send, SphereStats, StopReason, TauAdvice } from './protocol';
 import type { StatusLine } from './status';
 
 export interface LessonDeps {
@@ -25,6 +26,15 @@ const NO_MESH = 'MCF on the loaded mesh: load a mesh first (drop one, or pick Bu
 
 const pct = (x: number) => `${(100 * x).toFixed(1)} %`;
 
+/** What a frame showed beside the surface: the numbers, its time on the plot, its legend. */
+interface Shot {
+  text: string;
+  x: number;
+  colour: string;
+  range: [number, number];
+  coloured: boolean;
+}
+
 export class Lesson {
   private readonly plot = new RadiusPlot(byId('plot'));
   private readonly areaPlot = new LinePlot(byId('plot-area'), 'Area, volume / start vs t/D²', ['area', 'volume'], ['#4aa3ff', '#ffb347'], { xLabel: 't/D²', width: 340 });
@@ -39,6 +49,11 @@ export class Lesson {
   /** Whether this lesson was asked to play or step since it started: a wrap's "stopped", still
    * in flight when the lesson replaced it, must not end the fresh lesson. */
   private asked = false;
+  /** What each frame showed, by step, for the scrubber; and the latest step. */
+  private readonly shots = new Map<number, Shot>();
+  private liveStep = -1;
+  /** The step of the frame the scrubber shows (null: the live end). */
+  private scrubbedAt: number | null = null;
 
   constructor(private readonly d: LessonDeps) {
     byId('level').onchange = () => this.start('sphere');
@@ -48,6 +63,13 @@ export class Lesson {
 
   params(): McfParams {
     return { level: Number(byId<HTMLSelectElement>('level').value), radius: 1, tau: Number(byId<HTMLInputElement>('tau').value) };
+  }
+
+  /** A link's parameters (a number it lacks, or a level the menu has not, stays as it is). */
+  setParams(p: { level: number; tau: number }): void {
+    const level = byId<HTMLSelectElement>('level');
+    if ([...level.options].some((o) => Number(o.value) === p.level)) level.value = String(p.level);
+    if (Number.isFinite(p.tau)) byId<HTMLInputElement>('tau').value = String(p.tau);
   }
 
   /** The lesson buttons, from the catalog, at the end of the demo gallery. */
@@ -108,11 +130,16 @@ export class Lesson {
     status.clearReadout();
     this.plot.clear();
     this.areaPlot.clear();
+    this.plot.mark(null);
+    this.areaPlot.mark(null);
     draw({ type: 'clear-frames' });
     draw({ type: 'target', positions: new Float32Array(0), indices: null });
     draw({ type: 'refit' });
     this.last = null;
     this.asked = false;
+    this.shots.clear();
+    this.liveStep = -1;
+    this.scrubbedAt = null;
     if (mesh) send({ type: 'mcf-mesh-init', tau: Number(byId<HTMLInputElement>('tau-mesh').value) });
     else send({ type: 'mcf-init', params: this.params() });
     status.set('idle', 'Ready');
@@ -158,14 +185,33 @@ export class Lesson {
   }
 
   /** A frame's statistics: the plot and the numbers beside it (a frame of the other lesson, still in flight, is dropped). */
-  frame(s: McfStats, playing: boolean): void {
+  frame(msg: Frame & { stats: McfStats }): void {
+    const s = msg.stats;
     if (s.lesson !== this.kind) return;
     this.last = s;
-    byId('stats').textContent = s.lesson === 'sphere' ? this.sphere(s) : this.mesh(s);
+    const text = s.lesson === 'sphere' ? this.sphere(s) : this.mesh(s);
+    const x = s.lesson === 'sphere' ? s.time : s.relativeTime;
+    this.shots.set(s.step, { text, x, colour: msg.colour, range: msg.range, coloured: !!msg.colors });
+    this.liveStep = s.step;
+    byId('stats').textContent = text;
     byId('stats').dataset.step = String(s.step);
     byId('progress').hidden = true;
     byId('progress-text').textContent = '';
-    if (playing) this.d.status.set('running', `Running — step ${s.step}`);
+    if (msg.playing) this.d.status.set('running', `Running — step ${s.step}`);
+    if (this.scrubbedAt !== null) this.scrubbed(this.scrubbedAt); // an earlier frame is still on screen
+  }
+
+  /** The scrubber shows the frame of `step` (null: the live end): its numbers, legend and a
+   * mark at its time on the plot follow. */
+  scrubbed(step: number | null): void {
+    this.scrubbedAt = step;
+    const shot = this.shots.get(step ?? this.liveStep);
+    if (!shot) return;
+    byId('stats').textContent = shot.text;
+    showLegend(shot.colour, shot.range, shot.coloured);
+    const mark = step === null ? null : shot.x;
+    if (this.kind === 'sphere') this.plot.mark(mark);
+    else this.areaPlot.mark(mark);
   }
 
   private sphere(s: SphereStats): string {

@@ -61,7 +61,7 @@ renderer.onError((e) => status.fail({ code: 'worker', message: `The render worke
 const updateShare = () => share.update();
 const view = new ViewControls(draw, send, updateShare);
 mode.onSwitch = (m) => view.offer(colourMenu(m));
-const scrubber = new Scrubber(draw, { shown: (step) => run.scrubbed(step), frames: (steps) => readout.topology.place(steps) });
+const scrubber = new Scrubber(draw, { shown: (step) => (mode.current === 'mcf' ? lesson.scrubbed(step) : run.scrubbed(step)), frames: (steps) => readout.topology.place(steps) });
 const field = new FieldControls(draw, send);
 const settings = new RunSettings(byId('preset'), byId('gui'), send, updateShare);
 const readout = new WrapReadout();
@@ -69,10 +69,12 @@ const kept = new KeptResult(draw, health);
 const lesson = new Lesson({ mode, status, field, draw, send, share: updateShare });
 const run = new WrapRun({ mode, status, settings, kept, readout, field, health, draw, send, cancel: () => compute.cancel(), share: updateShare });
 const exporter = new Exporter(send, kept, () => run.name);
+const sphereLesson = () => mode.current === 'mcf' && lesson.kind === 'sphere'; // its link names the lesson and its parameters
 const share = new ShareLink(
   () =>
     settings.panel && {
-      dataset: mode.current === 'mcf' && lesson.kind === 'sphere' ? 'demo:mcf' : run.dataset,
+      dataset: sphereLesson() ? 'demo:mcf' : run.dataset,
+      lesson: sphereLesson() ? lesson.params() : undefined,
       preset: settings.panel.preset,
       changed: settings.panel.changed(),
       settings: settings.panel.all(),
@@ -99,7 +101,7 @@ function startDemo(id: string): void {
 function onFrame(msg: Frame): void {
   if (msg.mode !== mode.current || (msg.mode === 'wrap' && !run.isCurrent(msg.run))) return; // a stale frame still in flight
   drawFrame(draw, msg);
-  if (msg.mode === 'mcf' && msg.stats) lesson.frame(msg.stats, msg.playing);
+  if (msg.mode === 'mcf' && msg.stats) lesson.frame({ ...msg, stats: msg.stats });
   else run.frame(msg);
 }
 
@@ -138,10 +140,7 @@ function onWorkerMessage(msg: FromWorker): void {
     case 'error':
       // (Compute replaces the worker afterwards if the error may have left it unusable.)
       status.fail(msg.error);
-      if (mode.current === 'wrap') {
-        run.lost();
-        kept.restore();
-      }
+      if (mode.current === 'wrap') run.failed();
       return;
   }
 }
@@ -160,6 +159,7 @@ function onReady(msg: Extract<FromWorker, { type: 'ready' }>): void {
   const d = state.dataset;
   run.linkIso = state.iso ?? null;
   run.linkFile = state.file ?? null;
+  if (state.lesson) lesson.setParams(state.lesson);
   if (state.file) status.notice([...notices, `This link was made with ${describeFile(state.file)}: drop it here to reproduce the result.`]);
   if (d && d !== 'demo:mcf') {
     if (d.startsWith('demo:')) startDemo(d.slice(5));

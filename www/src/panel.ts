@@ -14,6 +14,8 @@ const CELLS = 'field.cells_per_min_dimension';
 const MIN_EDGE = 'remesh.min_edge_multiplier';
 const START = 'start.surface';
 const CLOSE_GAPS = 'surgery.close_gaps';
+/** The preset a fresh page starts with (the core's default). */
+export const DEFAULT_PRESET = 'full-wrap';
 
 /** Whether `v` lies in `r` (the core refuses a wrap with a setting outside it). */
 function inRange(v: number, r: SettingRange): boolean {
@@ -40,7 +42,7 @@ export class SettingsPanel {
   private view: Record<string, string | number | boolean> = {};
   private values: Flat = {};
   private base: Flat = {};
-  preset = 'full-wrap';
+  preset = DEFAULT_PRESET;
 
   constructor(
     private readonly container: HTMLElement,
@@ -69,7 +71,7 @@ export class SettingsPanel {
 
   /** Picks a preset and applies `changed` on top (keys unknown to the preset are ignored). */
   set(preset: string, changed: Flat = {}): void {
-    this.preset = this.presets[preset] ? preset : 'full-wrap';
+    this.preset = this.presets[preset] ? preset : DEFAULT_PRESET;
     const keys = Object.keys(this.values);
     this.base = this.presets[this.preset];
     this.values = { ...this.base };
@@ -162,12 +164,22 @@ export class SettingsPanel {
  * settings (`panel` is null). The worker computes the control curves of the settings, so every
  * change is sent to it.
  */
+/** What `RunSettings.snapshot` keeps: the preset and changes in force, and the user's own. */
+export interface SettingsState {
+  preset: string;
+  changed: Flat;
+  own: { preset: string; changed: Flat } | null;
+}
+
 export class RunSettings {
   panel: SettingsPanel | null = null;
   private readonly detail = byId<HTMLSelectElement>('detail');
   private readonly start = byId<HTMLSelectElement>('start-surface');
   private readonly gaps = byId<HTMLSelectElement>('close-gaps');
   private levels: DetailLevel[] = [];
+  /** The user's own preset and changed settings while a gallery demo's preset is in force (null
+   * when the settings in force are the user's: a change they make adopts the demo's). */
+  private own: { preset: string; changed: Flat } | null = null;
 
   /** `container`: where the panel goes; `changed`: runs after the user changed the settings (the share link follows). */
   constructor(
@@ -177,6 +189,7 @@ export class RunSettings {
     private readonly changed: () => void,
   ) {
     select.onchange = () => {
+      this.own = null;
       this.panel?.set(select.value);
       this.sync();
       this.sendCurves();
@@ -197,6 +210,7 @@ export class RunSettings {
     const flat = Object.fromEntries(Object.entries(presets).map(([k, v]) => [k, flatten(v)]));
     const ranges = Object.fromEntries(catalog.settingRanges.map((r) => [r.key, r]));
     this.panel = new SettingsPanel(this.container, flat, docs, enums, ranges, () => {
+      this.own = null;
       this.sync();
       this.sendCurves();
       this.changed();
@@ -250,16 +264,55 @@ export class RunSettings {
     this.sync();
   }
 
-  /** A demo's preset: the one its button names (genus 2 → isosurface), else the current one for the lesson, else full-wrap. */
+  /** A demo's preset: the one its button names (genus 2 → isosurface), else the current one for
+   * the lesson, else full-wrap. It is borrowed: the user's own settings are kept for their next
+   * file; a demo of the user's own preset runs with their settings. */
   forDemo(demo: string, named: string | undefined): void {
     const panel = this.panel;
-    const preset = named ?? (demo === 'mcf' ? panel?.preset : 'full-wrap') ?? 'full-wrap';
-    if (panel && preset !== panel.preset) {
-      panel.set(preset);
-      this.select.value = preset;
-      this.sync();
-      this.sendCurves();
-    }
+    if (!panel) return;
+    const mine = this.own ?? { preset: panel.preset, changed: panel.changed() };
+    const preset = named ?? (demo === 'mcf' ? panel.preset : DEFAULT_PRESET);
+    if (preset === mine.preset) return void this.restoreOwn();
+    if (preset === panel.preset) return;
+    this.own = mine;
+    this.show(preset, {});
+  }
+
+  /** The user's own file or address: their settings come back if a demo borrowed the preset;
+   * returns the borrowed preset's label then (else null). */
+  restoreOwn(): string | null {
+    const own = this.own;
+    if (!own || !this.panel) return null;
+    const borrowed = this.label(this.panel.preset);
+    this.own = null;
+    this.show(own.preset, own.changed);
+    return borrowed;
+  }
+
+  /** The settings in force and the user's own set aside, to put back with `put`. */
+  snapshot(): SettingsState {
+    return { preset: this.panel?.preset ?? DEFAULT_PRESET, changed: this.panel?.changed() ?? {}, own: this.own };
+  }
+
+  put(s: SettingsState): void {
+    this.own = s.own;
+    this.show(s.preset, s.changed);
+  }
+
+  /** The preset in force for the status line: '' for the default, else " (preset: label)". */
+  inForce(): string {
+    const p = this.panel?.preset ?? DEFAULT_PRESET;
+    return p === DEFAULT_PRESET ? '' : ` (preset: ${this.label(p)})`;
+  }
+
+  private label(preset: string): string {
+    return [...this.select.options].find((o) => o.value === preset)?.textContent ?? preset;
+  }
+
+  /** Puts `preset` with `changed` in force, shows it and recomputes the control curves. */
+  private show(preset: string, changed: Flat): void {
+    this.apply(preset, changed);
+    this.sendCurves();
   }
 
   /** Full settings as the nested JSON object the core takes (the panel must exist). */

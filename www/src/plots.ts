@@ -49,15 +49,43 @@ function followWidth(el: HTMLElement, plot: uPlot, height: number): void {
   }).observe(el);
 }
 
+/** A vertical line at x = `at()` (the scrubbed frame's time), drawn over the plot when set. */
+function markerHook(at: () => number | null): uPlot.Hooks.Arrays {
+  const draw = (u: uPlot) => {
+    const x = at();
+    if (x === null) return;
+    const px = u.valToPos(x, 'x', true);
+    const ctx = u.ctx;
+    ctx.save();
+    ctx.strokeStyle = '#e6e6e6';
+    ctx.setLineDash([4, 3]);
+    ctx.beginPath();
+    ctx.moveTo(px, u.bbox.top);
+    ctx.lineTo(px, u.bbox.top + u.bbox.height);
+    ctx.stroke();
+    ctx.restore();
+  };
+  return { draw: [draw] };
+}
+
+/** Marks x on `plot` (null: no mark); the host's data-marker says where, for scripts. */
+function setMark(el: HTMLElement, plot: uPlot, x: number | null): void {
+  if (x === null) delete el.dataset.marker;
+  else el.dataset.marker = String(x);
+  drawLater(plot, () => plot.redraw(false));
+}
+
 export class RadiusPlot {
   private readonly t: number[] = [];
   private readonly mesh: number[] = [];
   private readonly exact: number[] = [];
   private readonly plot: uPlot;
+  private marked: number | null = null;
 
-  constructor(el: HTMLElement) {
+  constructor(private readonly el: HTMLElement) {
     this.plot = new uPlot(
       {
+        hooks: markerHook(() => this.marked),
         width: 340,
         height: 170,
         title: 'Mean radius vs exact √(r₀² − 4t)',
@@ -88,6 +116,12 @@ export class RadiusPlot {
     drawLater(this.plot, () => this.plot.setData([this.t, this.mesh, this.exact]));
   }
 
+  /** Marks time `t` (the scrubbed frame's); null removes the mark. */
+  mark(t: number | null): void {
+    this.marked = t;
+    setMark(this.el, this.plot, t);
+  }
+
   /** The plotted series, for tests and export. */
   series(): { t: number[]; mesh: number[]; exact: number[] } {
     return { t: [...this.t], mesh: [...this.mesh], exact: [...this.exact] };
@@ -100,11 +134,13 @@ const AXIS = { stroke: '#9aa3b2', grid: { stroke: '#2c303a' }, ticks: { stroke: 
 export class LinePlot {
   private readonly cols: number[][];
   private readonly plot: uPlot;
+  private marked: number | null = null;
 
-  constructor(el: HTMLElement, title: string, labels: string[], colours: string[], opts: { log?: boolean; width?: number; height?: number; xLabel?: string } = {}) {
+  constructor(private readonly el: HTMLElement, title: string, labels: string[], colours: string[], opts: { log?: boolean; width?: number; height?: number; xLabel?: string } = {}) {
     this.cols = [[], ...labels.map(() => [])];
     this.plot = new uPlot(
       {
+        hooks: markerHook(() => this.marked),
         width: opts.width ?? 262,
         height: opts.height ?? 170,
         title,
@@ -146,6 +182,12 @@ export class LinePlot {
   series(): number[][] {
     return this.cols.map((c) => [...c]);
   }
+
+  /** Marks x (the scrubbed frame's); null removes the mark. */
+  mark(x: number | null): void {
+    this.marked = x;
+    setMark(this.el, this.plot, x);
+  }
 }
 
 /** Bars of a histogram (counts per bin, from the core). */
@@ -178,6 +220,16 @@ export class HistogramPlot {
 
   clear(): void {
     this.data = [[], []];
+    this.redraw();
+  }
+
+  /** The bars shown (bin centres, counts), to put back with `put`. */
+  bars(): number[][] {
+    return this.data.map((c) => [...c]);
+  }
+
+  put(data: number[][]): void {
+    this.data = data.map((c) => [...c]);
     this.redraw();
   }
 

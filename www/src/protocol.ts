@@ -299,7 +299,10 @@ export type ToRender =
   | { type: 'resize'; width: number; height: number }
   | { type: 'geometry'; positions: Float32Array; normals: Float32Array; indices?: Uint32Array; colors: Float32Array | null; step?: number; record?: boolean; final?: boolean }
   | { type: 'target'; positions: Float32Array; indices: Uint32Array | null }
-  | { type: 'clear-frames' }
+  /** `aside`: 'set' — the frames are the kept result's: keep them for 'restore-frames'; 'keep' —
+   * drop them but keep those set aside before; none — drop both (the lesson). */
+  | { type: 'clear-frames'; aside?: 'set' | 'keep' }
+  | { type: 'restore-frames' }
   | { type: 'show-frame'; index: number }
   | { type: 'refit' }
   | { type: 'fit' }

@@ -8,7 +8,9 @@ import { FrameStore } from './frames';
 let viewer: Viewer | null = null;
 let dirty = false;
 let scheduled = false;
-const store = new FrameStore(2, 192 * 1024 * 1024);
+let store = new FrameStore(2, 192 * 1024 * 1024);
+/** The kept result's frames while a new run records its own: a failed run shows them again. */
+let aside: FrameStore | null = null;
 /** Index of the recorded frame shown, or -1 for the live one. */
 let showing = -1;
 
@@ -81,9 +83,17 @@ self.onmessage = (ev: MessageEvent<ToRender>) => {
       viewer.setTarget(m.positions, m.indices);
       break;
     case 'clear-frames':
-      store.clear();
+      if (m.aside === 'set') [aside, store] = [store, new FrameStore(store.every, store.budget)];
+      else store.clear();
+      if (!m.aside) aside = null;
       showing = -1;
       lastIndices = null;
+      reportFrames();
+      return;
+    case 'restore-frames':
+      if (aside) [store, aside] = [aside, null];
+      showing = -1;
+      lastIndices = store.frames[store.frames.length - 1]?.indices ?? null;
       reportFrames();
       return;
     case 'show-frame': {

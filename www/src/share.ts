@@ -70,6 +70,8 @@ export interface ShareState {
   iso?: number;
   /** The dropped file the state was made with (absent for gallery shapes and addresses). */
   file?: FileStamp;
+  /** The sphere lesson's subdivision level and time step (dataset demo:mcf only). */
+  lesson?: { level: number; tau: number };
 }
 
 export interface Decoded {
@@ -142,6 +144,10 @@ export function encode(state: ShareState): string {
     q.set('f.size', String(state.file.size));
     if (state.file.sha) q.set('f.sha', state.file.sha);
   }
+  if (state.lesson) {
+    q.set('mcf.level', String(state.lesson.level));
+    q.set('mcf.tau', String(state.lesson.tau));
+  }
   const written = state.settings ?? state.changed;
   for (const k of Object.keys(written).sort()) q.set(`s.${k}`, JSON.stringify(written[k]));
   const v = state.view;
@@ -200,6 +206,12 @@ export function decode(hash: string, presets: Record<string, Flat>, opts: Decode
       const n = Number(value);
       if (value.trim() !== '' && Number.isFinite(n)) state.iso = n;
       else notices.push(`Ignored iso = "${value.slice(0, 40)}": not a number; the volume's Otsu threshold is used.`);
+      continue;
+    }
+    if (key === 'mcf.level' || key === 'mcf.tau') {
+      const n = Number(value);
+      if (value.trim() === '' || !Number.isFinite(n)) notices.push(`Ignored ${key} = "${value.slice(0, 40)}": not a number.`);
+      else state.lesson = { ...(state.lesson ?? { level: NaN, tau: NaN }), [key.slice(4)]: n };
       continue;
     }
     if (key.startsWith('s.') && !old) {

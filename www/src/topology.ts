@@ -47,6 +47,14 @@ export function surgeryLine(events: SurgeryEvent[], pass: 'second' | 'third' | n
   return `Surgery${which}: ${describeAll(events).join('; ')}`;
 }
 
+/** A timeline's contents (see `TopologyTimeline.snapshot`). */
+export interface TimelineState {
+  genusAt: [number, number][];
+  events: SurgeryEvent[];
+  lastEvents: SurgeryEvent[];
+  pass: 'second' | 'third' | null;
+}
+
 export class TopologyTimeline {
   private readonly genusAt = new Map<number, number>();
   private events: SurgeryEvent[] = [];
@@ -64,6 +72,18 @@ export class TopologyTimeline {
     this.pass = null;
     this.render();
     this.marks.replaceChildren();
+  }
+
+  /** What the timeline holds, to put back with `put` (a failed run shows the kept result's). */
+  snapshot(): TimelineState {
+    return { genusAt: [...this.genusAt], events: [...this.events], lastEvents: [...this.lastEvents], pass: this.pass };
+  }
+
+  put(s: TimelineState): void {
+    this.clear();
+    for (const [step, g] of s.genusAt) this.genusAt.set(step, g);
+    [this.events, this.lastEvents, this.pass] = [[...s.events], [...s.lastEvents], s.pass];
+    this.render();
   }
 
   /** The reports of the steps since the last frame. */

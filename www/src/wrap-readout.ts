@@ -5,7 +5,45 @@ import { byId } from './dom';
 import { HistogramPlot, LinePlot } from './plots';
 import type { ControlCurves, Frame } from './protocol';
 import { describePhases } from './stopwatch';
-import { TopologyTimeline } from './topology';
+import { TopologyTimeline, type TimelineState } from './topology';
+
+/** The elements around the plots that describe a run (the progress bar and line, the step
+ * statistics, the input's description, the legend and the surgery line). */
+const SHOWN_IDS = ['progress', 'progress-text', 'stats', 'target-info', 'legend'];
+
+/** What one of them shows: its text (none for an element with children), tooltip, visibility,
+ * data attributes and a progress bar's value. */
+interface Shown {
+  el: HTMLElement;
+  text: string | null;
+  title: string;
+  hidden: boolean;
+  data: Record<string, string | undefined>;
+  value: [number, number] | null;
+}
+
+function look(el: HTMLElement): Shown {
+  const value: [number, number] | null = el instanceof HTMLProgressElement ? [el.value, el.max] : null;
+  return { el, text: el.childElementCount ? null : el.textContent, title: el.title, hidden: el.hidden, data: { ...el.dataset }, value };
+}
+
+function putBack(s: Shown): void {
+  if (s.text !== null) s.el.textContent = s.text;
+  s.el.title = s.title;
+  s.el.hidden = s.hidden;
+  for (const k of Object.keys(s.el.dataset)) delete s.el.dataset[k];
+  Object.assign(s.el.dataset, s.data);
+  if (s.value && s.el instanceof HTMLProgressElement) [s.el.max, s.el.value] = [s.value[1], s.value[0]];
+}
+
+/** A readout as shown, set aside while a new run shows its own. */
+interface ReadoutState {
+  lines: number[][][];
+  kappa: number[][];
+  topology: TimelineState;
+  shown: Shown[];
+  where: string;
+}
 
 export class WrapReadout {
   // Titles fit the narrowest plot (175 px); each host's tooltip (index.html) says more.
@@ -20,6 +58,27 @@ export class WrapReadout {
 
   /** Genus per step and surgery events, for the scrubber and the health badge. */
   readonly topology = new TopologyTimeline();
+
+  /** The kept result's readout while a new run shows its own; null when none is set aside. */
+  private aside: ReadoutState | null = null;
+
+  /** Sets what is shown aside (it is the kept result's): a run that fails puts it back. */
+  setAside(): void {
+    const lines = [this.distance, this.covolume, this.vertices].map((p) => p.series());
+    this.aside = { lines, kappa: this.kappa.bars(), topology: this.topology.snapshot(), shown: SHOWN_IDS.map((id) => look(byId(id))), where: this.where };
+  }
+
+  /** Shows again what was set aside (the kept result's readout); false when nothing was. */
+  restore(): boolean {
+    const a = this.aside;
+    if (!a) return false;
+    [this.distance, this.covolume, this.vertices].forEach((p, i) => p.set(a.lines[i]));
+    this.kappa.put(a.kappa);
+    this.topology.put(a.topology);
+    a.shown.forEach(putBack);
+    this.where = a.where;
+    return true;
+  }
 
   /** Empties the per-step plots for a new run. */
   clear(): void {

@@ -7,7 +7,7 @@ import { showPending } from './health';
 import { revealView } from './layout';
 import type { KeptResult, TargetMesh } from './kept';
 import type { ModeSwitch } from './mode';
-import type { RunSettings } from './panel';
+import type { RunSettings, SettingsState } from './panel';
 import type { Draw, Frame, FromWorker, Send, Source, StopReason, TargetInfo } from './protocol';
 import { leftOutNote, repairsNote } from './protocol';
 import { describeFile, sameFile, validDataset, type FileStamp } from './share';
@@ -19,6 +19,15 @@ import type { WrapReadout } from './wrap-readout';
 /** What a wrap reads: a dropped or picked file (kept, so that the page can send it again), or a
  * gallery shape or address the worker generates or downloads itself. */
 type Input = { kind: 'file'; file: File } | Extract<Source, { kind: 'demo' | 'url' }>;
+
+/** The input of the kept result, with its name, dataset, file stamp and iso-value. */
+interface Committed {
+  input: Input;
+  dataset: string | null;
+  name: string;
+  stamp: FileStamp | null;
+  volumeIso: number | null;
+}
 
 export interface WrapRunDeps {
   mode: ModeSwitch;
@@ -69,6 +78,13 @@ export class WrapRun {
   /** The current run's target, kept with its result. */
   private target: TargetMesh | null = null;
   private readonly volume: VolumePanel;
+  /** The kept result's input and what described it: a run that fails gives way to it again. */
+  private committed: Committed | null = null;
+  /** Whether the frames, plots and readout on screen are the kept result's (since its result). */
+  private keptShown = false;
+  /** The settings before this run's input gave the user's own back from a demo (null: untouched):
+   * a run that fails puts them back with the kept result. */
+  private settingsBefore: SettingsState | null = null;
 
   constructor(private readonly d: WrapRunDeps) {
     this.volume = new VolumePanel(byId('volume'), {
@@ -90,19 +106,24 @@ export class WrapRun {
     const { mode, status, settings, kept, health } = this.d;
     if (!settings.panel) return;
     const busy = status.busy;
+    const aside = this.keptShown && mode.current === 'wrap';
     mode.set('wrap');
+    const before = settings.snapshot();
+    const demoPreset = input.kind === 'demo' ? null : settings.restoreOwn();
+    if (demoPreset) this.settingsBefore = before; // (kept until a result or a failure)
     this.input = input;
     this.stamp = null;
     if (input.kind === 'file') void this.stampInput(input.file);
     this.dataset = dataset;
     this.name = name;
-    this.clear();
+    this.clear(aside);
     showPending(health, 'certificate: when the wrap ends');
     kept.showPrevious();
     this.volume.hide();
     this.volumeIso = this.linkIso;
     this.linkIso = null;
-    status.set('loading', `Loading ${name}…`);
+    status.set('loading', `Loading ${name}${settings.inForce()}…`);
+    if (demoPreset) status.notice([`The demo's preset (${demoPreset}) was the demo's own: ${name} is wrapped with your settings${settings.inForce() || ' (the default preset)'}.`]);
     revealView();
     this.d.share();
     if (busy) {
@@ -118,6 +139,7 @@ export class WrapRun {
     const stamp = await stampFile(file);
     if (this.input?.kind !== 'file' || this.input.file !== file) return;
     this.stamp = stamp;
+    if (this.committed?.input === this.input) this.committed.stamp = stamp;
     this.d.share();
     const expected = this.linkFile;
     if (!expected) return;
@@ -144,14 +166,17 @@ export class WrapRun {
   }
 
   /** Clears the previous run's readout, plots, frames, field view and input description; its
-   * messages still in flight are stale from now on. */
-  private clear(): void {
+   * messages still in flight are stale from now on. `aside`: they are the kept result's, kept
+   * for a run that fails. */
+  private clear(aside = false): void {
     const { status, readout, draw } = this.d;
+    if (aside) readout.setAside();
+    draw({ type: 'clear-frames', aside: aside ? 'set' : 'keep' });
+    this.keptShown = false;
     this.seq++;
     status.error(null);
     status.clearReadout();
     readout.clear();
-    draw({ type: 'clear-frames' });
     draw({ type: 'refit' });
     draw({ type: 'field' });
     byId('target-info').textContent = '';
@@ -177,11 +202,11 @@ export class WrapRun {
   /** Play: steps on, or (no session since a cancel or a restart) loads the input again and plays. */
   play(): void {
     const { status, send } = this.d;
-    if (!this.input) return;
+    if (!this.input) return void status.set(status.state, 'Nothing to wrap yet — drop a file, pick one or choose a demo');
     if (this.live) {
       status.error(null);
       send({ type: 'play' });
-      status.set('running', `Wrapping ${this.name}`);
+      status.set('running', `Wrapping ${this.name}${this.d.settings.inForce()}`);
     } else this.again(true);
   }
 
@@ -198,10 +223,29 @@ export class WrapRun {
 
   private again(autoplay: boolean): void {
     if (!this.input) return;
-    this.clear();
+    this.clear(this.keptShown);
     showPending(this.d.health, 'certificate: when the wrap ends');
-    this.d.status.set('loading', `Loading ${this.name}…`);
+    this.d.status.set('loading', `Loading ${this.name}${this.d.settings.inForce()}…`);
     void this.load(autoplay);
+  }
+
+  /** The worker reported an error. A run without a result gives way to the kept one: its input,
+   * link, frames, plots and readout come back with it, and Play wraps it again. */
+  failed(): void {
+    const { status, kept, readout, draw } = this.d;
+    this.live = false;
+    kept.restore();
+    if (this.keptShown) return; // the error came after this run's own result
+    const failed = this.name, c = this.committed;
+    this.seq++; // frames of the failed run still in flight are stale
+    this.keptShown = readout.restore();
+    if (this.keptShown) draw({ type: 'restore-frames' });
+    if (this.settingsBefore) this.d.settings.put(this.settingsBefore);
+    this.settingsBefore = null;
+    this.input = c?.input ?? null;
+    [this.dataset, this.name, this.stamp, this.volumeIso] = c ? [c.dataset, c.name, c.stamp, c.volumeIso] : [null, 'result', null, null];
+    this.d.share();
+    status.set('error', c ? `${failed} could not be wrapped — the result of ${c.name} is kept; Play wraps ${c.name} again` : `${failed} could not be wrapped — drop another file, pick one or choose a demo`);
   }
 
   /** The worker lost its session (replaced after a crash or an unanswered cancel). */
@@ -243,7 +287,7 @@ export class WrapRun {
   /** A frame of the current run (already drawn): progress, plots, status. */
   frame(msg: Frame): void {
     this.d.readout.frame(msg);
-    if (msg.playing) this.d.status.set('running', `Wrapping ${this.name} — step ${msg.report?.step ?? 0}`);
+    if (msg.playing) this.d.status.set('running', `Wrapping ${this.name}${this.d.settings.inForce()} — step ${msg.report?.step ?? 0}`);
   }
 
   /** The scrubber shows the frame of `step` (null: the live end): the badge follows it. */
@@ -266,6 +310,9 @@ export class WrapRun {
   result(msg: Extract<FromWorker, { type: 'result' }>): void {
     if (!this.isCurrent(msg.run)) return;
     this.d.kept.keep(msg, this.target);
+    this.keptShown = true;
+    this.settingsBefore = null;
+    if (this.input) this.committed = { input: this.input, dataset: this.dataset, name: this.name, stamp: this.stamp, volumeIso: this.volumeIso };
     this.wasmBytes = msg.wasmBytes;
     this.workMs = msg.elapsedMs;
     this.phases = msg.phases;
@@ -284,7 +331,7 @@ export class WrapRun {
     if (reason === 'finished' && k && k.verdict.state !== 'valid') status.set('invalid', `${k.verdict.headline} — ${k.why}`);
     else if (reason === 'finished') {
       const notes = k && k.verdict.notes.length > 0 ? `; ${k.verdict.notes.join('; ')}` : '';
-      status.set('done', `Done — ${this.name} wrapped in ${(this.workMs / 1000).toFixed(1)} s${notes}`);
+      status.set('done', `Done — ${this.name} wrapped in ${(this.workMs / 1000).toFixed(1)} s${this.d.settings.inForce()}${notes}`);
     }
     else if (reason === 'cancelled') {
       this.live = false;

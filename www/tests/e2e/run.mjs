@@ -458,6 +458,123 @@ test('a malformed file gives a readable error; the page and the previous result 
   await page.close();
 });
 
+test('a demo\'s preset is the demo\'s: a file dropped after Genus 2 is wrapped with the user\'s own preset, and the status says which', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  // The user's own choice: the obstacle preset. Genus 2 borrows the isosurface start.
+  await page.selectOption('#preset', 'obstacle');
+  await page.click('[data-demo=genus2]');
+  await page.waitForSelector('[data-testid=status][data-state=done], [data-testid=status][data-state=invalid]', { timeout: 120000 });
+  assert((await page.inputValue('#preset')) === 'isosurface', `genus 2 ran with ${await page.inputValue('#preset')}`);
+  await dropFile(page, 'octahedron.obj', Buffer.from(octahedron));
+  await page.waitForSelector('[data-testid=status][data-state=done], [data-testid=status][data-state=invalid]', { timeout: 120000 });
+  const preset = await page.inputValue('#preset');
+  const status = await page.textContent('[data-testid=status]');
+  const link = await page.inputValue('[data-testid=share-url]');
+  assert(preset === 'obstacle', `the dropped file was wrapped with ${preset}, not the user's obstacle`);
+  assert(/obstacle/.test(status), `the status does not name the preset in force: "${status}"`);
+  assert(/[#&]p=obstacle/.test(link), `the link names another preset: ${link}`);
+  await page.screenshot({ path: join(out, 'demo-preset-restored.png') });
+  // A fresh page with the default preset: genus 2, then a drop, gives the default back.
+  const fresh = await openApp(browser, url);
+  await fresh.page.click('[data-demo=genus2]');
+  await fresh.page.waitForSelector('[data-testid=status][data-state=done], [data-testid=status][data-state=invalid]', { timeout: 120000 });
+  // A file that fails gives way to genus 2 with the demo's preset, so that Play replays it.
+  await dropFile(fresh.page, 'broken.ply', Buffer.from('ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1 2\n'));
+  await fresh.page.waitForSelector('[data-testid=status][data-state=error]', { timeout: 20000 });
+  assert((await fresh.page.inputValue('#preset')) === 'isosurface', `after the failed file genus 2 is shown with ${await fresh.page.inputValue('#preset')}`);
+  await dropFile(fresh.page, 'octahedron.obj', Buffer.from(octahedron));
+  await fresh.page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
+  assert((await fresh.page.inputValue('#preset')) === 'full-wrap', `after genus 2 the drop ran with ${await fresh.page.inputValue('#preset')}`);
+  assert(errors.length === 0 && fresh.errors.filter((e) => !/broken/.test(e)).length === 0, `console errors: ${[...errors, ...fresh.errors].join(' | ')}`);
+  console.log(`   after genus 2: "${status}"`);
+  await fresh.page.close();
+  await page.close();
+});
+
+test('a file that fails leaves the previous result fully in place (link, hash, badge, plots, frames, info); Play wraps it again', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  await page.click('[data-demo=noisy-sphere]');
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
+  await page.waitForTimeout(300); // the link is rewritten after the task
+  const shown = () => page.evaluate(() => ({
+    link: document.querySelector('[data-testid=share-url]').value,
+    hash: document.querySelector('[data-testid=result-hash]').textContent,
+    badge: document.querySelector('[data-testid=health]').textContent,
+    info: document.querySelector('[data-testid=target-info]').textContent,
+    stats: document.querySelector('#stats').textContent,
+    progress: document.querySelector('#progress-text').textContent,
+    distance: window.__lsw.distanceSeries()[0].length,
+    frames: document.querySelector('[data-testid=scrubber]').max,
+  }));
+  const before = await shown();
+  await dropFile(page, 'broken.ply', Buffer.from('ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1 2\n'));
+  await page.waitForSelector('[data-testid=status][data-state=error]', { timeout: 20000 });
+  await page.waitForTimeout(500);
+  const after = await shown();
+  for (const k of Object.keys(before)) assert(after[k] === before[k], `${k} changed after the failed file: ${JSON.stringify(before[k])} → ${JSON.stringify(after[k])}`);
+  const status = await page.textContent('[data-testid=status]');
+  assert(/broken\.ply/.test(status) && /noisy-sphere/.test(status), `the status does not say what failed and what is kept: "${status}"`);
+  await page.screenshot({ path: join(out, 'failed-file-kept.png') });
+  // Play wraps the kept result's input again, to the same result.
+  await page.click('[data-testid=play]');
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 120000 });
+  const again = await page.textContent('[data-testid=status]');
+  assert(/noisy-sphere/.test(again) && (await shown()).hash === before.hash, `Play after the failure: "${again}"`);
+  assert(errors.filter((e) => !/broken/.test(e)).length === 0, `console errors: ${errors.join(' | ')}`);
+  console.log(`   after the failure: "${status}"`);
+  await page.close();
+});
+
+test('the lesson\'s link carries its parameters: level 3, τ = 0.001 reopen as level 3, τ = 0.001', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  await page.selectOption('#level', '3');
+  await page.fill('#tau', '0.001');
+  await page.dispatchEvent('#tau', 'change');
+  await page.waitForSelector('[data-testid=status][data-state=idle]');
+  await page.waitForTimeout(300); // the link is rewritten after the task
+  const link = await page.inputValue('[data-testid=share-url]');
+  const other = await openApp(browser, link.replace(/^[^#]*/, url));
+  const got = { level: await other.page.inputValue('#level'), tau: await other.page.inputValue('#tau'), stats: await other.page.textContent('#stats') };
+  assert(got.level === '3' && Number(got.tau) === 0.001, `the link ${link} reopened as ${JSON.stringify(got)}`);
+  await other.page.screenshot({ path: join(out, 'lesson-link.png') });
+  assert(errors.length === 0 && other.errors.length === 0, `console errors: ${[...errors, ...other.errors].join(' | ')}`);
+  await other.page.close();
+  await page.close();
+});
+
+test('the lesson\'s scrubber moves the numbers, the legend and a marker on the radius plot with the frame', async (browser, url) => {
+  const { page, errors } = await openApp(browser, url);
+  await page.selectOption('#level', '3');
+  await page.fill('#tau', '0.002');
+  await page.dispatchEvent('#tau', 'change');
+  await page.waitForSelector('[data-testid=status][data-state=idle]');
+  await page.click('[data-testid=play]');
+  await page.waitForSelector('[data-testid=status][data-state=done]', { timeout: 60000 });
+  await page.waitForFunction(() => !document.querySelector('[data-testid=scrubber]').disabled, null, { timeout: 10000 });
+  const shown = () => page.evaluate(() => ({
+    step: /^step (\d+)/.exec(document.querySelector('#stats').textContent)?.[1],
+    max: document.querySelector('#legend-max').textContent,
+    marker: document.querySelector('#plot').dataset.marker ?? null,
+    label: document.querySelector('#scrub-label').textContent,
+  }));
+  const end = await shown();
+  await page.fill('[data-testid=scrubber]', '0');
+  await page.waitForTimeout(300);
+  const first = await shown();
+  assert(first.step === '0' && first.step !== end.step, `numbers at frame 0: ${JSON.stringify(first)} (end ${JSON.stringify(end)})`);
+  assert(first.max !== end.max, `the legend at frame 0 still shows the last frame's range ${end.max}`);
+  assert(first.marker === '0', `no marker at t = 0 on the radius plot: ${first.marker}`);
+  await page.screenshot({ path: join(out, 'mcf-scrub-first.png') });
+  const max = await page.getAttribute('[data-testid=scrubber]', 'max');
+  await page.fill('[data-testid=scrubber]', max);
+  await page.waitForTimeout(300);
+  const back = await shown();
+  assert(back.step === end.step && back.max === end.max && back.marker === null, `back at the end: ${JSON.stringify(back)} (end ${JSON.stringify(end)})`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+  console.log(`   frame 0: ${JSON.stringify(first)}; end: ${JSON.stringify(end)}`);
+  await page.close();
+});
+
 test('a share link opened in a fresh page reproduces the same result hash; bad keys give a notice', async (browser, url) => {
   const { page } = await openApp(browser, url);
   await page.click('[data-demo=noisy-sphere]');

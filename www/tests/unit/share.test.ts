@@ -64,6 +64,16 @@ describe('URL state codec', () => {
     expect([formatBytes(812), formatBytes(2048), formatBytes(5e9)]).toEqual(['812 B', '2.0 kB', '4.7 GB']);
   });
 
+  it('carries the sphere lesson\'s level and time step; a non-number is refused with a notice', () => {
+    const state: ShareState = { dataset: 'demo:mcf', preset: 'full-wrap', changed: {}, view: { ...DEFAULT_VIEW }, lesson: { level: 3, tau: 0.001 } };
+    const back = decode(encode(state), presets);
+    expect(back.notices).toEqual([]);
+    expect(back.state.lesson).toEqual({ level: 3, tau: 0.001 });
+    const bad = decode('v=4&d=demo:mcf&mcf.level=3&mcf.tau=fast', presets);
+    expect(bad.state.lesson).toEqual({ level: 3, tau: NaN });
+    expect(bad.notices.join(' ')).toMatch(/mcf\.tau/);
+  });
+
   it('round-trips source URLs with their own query strings', () => {
     const state: ShareState = { dataset: 'https://example.org/scan.ply?x=1&y=2#frag', preset: 'full-wrap', changed: {}, view: { ...DEFAULT_VIEW } };
     expect(decode(encode(state), presets).state).toEqual(state);
