@@ -19,6 +19,9 @@ export function drawFrame(draw: Draw, msg: Frame): void {
 export function showLegend(colour: string, range: [number, number], coloured: boolean): void {
   byId('legend').hidden = !coloured;
   byId('legend-title').textContent = legends[colour] ?? colour;
-  byId('legend-min').textContent = range[0].toPrecision(4);
-  byId('legend-max').textContent = range[1].toPrecision(4);
+  // A value a billionth of the range's size is rounding noise of zero ("2.216e-16" said nothing).
+  const tiny = 1e-9 * Math.max(Math.abs(range[0]), Math.abs(range[1]));
+  const shown = (v: number) => (Math.abs(v) <= tiny ? '0' : v.toPrecision(4));
+  byId('legend-min').textContent = shown(range[0]);
+  byId('legend-max').textContent = shown(range[1]);
 }
