@@ -15,6 +15,7 @@
 // `!(x > y)` is used deliberately: it is also true when x is NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use crate::flow::guarded::Verdict;
 use crate::geometry::spatial::bvh::Bvh;
 use crate::mesh::HalfedgeMesh;
 use crate::metrics::intersections::{pair_intersects, self_intersecting_pairs};
@@ -273,22 +274,22 @@ const FROZEN_RINGS: usize = 2;
 /// Marks in `frozen` the vertices of `before` (a mesh before its remesh into `after`) around the
 /// faces of `after` that intersect where `frame` puts them (the check that will judge the
 /// surface): the vertex of `before` nearest to each corner of such a face and its neighbours
-/// two rings out. Returns None when no faces intersect, and whether it froze any (false: too
-/// many pairs to freeze) otherwise.
+/// two rings out: the check of a remesh's [`guarded_edit`](crate::flow::guarded::guarded_edit)
+/// (too many pairs to freeze: give up).
 pub(crate) fn freeze_where_intersecting(
     after: &HalfedgeMesh,
     before: &HalfedgeMesh,
     frame: impl Fn(DVec3) -> DVec3,
     frozen: &mut [bool],
-) -> Option<bool> {
+) -> Verdict {
     let pos: Vec<DVec3> = after.positions().iter().map(|&p| frame(p)).collect();
     let tris = after.triangles();
     let pairs = self_intersecting_pairs(&pos, &tris);
     if pairs.is_empty() {
-        return None;
+        return Verdict::Clean;
     }
     if pairs.len() > MAX_FROZEN_PAIRS {
-        return Some(false);
+        return Verdict::GiveUp;
     }
     let old = before.positions();
     let mut ring: Vec<u32> = Vec::new();
@@ -307,7 +308,7 @@ pub(crate) fn freeze_where_intersecting(
     for v in before.rings_around(&ring, FROZEN_RINGS) {
         frozen[v as usize] = true;
     }
-    Some(true)
+    Verdict::Retry
 }
 
 #[cfg(test)]

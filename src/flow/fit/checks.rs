@@ -7,6 +7,7 @@ use super::crease_fit::snap_to_creases;
 use crate::flow::guard::{
     freeze_where_intersecting, resolve_contacts, GuardSettings, REMESH_TRIES,
 };
+use crate::flow::guarded::Verdict;
 use crate::flow::scaling::written;
 use crate::geometry::creases::Creases;
 use crate::geometry::spatial::bvh::TriangleBvh;
@@ -148,12 +149,12 @@ pub(super) fn tidy_slivers(mesh: &mut HalfedgeMesh, contact: bool, phi: f64, cen
             return;
         }
         match freeze_where_intersecting(&tidied, mesh, |p| written(p, phi, center), &mut frozen) {
-            None => {
+            Verdict::Clean => {
                 *mesh = tidied;
                 return;
             }
-            Some(true) => {}
-            Some(false) => return,
+            Verdict::Retry => {}
+            Verdict::GiveUp => return,
         }
     }
 }

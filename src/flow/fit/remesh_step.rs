@@ -8,6 +8,7 @@ use super::checks::{intersects_as_written, resolve_contacts_as_written};
 use super::moves::Pass;
 use super::Fit;
 use crate::flow::guard::{freeze_where_intersecting, REMESH_TRIES};
+use crate::flow::guarded::Verdict;
 use crate::flow::scaling::{round_as_written, written};
 use crate::mesh::HalfedgeMesh;
 use crate::remesh::adaptive::{
@@ -79,8 +80,8 @@ impl Fit<'_, '_> {
         for tries_left in (0..=REMESH_TRIES).rev() {
             let frame = |p| written(p, phi, center);
             match freeze_where_intersecting(self.mesh, before, frame, &mut frozen) {
-                None => lost = false,
-                Some(true) if tries_left > 0 => {
+                Verdict::Clean => lost = false,
+                Verdict::Retry if tries_left > 0 => {
                     let mut f = features.cloned().unwrap_or_else(|| Features::none(before));
                     f.frozen.clone_from(&frozen);
                     *self.mesh = before.clone();
@@ -88,7 +89,7 @@ impl Fit<'_, '_> {
                         continue;
                     }
                 }
-                Some(_) => {}
+                _ => {}
             }
             break;
         }
