@@ -7,7 +7,7 @@ use super::crease_fit::snap_to_creases;
 use crate::flow::guard::{
     freeze_where_intersecting, resolve_contacts, GuardSettings, REMESH_TRIES,
 };
-use crate::flow::guarded::Verdict;
+use crate::flow::guarded::{guarded, GuardPolicy, Verdict};
 use crate::flow::scaling::written;
 use crate::geometry::creases::Creases;
 use crate::geometry::spatial::bvh::TriangleBvh;
@@ -137,26 +137,27 @@ pub(super) fn snap_creases_checked(
 /// remesh (see [`crate::remesh::slivers`]). With the contact guard on, where that makes faces
 /// intersect as written it is tried again with those regions left alone, as a pass's remesh is.
 pub(super) fn tidy_slivers(mesh: &mut HalfedgeMesh, contact: bool, phi: f64, center: DVec3) {
+    let before = mesh.clone();
     let mut frozen = vec![false; mesh.n_vertices()];
-    for _ in 0..=REMESH_TRIES {
-        let mut tidied = mesh.clone();
-        let report = remove_slivers(&mut tidied, &SliverSettings::default(), &frozen);
-        if report == SliverReport::default() {
-            return;
-        }
-        if !contact {
-            *mesh = tidied;
-            return;
-        }
-        match freeze_where_intersecting(&tidied, mesh, |p| written(p, phi, center), &mut frozen) {
-            Verdict::Clean => {
-                *mesh = tidied;
-                return;
-            }
-            Verdict::Retry => {}
-            Verdict::GiveUp => return,
-        }
-    }
+    let policy = GuardPolicy {
+        tries: REMESH_TRIES + 1,
+        applied: false,
+    };
+    guarded(
+        mesh,
+        &mut frozen,
+        policy,
+        // Nothing to tidy (any more) gives out: the mesh stays as it came.
+        |m, frozen| {
+            *m = before.clone();
+            remove_slivers(m, &SliverSettings::default(), frozen) != SliverReport::default()
+        },
+        |m, frozen| match contact {
+            false => Verdict::Clean,
+            true => freeze_where_intersecting(m, &before, |p| written(p, phi, center), frozen),
+        },
+        |m| *m = before.clone(),
+    );
 }
 
 #[cfg(test)]
