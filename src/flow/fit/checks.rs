@@ -110,27 +110,46 @@ pub(super) fn snap_creases_checked(
     mesh.garbage_collect();
     let before = mesh.clone();
     let mut banned = vec![false; before.n_vertices()];
-    for _ in 0..CREASE_TRIES {
-        let (features, _) = snap_to_creases(mesh, creases, reach, &banned, triangles);
-        if let Some(round) = round {
-            round(mesh);
-        }
-        let tris = mesh.triangles();
-        let pairs = self_intersecting_pairs(mesh.positions(), &tris);
-        if pairs.is_empty() {
-            return Some(features);
-        }
-        for (f, g) in pairs {
-            for v in tris[f as usize].into_iter().chain(tris[g as usize]) {
-                banned[v as usize] = true;
-                for u in before.neighbors(v) {
-                    banned[u as usize] = true;
-                }
+    let mut features = None;
+    let policy = GuardPolicy {
+        tries: CREASE_TRIES,
+        applied: false,
+    };
+    let outcome = guarded(
+        mesh,
+        &mut banned,
+        policy,
+        |m, banned| {
+            *m = before.clone();
+            features = Some(snap_to_creases(m, creases, reach, banned, triangles).0);
+            if let Some(round) = round {
+                round(m);
+            }
+            true
+        },
+        |m, banned| ban_where_intersecting(m, &before, banned),
+        |m| *m = before.clone(),
+    );
+    features.filter(|_| outcome.clean)
+}
+
+/// The crease snap's check: bans the vertices of the faces of `m` that intersect and their
+/// neighbours in `before`, the surface the snap started from.
+fn ban_where_intersecting(m: &HalfedgeMesh, before: &HalfedgeMesh, banned: &mut [bool]) -> Verdict {
+    let tris = m.triangles();
+    let pairs = self_intersecting_pairs(m.positions(), &tris);
+    if pairs.is_empty() {
+        return Verdict::Clean;
+    }
+    for (f, g) in pairs {
+        for v in tris[f as usize].into_iter().chain(tris[g as usize]) {
+            banned[v as usize] = true;
+            for u in before.neighbors(v) {
+                banned[u as usize] = true;
             }
         }
-        *mesh = before.clone();
     }
-    None
+    Verdict::Retry
 }
 
 /// Flips the caps and collapses the needles that moves onto crease lines left since the last
