@@ -18,6 +18,16 @@ pub(crate) enum Verdict {
     GiveUp,
 }
 
+impl Verdict {
+    /// Clean when `clean`, else give up: the check of an edit that is not retried.
+    pub(crate) fn clean_if(clean: bool) -> Self {
+        match clean {
+            true => Verdict::Clean,
+            false => Verdict::GiveUp,
+        }
+    }
+}
+
 /// How many tries a guarded edit gets.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct GuardPolicy {
@@ -25,6 +35,14 @@ pub(crate) struct GuardPolicy {
     pub tries: usize,
     /// The caller made the first try already: the first check comes before any edit.
     pub applied: bool,
+}
+
+impl GuardPolicy {
+    /// One try, made by the edit: it stands or is rolled back.
+    pub(crate) const ONCE: Self = Self {
+        tries: 1,
+        applied: false,
+    };
 }
 
 /// How a guarded edit ended.
