@@ -8,7 +8,7 @@ use super::checks::{intersects_as_written, resolve_contacts_as_written};
 use super::moves::Pass;
 use super::Fit;
 use crate::flow::guard::{freeze_where_intersecting, REMESH_TRIES};
-use crate::flow::guarded::{guarded, GuardPolicy};
+use crate::flow::guarded::{guarded, GuardPolicy, Verdict};
 use crate::flow::scaling::{round_as_written, written};
 use crate::mesh::HalfedgeMesh;
 use crate::remesh::adaptive::{
@@ -146,11 +146,19 @@ impl Fit<'_, '_> {
         round_as_written(self.mesh, phi, center);
         if self.opt.remeshing {
             let unremeshed = self.mesh.clone();
-            let done = remesh(self.mesh, &self.opt.remesh);
-            round_as_written(self.mesh, phi, center);
-            if done.is_err() || intersects_as_written(self.mesh, phi, center) {
-                *self.mesh = unremeshed;
-            }
+            let rs = &self.opt.remesh;
+            guarded(
+                &mut *self.mesh,
+                &mut [],
+                GuardPolicy::ONCE,
+                |m, _| {
+                    let done = remesh(m, rs);
+                    round_as_written(m, phi, center);
+                    done.is_ok()
+                },
+                |m, _| Verdict::clean_if(!intersects_as_written(m, phi, center)),
+                |m| *m = unremeshed,
+            );
         }
     }
 }
