@@ -15,6 +15,7 @@
 // `!(x > y)` is used deliberately: it is also true when x is NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use crate::flow::guarded::{guarded, GuardPolicy, Verdict};
 use crate::geometry::spatial::bvh::Bvh;
 use crate::mesh::HalfedgeMesh;
 use crate::metrics::intersections::{pair_intersects, self_intersecting_pairs};
@@ -104,73 +105,136 @@ fn pairs_touching(positions: &[DVec3], tris: &[[u32; 3]], dirty: &[usize]) -> Ve
     out
 }
 
+/// The contact guard's rounds as a [`guarded_edit`](crate::flow::guarded::guarded_edit): the
+/// pairs the last check found, and what putting their vertices back will touch.
+struct Rounds<'a> {
+    mesh: &'a mut HalfedgeMesh,
+    old: &'a [DVec3],
+    tris: Vec<[u32; 3]>,
+    /// The faces around each vertex (filled at the first failed check).
+    vertex_faces: Vec<Vec<usize>>,
+    /// Pairs found by the first check.
+    first: usize,
+    /// Vertices the next round puts back where they moved, and those it puts back outright
+    /// (one-rings), and the faces that moves (the next check's).
+    back: Vec<usize>,
+    rings: Vec<usize>,
+    dirty: Vec<usize>,
+}
+
+impl Rounds<'_> {
+    /// The check of a round: the intersecting pairs (all at first, then those touching the
+    /// faces put back), whose vertices are frozen to be put back; where they are all back
+    /// already, the one-rings of their vertices too.
+    fn check(&mut self, reverted: &mut [bool]) -> Verdict {
+        let pairs: Vec<(usize, usize)> = if self.vertex_faces.is_empty() {
+            let pairs = self_intersecting_pairs(self.mesh.positions(), &self.tris);
+            self.first = pairs.len();
+            pairs
+                .into_iter()
+                .map(|(a, b)| (a as usize, b as usize))
+                .collect()
+        } else {
+            pairs_touching(self.mesh.positions(), &self.tris, &self.dirty)
+        };
+        if pairs.is_empty() {
+            return Verdict::Clean;
+        }
+        if self.vertex_faces.is_empty() {
+            self.vertex_faces = vec![Vec::new(); self.mesh.n_vertices()];
+            for (f, t) in self.tris.iter().enumerate() {
+                for &v in t {
+                    self.vertex_faces[v as usize].push(f);
+                }
+            }
+        }
+        let corners = |pairs: &[(usize, usize)]| -> Vec<usize> {
+            let faces = pairs.iter().flat_map(|&(a, b)| [a, b]);
+            faces
+                .flat_map(|f| self.tris[f])
+                .map(|v| v as usize)
+                .collect()
+        };
+        let back = corners(&pairs);
+        let (pos, old) = (self.mesh.positions(), self.old);
+        // (`!=`, not bits: a move to the other zero or to NaN counts as one.)
+        let progress = back.iter().any(|&v| pos[v] != old[v]);
+        self.rings = match progress {
+            true => Vec::new(),
+            // Both faces are back where they were but still meet a moved face.
+            false => back
+                .iter()
+                .flat_map(|&v| self.mesh.neighbors(v as u32))
+                .map(|w| w as usize)
+                .collect(),
+        };
+        self.dirty.clear();
+        for &v in back.iter().chain(&self.rings) {
+            reverted[v] = true;
+            self.dirty.extend_from_slice(&self.vertex_faces[v]);
+        }
+        self.dirty.sort_unstable();
+        self.dirty.dedup();
+        self.back = back;
+        Verdict::Retry
+    }
+}
+
 /// Puts vertices of intersecting faces back to `old` (same connectivity, intersection-free) until
-/// the mesh is intersection-free, and marks them held for `hold_steps` steps.
+/// the mesh is intersection-free, and marks them held for `hold_steps` steps: a
+/// [`guarded_edit`](crate::flow::guarded::guarded_edit) whose edit puts back the vertices of the
+/// pairs its check found, round after round, then everything.
 pub fn resolve_contacts(
     mesh: &mut HalfedgeMesh,
     old: &[DVec3],
     settings: &GuardSettings,
 ) -> ContactReport {
-    let tris = mesh.triangles();
-    let mut report = ContactReport::default();
-    let mut pairs: Vec<(usize, usize)> = self_intersecting_pairs(mesh.positions(), &tris)
-        .into_iter()
-        .map(|(a, b)| (a as usize, b as usize))
-        .collect();
-    report.rounds = 1;
-    report.pairs = pairs.len();
-    if pairs.is_empty() {
+    let n = mesh.n_vertices();
+    let mut rounds = Rounds {
+        tris: mesh.triangles(),
+        mesh: &mut *mesh,
+        old,
+        vertex_faces: Vec::new(),
+        first: 0,
+        back: Vec::new(),
+        rings: Vec::new(),
+        dirty: Vec::new(),
+    };
+    let mut reverted = vec![false; n];
+    let policy = GuardPolicy {
+        tries: settings.max_rounds as usize + 1,
+        applied: true,
+    };
+    let outcome = guarded(
+        &mut rounds,
+        &mut reverted,
+        policy,
+        |r, _| {
+            let pos = r.mesh.positions_mut();
+            for &v in &r.back {
+                if pos[v] != r.old[v] {
+                    pos[v] = r.old[v];
+                }
+            }
+            for &w in &r.rings {
+                pos[w] = r.old[w];
+            }
+            true
+        },
+        |r, reverted| r.check(reverted),
+        |r| r.mesh.positions_mut().copy_from_slice(r.old),
+    );
+    let mut report = ContactReport {
+        pairs: rounds.first,
+        rounds: outcome.checks as u32,
+        reverted_all: !outcome.clean,
+        ..Default::default()
+    };
+    if report.pairs == 0 {
         return report;
     }
-    let n = mesh.n_vertices();
-    let mut reverted = vec![false; n];
-    let mut vertex_faces: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for (f, t) in tris.iter().enumerate() {
-        for &v in t {
-            vertex_faces[v as usize].push(f);
-        }
-    }
-    while !pairs.is_empty() {
-        if report.rounds > settings.max_rounds {
-            mesh.positions_mut().copy_from_slice(old);
-            reverted.iter_mut().for_each(|r| *r = true);
-            report.reverted_all = true;
-            break;
-        }
-        let mut dirty = Vec::new();
-        let mut progress = false;
-        for &(a, b) in &pairs {
-            for f in [a, b] {
-                for &v in &tris[f] {
-                    let v = v as usize;
-                    if mesh.positions()[v] != old[v] {
-                        mesh.positions_mut()[v] = old[v];
-                        progress = true;
-                    }
-                    reverted[v] = true;
-                    dirty.extend_from_slice(&vertex_faces[v]);
-                }
-            }
-        }
-        if !progress {
-            // Both faces are back where they were but still meet a moved face: put back the
-            // one-rings of their vertices too.
-            for &(a, b) in &pairs {
-                for f in [a, b] {
-                    for &v in &tris[f] {
-                        for w in mesh.neighbors(v).collect::<Vec<_>>() {
-                            mesh.positions_mut()[w as usize] = old[w as usize];
-                            reverted[w as usize] = true;
-                            dirty.extend_from_slice(&vertex_faces[w as usize]);
-                        }
-                    }
-                }
-            }
-        }
-        dirty.sort_unstable();
-        dirty.dedup();
-        report.rounds += 1;
-        pairs = pairs_touching(mesh.positions(), &tris, &dirty);
+    if report.reverted_all {
+        reverted.iter_mut().for_each(|r| *r = true);
     }
     report.reverted = reverted.iter().filter(|&&r| r).count();
     if settings.hold_steps > 0 {
@@ -273,22 +337,22 @@ const FROZEN_RINGS: usize = 2;
 /// Marks in `frozen` the vertices of `before` (a mesh before its remesh into `after`) around the
 /// faces of `after` that intersect where `frame` puts them (the check that will judge the
 /// surface): the vertex of `before` nearest to each corner of such a face and its neighbours
-/// two rings out. Returns None when no faces intersect, and whether it froze any (false: too
-/// many pairs to freeze) otherwise.
+/// two rings out: the check of a remesh's [`guarded_edit`](crate::flow::guarded::guarded_edit)
+/// (too many pairs to freeze: give up).
 pub(crate) fn freeze_where_intersecting(
     after: &HalfedgeMesh,
     before: &HalfedgeMesh,
     frame: impl Fn(DVec3) -> DVec3,
     frozen: &mut [bool],
-) -> Option<bool> {
+) -> Verdict {
     let pos: Vec<DVec3> = after.positions().iter().map(|&p| frame(p)).collect();
     let tris = after.triangles();
     let pairs = self_intersecting_pairs(&pos, &tris);
     if pairs.is_empty() {
-        return None;
+        return Verdict::Clean;
     }
     if pairs.len() > MAX_FROZEN_PAIRS {
-        return Some(false);
+        return Verdict::GiveUp;
     }
     let old = before.positions();
     let mut ring: Vec<u32> = Vec::new();
@@ -307,7 +371,7 @@ pub(crate) fn freeze_where_intersecting(
     for v in before.rings_around(&ring, FROZEN_RINGS) {
         frozen[v as usize] = true;
     }
-    Some(true)
+    Verdict::Retry
 }
 
 #[cfg(test)]

@@ -7,6 +7,7 @@ pub mod evolve_error;
 pub mod evolver;
 pub mod fit;
 pub mod guard;
+pub(crate) mod guarded;
 pub mod mcf;
 pub mod mcf_mesh;
 pub mod regrow;

@@ -4,6 +4,7 @@
 use super::{EvolveError, Evolver, PhaseTimes};
 use crate::clock::now_ms;
 use crate::flow::guard::{check_divergence, freeze_where_intersecting, REMESH_TRIES};
+use crate::flow::guarded::{guarded_edit, GuardPolicy};
 use crate::flow::settings::RemeshTrigger;
 use crate::mesh::HalfedgeMesh;
 use crate::remesh::adaptive::{
@@ -79,31 +80,37 @@ impl Evolver {
     }
 
     /// Remeshes (see [`Evolver::remesh_phase`]) the surface `before`, already remeshed into
-    /// the current one, again where that made faces intersect: up to [`REMESH_TRIES`] times
-    /// with those regions frozen. True when the surface is now free of intersections; false
-    /// (with `before` restored) when that failed. The checks count as the guard's time, the
-    /// remeshes as the remesh's.
+    /// the current one, again where that made faces intersect: a [`guarded_edit`] of up to
+    /// [`REMESH_TRIES`] more remeshes with those regions frozen. True when the surface is now
+    /// free of intersections; false (with `before` restored) when that failed. The checks count
+    /// as the guard's time, the remeshes as the remesh's.
     pub(super) fn remesh_around_intersections(
         &mut self,
         before: &HalfedgeMesh,
         times: &mut PhaseTimes,
     ) -> Result<bool, EvolveError> {
         let mut frozen = vec![false; before.n_vertices()];
-        for tries_left in (0..=REMESH_TRIES).rev() {
-            let t0 = now_ms();
-            let check = freeze_where_intersecting(&self.mesh, before, |p| p, &mut frozen);
-            times.guard += now_ms() - t0;
-            match check {
-                None => return Ok(true),
-                Some(true) if tries_left > 0 => {
-                    self.mesh = before.clone();
-                    self.remesh_phase(times, Some(&frozen))?;
-                }
-                Some(_) => break,
-            }
-        }
-        self.mesh = before.clone();
-        Ok(false)
+        let policy = GuardPolicy {
+            tries: REMESH_TRIES + 1,
+            applied: true,
+        };
+        let outcome = guarded_edit(
+            &mut (self, times),
+            &mut frozen,
+            policy,
+            |(ev, times), frozen| {
+                ev.mesh = before.clone();
+                ev.remesh_phase(times, Some(frozen)).map(|_| true)
+            },
+            |(ev, times), frozen| {
+                let t0 = now_ms();
+                let verdict = freeze_where_intersecting(&ev.mesh, before, |p| p, frozen);
+                times.guard += now_ms() - t0;
+                verdict
+            },
+            |(ev, _)| ev.mesh = before.clone(),
+        )?;
+        Ok(outcome.clean)
     }
 
     fn quality_left_band(&self) -> bool {

@@ -4,6 +4,7 @@
 
 use super::{Evolver, PhaseTimes};
 use crate::clock::now_ms;
+use crate::flow::guarded::{guarded, GuardPolicy, Verdict};
 use crate::flow::settings::WrapSettings;
 use crate::flow::snap::SnapTarget;
 use crate::flow::surgery::detect::FacingQuery;
@@ -11,6 +12,7 @@ use crate::flow::surgery::{
     drop_empty_components, events, open_handles, SurgeryEvent, SurgeryKind, OPENED_MARGIN,
 };
 use crate::geometry::spatial::local_spacing::spacing_near;
+use crate::mesh::HalfedgeMesh;
 use crate::metrics::intersections::count_self_intersections;
 use crate::target::Target;
 use glam::DVec3;
@@ -156,15 +158,7 @@ impl Evolver {
             }
         }
         let mut out = events(&op, self.step, phi, |p| p / phi + center);
-        let operated = op.mesh;
-        self.mesh = operated.clone();
-        // The tube's faces are as long as the loops' edges and as tall as the gap: remesh them,
-        // keeping the unremeshed surface if the remesh leaves intersecting faces.
-        let remeshed = self.remesh_phase(times, None).is_ok()
-            && count_self_intersections(self.mesh.positions(), &self.mesh.triangles()) == 0;
-        if !remeshed {
-            self.mesh = operated;
-        }
+        self.remesh_tubes(op.mesh, times);
         self.refresh_distances();
         // A pinch may leave a bubble around nothing: drop it.
         if let Some((kept, centroid)) =
@@ -191,6 +185,23 @@ impl Evolver {
         self.surgery_events.extend(out.iter().cloned());
         times.surgery += now_ms() - t0;
         out
+    }
+
+    /// The tubes' faces are as long as the loops' edges and as tall as the gap: remeshes the
+    /// `operated` surface, keeping it unremeshed if the remesh leaves intersecting faces.
+    fn remesh_tubes(&mut self, operated: HalfedgeMesh, times: &mut PhaseTimes) {
+        self.mesh = operated.clone();
+        guarded(
+            &mut (self, times),
+            &mut [],
+            GuardPolicy::ONCE,
+            |(ev, times), _| ev.remesh_phase(times, None).is_ok(),
+            |(ev, _), _| {
+                let pairs = count_self_intersections(ev.mesh.positions(), &ev.mesh.triangles());
+                Verdict::clean_if(pairs == 0)
+            },
+            |(ev, _)| ev.mesh = operated,
+        );
     }
 }
 

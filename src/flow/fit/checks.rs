@@ -7,6 +7,7 @@ use super::crease_fit::snap_to_creases;
 use crate::flow::guard::{
     freeze_where_intersecting, resolve_contacts, GuardSettings, REMESH_TRIES,
 };
+use crate::flow::guarded::{guarded, GuardPolicy, Verdict};
 use crate::flow::scaling::written;
 use crate::geometry::creases::Creases;
 use crate::geometry::spatial::bvh::TriangleBvh;
@@ -109,53 +110,73 @@ pub(super) fn snap_creases_checked(
     mesh.garbage_collect();
     let before = mesh.clone();
     let mut banned = vec![false; before.n_vertices()];
-    for _ in 0..CREASE_TRIES {
-        let (features, _) = snap_to_creases(mesh, creases, reach, &banned, triangles);
-        if let Some(round) = round {
-            round(mesh);
-        }
-        let tris = mesh.triangles();
-        let pairs = self_intersecting_pairs(mesh.positions(), &tris);
-        if pairs.is_empty() {
-            return Some(features);
-        }
-        for (f, g) in pairs {
-            for v in tris[f as usize].into_iter().chain(tris[g as usize]) {
-                banned[v as usize] = true;
-                for u in before.neighbors(v) {
-                    banned[u as usize] = true;
-                }
+    let mut features = None;
+    let policy = GuardPolicy {
+        tries: CREASE_TRIES,
+        applied: false,
+    };
+    let outcome = guarded(
+        mesh,
+        &mut banned,
+        policy,
+        |m, banned| {
+            *m = before.clone();
+            features = Some(snap_to_creases(m, creases, reach, banned, triangles).0);
+            if let Some(round) = round {
+                round(m);
+            }
+            true
+        },
+        |m, banned| ban_where_intersecting(m, &before, banned),
+        |m| *m = before.clone(),
+    );
+    features.filter(|_| outcome.clean)
+}
+
+/// The crease snap's check: bans the vertices of the faces of `m` that intersect and their
+/// neighbours in `before`, the surface the snap started from.
+fn ban_where_intersecting(m: &HalfedgeMesh, before: &HalfedgeMesh, banned: &mut [bool]) -> Verdict {
+    let tris = m.triangles();
+    let pairs = self_intersecting_pairs(m.positions(), &tris);
+    if pairs.is_empty() {
+        return Verdict::Clean;
+    }
+    for (f, g) in pairs {
+        for v in tris[f as usize].into_iter().chain(tris[g as usize]) {
+            banned[v as usize] = true;
+            for u in before.neighbors(v) {
+                banned[u as usize] = true;
             }
         }
-        *mesh = before.clone();
     }
-    None
+    Verdict::Retry
 }
 
 /// Flips the caps and collapses the needles that moves onto crease lines left since the last
 /// remesh (see [`crate::remesh::slivers`]). With the contact guard on, where that makes faces
 /// intersect as written it is tried again with those regions left alone, as a pass's remesh is.
 pub(super) fn tidy_slivers(mesh: &mut HalfedgeMesh, contact: bool, phi: f64, center: DVec3) {
+    let before = mesh.clone();
     let mut frozen = vec![false; mesh.n_vertices()];
-    for _ in 0..=REMESH_TRIES {
-        let mut tidied = mesh.clone();
-        let report = remove_slivers(&mut tidied, &SliverSettings::default(), &frozen);
-        if report == SliverReport::default() {
-            return;
-        }
-        if !contact {
-            *mesh = tidied;
-            return;
-        }
-        match freeze_where_intersecting(&tidied, mesh, |p| written(p, phi, center), &mut frozen) {
-            None => {
-                *mesh = tidied;
-                return;
-            }
-            Some(true) => {}
-            Some(false) => return,
-        }
-    }
+    let policy = GuardPolicy {
+        tries: REMESH_TRIES + 1,
+        applied: false,
+    };
+    guarded(
+        mesh,
+        &mut frozen,
+        policy,
+        // Nothing to tidy (any more) gives out: the mesh stays as it came.
+        |m, frozen| {
+            *m = before.clone();
+            remove_slivers(m, &SliverSettings::default(), frozen) != SliverReport::default()
+        },
+        |m, frozen| match contact {
+            false => Verdict::Clean,
+            true => freeze_where_intersecting(m, &before, |p| written(p, phi, center), frozen),
+        },
+        |m| *m = before.clone(),
+    );
 }
 
 #[cfg(test)]

@@ -6,6 +6,7 @@ use super::checks::{intersects_as_written, resolve_contacts_as_written, snap_cre
 use super::reach::reach_into_misses;
 use super::Fit;
 use crate::flow::guard::resolve_contacts;
+use crate::flow::guarded::{guarded, GuardPolicy, Verdict};
 use crate::flow::scaling::round_as_written;
 use crate::flow::snap::{snap_to_target, SnapTarget};
 use crate::geometry::creases::Creases;
@@ -159,14 +160,22 @@ impl Fit<'_, '_> {
     /// moves without a remesh (they leave vertices on a crease where they are), or else the
     /// pass's `start`, rather than round the creases off again.
     pub(super) fn keep_moves_unremeshed(&mut self, start: Option<HalfedgeMesh>) {
-        let (phi, center) = (self.opt.phi, self.opt.center);
-        round_as_written(self.mesh, phi, center);
-        if self.opt.contact && intersects_as_written(self.mesh, phi, center) {
-            if let Some(m) = start {
-                *self.mesh = m;
-            }
-        } else {
-            self.state.certified = true;
-        }
+        let (contact, phi, center) = (self.opt.contact, self.opt.phi, self.opt.center);
+        let outcome = guarded(
+            &mut *self.mesh,
+            &mut [],
+            GuardPolicy::ONCE,
+            |m, _| {
+                round_as_written(m, phi, center);
+                true
+            },
+            |m, _| Verdict::clean_if(!(contact && intersects_as_written(m, phi, center))),
+            |m| {
+                if let Some(start) = start {
+                    *m = start;
+                }
+            },
+        );
+        self.state.certified |= outcome.clean;
     }
 }

@@ -8,6 +8,7 @@ use super::checks::{intersects_as_written, resolve_contacts_as_written};
 use super::moves::Pass;
 use super::Fit;
 use crate::flow::guard::{freeze_where_intersecting, REMESH_TRIES};
+use crate::flow::guarded::{guarded, GuardPolicy, Verdict};
 use crate::flow::scaling::{round_as_written, written};
 use crate::mesh::HalfedgeMesh;
 use crate::remesh::adaptive::{
@@ -59,8 +60,8 @@ impl Fit<'_, '_> {
     }
 
     /// Whether the remesh from `unremeshed` left faces intersecting as written. On a mesh
-    /// target it is first tried again with the region of those faces left as it was, rather
-    /// than lost everywhere (a cloud's fit gains nothing by that).
+    /// target it is first tried again with the region of those faces left as it was (a guarded
+    /// edit), rather than lost everywhere (a cloud's fit gains nothing by that).
     fn remesh_lost(
         &mut self,
         unremeshed: Option<&HalfedgeMesh>,
@@ -75,24 +76,27 @@ impl Fit<'_, '_> {
             _ => return intersects_as_written(self.mesh, phi, center),
         };
         let mut frozen = vec![false; before.n_vertices()];
-        let mut lost = true;
-        for tries_left in (0..=REMESH_TRIES).rev() {
-            let frame = |p| written(p, phi, center);
-            match freeze_where_intersecting(self.mesh, before, frame, &mut frozen) {
-                None => lost = false,
-                Some(true) if tries_left > 0 => {
-                    let mut f = features.cloned().unwrap_or_else(|| Features::none(before));
-                    f.frozen.clone_from(&frozen);
-                    *self.mesh = before.clone();
-                    if remesh_once(self.mesh, rs, Some(&f), caps, phi, center) {
-                        continue;
-                    }
-                }
-                Some(_) => {}
-            }
-            break;
-        }
-        lost
+        let policy = GuardPolicy {
+            tries: REMESH_TRIES + 1,
+            applied: true,
+        };
+        let outcome = guarded(
+            &mut *self.mesh,
+            &mut frozen,
+            policy,
+            |mesh, frozen| {
+                let mut f = features.cloned().unwrap_or_else(|| Features::none(before));
+                f.frozen = frozen.to_vec();
+                *mesh = before.clone();
+                remesh_once(mesh, rs, Some(&f), caps, phi, center)
+            },
+            |mesh, frozen| {
+                freeze_where_intersecting(mesh, before, |p| written(p, phi, center), frozen)
+            },
+            // Lost: the caller falls back.
+            |_| {},
+        );
+        !outcome.clean
     }
 
     /// The pass's remesh is lost: keeps the surface without it where that is free of
@@ -142,11 +146,19 @@ impl Fit<'_, '_> {
         round_as_written(self.mesh, phi, center);
         if self.opt.remeshing {
             let unremeshed = self.mesh.clone();
-            let done = remesh(self.mesh, &self.opt.remesh);
-            round_as_written(self.mesh, phi, center);
-            if done.is_err() || intersects_as_written(self.mesh, phi, center) {
-                *self.mesh = unremeshed;
-            }
+            let rs = &self.opt.remesh;
+            guarded(
+                &mut *self.mesh,
+                &mut [],
+                GuardPolicy::ONCE,
+                |m, _| {
+                    let done = remesh(m, rs);
+                    round_as_written(m, phi, center);
+                    done.is_ok()
+                },
+                |m, _| Verdict::clean_if(!intersects_as_written(m, phi, center)),
+                |m| *m = unremeshed,
+            );
         }
     }
 }

@@ -9,6 +9,7 @@
 pub mod bridge;
 pub mod detect;
 
+use crate::flow::guarded::{guarded, GuardPolicy, Verdict};
 use crate::geometry::operators::normals::angle_weighted_normals;
 use crate::mesh::{HalfedgeMesh, MeshReport};
 use crate::metrics::intersections::self_intersecting_pairs;
@@ -166,7 +167,8 @@ struct Intersecting;
 /// same hole as an earlier tube of this look (a membrane that met in two spots: within its ball,
 /// [`detect::in_opened_hole`], between sheets that this look's earlier tubes join through empty
 /// space, [`detect::far_parts`]) is left out; so are the operations whose new faces cross others,
-/// and the rest is tried again (one bad tube must not hold back the other holes).
+/// and the rest is tried again (one bad tube must not hold back the other holes): a guarded edit
+/// whose frozen regions are the ones left out.
 fn operate(
     mesh: &HalfedgeMesh,
     partner: &[Option<u32>],
@@ -181,63 +183,117 @@ fn operate(
     };
     let rim = RIM * query.empty;
     let far = far_parts(mesh, distances, query.empty);
-    let mut skip = Vec::new();
-    let mut partner = std::borrow::Cow::Borrowed(partner);
-    let mut eroded = 0;
-    for _attempt in 0..3 + ERODE {
-        let Some(glued) = glue_facing_regions(&Pass {
-            mesh,
-            partner: &partner,
-            distances,
-            rim,
-            settled,
-            min_vertices,
-            skip: &skip,
-            far: &far,
-            spare_handles: query.least_genus.map(|g| before.genus - g),
-        }) else {
-            return Ok(None);
+    let mut tries = Tries {
+        partner: std::borrow::Cow::Borrowed(partner),
+        skip: Vec::new(),
+        eroded: 0,
+        glued: None,
+        operated: None,
+        intersecting: false,
+    };
+    let policy = GuardPolicy {
+        tries: 3 + ERODE,
+        applied: false,
+    };
+    guarded(
+        &mut tries,
+        &mut [],
+        policy,
+        |t, _| {
+            t.glued = glue_facing_regions(&Pass {
+                mesh,
+                partner: &t.partner,
+                distances,
+                rim,
+                settled,
+                min_vertices,
+                skip: &t.skip,
+                far: &far,
+                spare_handles: query.least_genus.map(|g| before.genus - g),
+            });
+            t.glued.is_some()
+        },
+        |t, _| t.check(mesh, &far, query, &reading, &before),
+        // Nothing was applied: `mesh` is as it came.
+        |_| {},
+    );
+    match tries.intersecting {
+        true => Err(Intersecting),
+        false => Ok(tries.operated),
+    }
+}
+
+/// The tries of one look's cuts and glues (see [`operate`]).
+struct Tries<'a> {
+    partner: std::borrow::Cow<'a, [Option<u32>]>,
+    /// Regions left out.
+    skip: Vec<u32>,
+    /// Times the rims were eroded.
+    eroded: usize,
+    /// The last try's glued surface, to check.
+    glued: Option<Glued>,
+    operated: Option<Operated>,
+    /// The surface had intersecting faces of its own.
+    intersecting: bool,
+}
+
+impl Tries<'_> {
+    /// The check of a try: its twins and gaps left out, else the rebuilt surface's exact check,
+    /// its crossing operations eroded or left out.
+    fn check(
+        &mut self,
+        mesh: &HalfedgeMesh,
+        far: &[u32],
+        query: &FacingQuery,
+        reading: &Reading,
+        before: &MeshReport,
+    ) -> Verdict {
+        let Some(glued) = self.glued.take() else {
+            return Verdict::GiveUp;
         };
-        let left_out = twins_and_gaps(&glued.tubes, &far, query, &reading);
+        let left_out = twins_and_gaps(&glued.tubes, far, query, reading);
         if !left_out.is_empty() {
-            skip.extend(left_out);
-            continue;
+            self.skip.extend(left_out);
+            return Verdict::Retry;
         }
         let Glued {
             positions,
             triangles,
             tubes,
         } = glued;
-        let Some((out, after)) = rebuilt(positions, &triangles, &tubes, &before) else {
-            return Ok(None);
+        let Some((out, after)) = rebuilt(positions, &triangles, &tubes, before) else {
+            return Verdict::GiveUp;
         };
         let pairs = self_intersecting_pairs(out.positions(), &out.triangles());
         if pairs.is_empty() {
-            return Ok(Some(Operated {
+            self.operated = Some(Operated {
                 mesh: out,
                 tubes,
                 genus_before: before.genus,
                 genus_after: after.genus,
                 components_before: before.components,
                 components_after: after.components,
-            }));
+            });
+            return Verdict::Clean;
         }
-        let bad = blamed(&tubes, &pairs)?;
+        let Ok(bad) = blamed(&tubes, &pairs) else {
+            self.intersecting = true;
+            return Verdict::GiveUp;
+        };
         // Crossings at a curved membrane's rim, where the sheets part: the same cut a ring
         // further in, where they lie closer, is tried before the operation is left out.
-        if skip.is_empty() && eroded < ERODE {
+        if self.skip.is_empty() && self.eroded < ERODE {
             let sides = bad.iter().flat_map(|&t| tubes[t].sides);
-            erode_rims(mesh, partner.to_mut(), sides);
-            eroded += 1;
-            continue;
+            erode_rims(mesh, self.partner.to_mut(), sides);
+            self.eroded += 1;
+            return Verdict::Retry;
         }
         if bad.len() == tubes.len() {
-            return Ok(None);
+            return Verdict::GiveUp;
         }
-        let bad = bad.into_iter().map(|t| tubes[t].region);
-        skip.extend(bad);
+        self.skip.extend(bad.into_iter().map(|t| tubes[t].region));
+        Verdict::Retry
     }
-    Ok(None)
 }
 
 /// The regions of the `tubes` to leave out of this look: the tubes in the same hole as an
