@@ -77,7 +77,7 @@ const share = new ShareLink(
       lesson: sphereLesson() ? lesson.params() : undefined,
       preset: settings.panel.preset,
       changed: settings.panel.changed(),
-      settings: settings.panel.all(),
+      settings: settings.panel.forLink(),
       view: view.view,
       iso: mode.current === 'wrap' && run.volumeIso !== null ? run.volumeIso : undefined,
       file: (mode.current === 'wrap' && run.stamp) || undefined,

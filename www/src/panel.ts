@@ -95,6 +95,14 @@ export class SettingsPanel {
     return diff(this.values, this.base);
   }
 
+  /** What a share link writes: every parameter, the tuning version, and the tuning values that
+   * differ from the preset's row of that version (a link decodes the rest from its row). */
+  forLink(): Flat {
+    const sameRow = this.values['tuning.version'] === this.base['tuning.version'];
+    const fromRow = (k: string, v: Leaf) => sameRow && k.startsWith('tuning.') && k !== 'tuning.version' && JSON.stringify(v) === JSON.stringify(this.base[k]);
+    return Object.fromEntries(Object.entries(this.values).filter(([k, v]) => !fromRow(k, v)));
+  }
+
   /** Every setting's value (flattened). */
   all(): Flat {
     return { ...this.values };

@@ -2,9 +2,10 @@
 //   v=4  d=<dataset: demo id | https URL>  p=<preset>  s.<setting path>=<JSON literal>  view.<key>=<value>
 //   f.name, f.size, f.sha=<the dropped file the link was made with: name, bytes, SHA-256 prefix>
 // Version 2 added the f.* keys; version 3 writes every setting, not only those that differ from
-// the defaults; version 4 also names the core's tuning table version (s.tuning.version). A link's
-// settings decode against its tuning version's row (links of versions 1–3: row 1), so a link
-// reproduces its result after later versions change a default.
+// the defaults; version 4 names the core's tuning table version (s.tuning.version) and writes only
+// the tuning values that differ from that version's row. A link's settings decode against its
+// tuning version's row (links of versions 1–3: row 1), so a link reproduces its result after later
+// versions change a default.
 // Decoding never evaluates anything: values are parsed with JSON.parse or as plain strings and
 // checked against the defaults' types; anything unknown, old or malformed falls back to the
 // default and is reported in `notices` (shown as text, never as HTML).
