@@ -109,8 +109,8 @@ pub enum MeshMcfError {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "camelCase")]
 #[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
-// The page gets these through `serde_wasm_bindgen`'s JSON-compatible serialiser (see
-// `wasm::mcf::McfSession::stats`), which writes `None` as null: say so in the TypeScript type.
+// Sent through the JSON-compatible serialiser (`wasm::mcf::McfSession::stats`): `None` arrives
+// as null, and the TypeScript type must say so.
 #[cfg_attr(target_arch = "wasm32", tsify(missing_as_null))]
 pub struct MeshFlowStats {
     /// Steps taken.

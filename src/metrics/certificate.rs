@@ -44,7 +44,7 @@ pub struct Certificate {
     /// The first broken property in words, or `None` when valid.
     pub problem: Option<String>,
     /// How close to the data the wrap stays, in the data's own spacing, and how its faces fold
-    /// and are shaped (closed manifold wraps measured against a target; see
+    /// and are shaped (closed manifold wraps with a target; see
     /// [`super::faithful`]).
     #[serde(default)]
     pub faithfulness: Option<Faithfulness>,
@@ -323,8 +323,8 @@ pub fn certify_against(
     certify_measuring(positions, triangles, target).0
 }
 
-/// [`certify_against`], with each vertex's distance to the target it measured on the way (None
-/// without a target or with a non-finite vertex).
+/// [`certify_against`], with each vertex's exact distance to the target, which the certificate
+/// needs anyway (None without a target or with a non-finite vertex).
 pub fn certify_measuring(
     positions: &[DVec3],
     triangles: &[[u32; 3]],

@@ -36,8 +36,8 @@ pub struct WrapResult {
     /// The surface, in the target's units.
     pub positions: Vec<DVec3>,
     pub triangles: Vec<[u32; 3]>,
-    /// Each vertex's distance to the target, measured exactly by the certificate (the nearest
-    /// point of a cloud, the closest point of a mesh; target units).
+    /// Each vertex's exact distance to the target, from the certificate (to the nearest point of
+    /// a cloud, the closest point of a mesh; target units).
     pub distances: Vec<f64>,
     pub certificate: Certificate,
     /// Decided once, from the certificate and the run: see [`Verdict::of`].
