@@ -86,6 +86,10 @@ pub const SHAPES: &[(&str, &str)] = &[
         "plate-holes",
         "flat plate 1 × 0.6 × 0.06 with three through-holes (r 0.1, 0.05, 0.03): genus 3, sharp rims",
     ),
+    (
+        "figure",
+        "sculpted cartoon figure whose legs and arms nearly touch (gaps 1 % of the diagonal): closed, genus 0",
+    ),
     ("cube-cloud", "20 000 points sampled from cube (no normals): sharp edges in a cloud"),
     (
         "cad-part-cloud",
@@ -137,6 +141,7 @@ pub fn generate(name: &str) -> Result<Shape, DemoError> {
         "creature" => Ok(super::sculpted::creature()),
         "bust" => Ok(super::sculpted::bust()),
         "plate-holes" => Ok(super::sculpted::plate_holes()),
+        "figure" => Ok(super::sculpted::figure()),
         "cube-cloud" => cloud(grid_box(DVec3::ONE, [16, 16, 16]), 108),
         "cad-part-cloud" => cloud(cad_part(), 109),
         other => Err(DemoError::UnknownShape(other.to_string())),
