@@ -105,7 +105,14 @@ mod tests {
             .collect();
         assert_eq!(
             maps,
-            ["distance", "curvature", "kappa", "covolume", "features"]
+            [
+                "distance",
+                "curvature",
+                "kappa",
+                "covolume",
+                "features",
+                "flagged"
+            ]
         );
         assert_eq!(c["colourMaps"][1]["exportName"], "mean_curvature");
         assert_eq!(c["presets"][0], "full-wrap");

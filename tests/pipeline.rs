@@ -80,6 +80,41 @@ fn a_closed_mesh_wrapped_with_another_genus_is_a_warning() {
     assert_eq!(r.verdict.headline, "Done, but not the target's topology");
 }
 
+/// The "flagged" colour map marks exactly the certificate's flagged vertices of a finished
+/// result (an icosphere stopped far from a torus: many), and nothing while no result exists.
+#[wasm_bindgen_test(unsupported = test)]
+fn the_flagged_map_shows_the_certificates_flagged_vertices() {
+    use lsw::flow::colour::ColourMap;
+    use lsw::metrics::certificate::CertificateTarget;
+    use lsw::pipeline::WrapRun;
+    let t = target("torus-g2");
+    let mut settings = coarse();
+    settings.start.surface = lsw::flow::StartSurface::Icosphere;
+    settings.stop.steps = 3;
+    let mut run = WrapRun::new(&t, settings, &mut lsw::progress::Progress::none()).unwrap();
+    while !run.is_done() {
+        run.step(&mut lsw::progress::Progress::none()).unwrap();
+    }
+    assert!(run
+        .colour(ColourMap::Flagged, None)
+        .iter()
+        .all(|&x| x == 0.0));
+    let r = run.result(&CertificateTarget::new(&t));
+    let flagged = &r
+        .certificate
+        .faithfulness
+        .as_ref()
+        .unwrap()
+        .flagged_vertices;
+    assert!(flagged.len() > 10, "{} flagged", flagged.len());
+    let v = run.colour(ColourMap::Flagged, Some(&r));
+    let ones: Vec<u32> = (0..v.len() as u32)
+        .filter(|&i| v[i as usize] == 1.0)
+        .collect();
+    assert_eq!(&ones, flagged);
+    assert!(v.iter().all(|&x| x == 0.0 || x == 1.0));
+}
+
 #[wasm_bindgen_test(unsupported = test)]
 fn a_target_that_cannot_be_wrapped_is_an_error() {
     let flat = Target::new(

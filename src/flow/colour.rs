@@ -22,6 +22,9 @@ pub enum ColourMap {
     Covolume,
     /// 1 for feature vertices (creases, corners), 0 elsewhere.
     Features,
+    /// 1 where a finished wrap is not faithful to the data (far from it, or folded where it
+    /// does not turn: the certificate's flagged vertices), 0 elsewhere and while it runs.
+    Flagged,
 }
 
 /// A colour map as the app lists it.
@@ -87,6 +90,14 @@ pub const COLOUR_MAPS: &[ColourMapInfo] = &[
         unit: "",
         export_name: None,
     },
+    ColourMapInfo {
+        map: ColourMap::Flagged,
+        name: "flagged",
+        label: "off the data or folded",
+        legend: "off the data or folded (1), once done",
+        unit: "",
+        export_name: None,
+    },
 ];
 
 /// The maps the MCF lesson offers: those that need the mesh alone (no target, no field, no
@@ -100,7 +111,10 @@ impl ColourMap {
         match self {
             ColourMap::Curvature => Some(mean_curvature(mesh)),
             ColourMap::Kappa => Some(crate::metrics::quality::vertex_kappa(mesh)),
-            ColourMap::Distance | ColourMap::Covolume | ColourMap::Features => None,
+            ColourMap::Distance
+            | ColourMap::Covolume
+            | ColourMap::Features
+            | ColourMap::Flagged => None,
         }
     }
 
@@ -140,6 +154,8 @@ impl ColourMap {
                     crate::remesh::features::detect(mesh, &ev.settings().tuning.remesh.features);
                 f.vertices.into_iter().map(|b| b as u8 as f64).collect()
             }
+            // Known from the certificate alone (see `WrapRun::colour`).
+            ColourMap::Flagged => vec![0.0; mesh.n_vertices()],
         }
     }
 }

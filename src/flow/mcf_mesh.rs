@@ -37,6 +37,12 @@ pub const MESH_LESSON_HORIZON: f64 = 0.004;
 /// (nearly) collapsed, its triangles are needles and the flow shows the mesh, not the law.
 pub const MESH_LESSON_STOP_AREA: f64 = 0.05;
 
+/// … or when the largest |H| exceeds this many times 1/h, h = √(mean co-volume) the mesh's own
+/// spacing: a mesh resolves curvature up to about 1/h, so beyond it triangles have collapsed to
+/// needles (where a thin part pinches MCF forms a singularity, which a fixed mesh cannot pass),
+/// and H and the solve measure the needles, not the flow.
+pub const MESH_LESSON_COLLAPSE: f64 = 100.0;
+
 /// The default relative time step τ/D²: 200 steps to the horizon.
 pub const MESH_LESSON_TAU: f64 = 2e-5;
 
@@ -145,6 +151,9 @@ pub struct MeshFlowStats {
     pub boundary_vertices: usize,
     /// Whether the mesh is closed (no boundary), i.e. encloses a volume.
     pub closed: bool,
+    /// Why the lesson stopped before its horizon, in a sentence for the page; `None` while it
+    /// runs or once it reached the horizon.
+    pub stopped_early: Option<String>,
 }
 
 /// What a relative time step τ/D² means for the mesh lesson, worked out before it runs.
@@ -222,6 +231,9 @@ pub struct MeshFlow {
     mobility: Option<Vec<f64>>,
     boundary_vertices: usize,
     area0: f64,
+    /// The largest |H| over the moving vertices times √(mean co-volume) after the step that
+    /// collapsed a thin part (and was undone); `None` while none has.
+    pinched: Option<f64>,
     volume0: Option<f64>,
     area: f64,
     step: u32,
@@ -305,6 +317,7 @@ impl MeshFlow {
             mobility,
             boundary_vertices,
             area0,
+            pinched: None,
             volume0,
             area: area0,
             step: 0,
@@ -314,7 +327,8 @@ impl MeshFlow {
     }
 
     /// One implicit MCF step of τ = (τ/D²)·D², the boundary pinned, negative cotangent weights
-    /// clamped to zero. On error the mesh is left as it was.
+    /// clamped to zero. On error, or where the step collapses a thin part (which ends the
+    /// lesson: [`MeshFlow::stopped_early`]), the mesh is left as it was.
     ///
     /// The clamp makes every step a convex combination of the old positions (the system is an
     /// M-matrix with unit row sums: a discrete maximum principle), so no loaded mesh can blow up.
@@ -324,6 +338,7 @@ impl MeshFlow {
     /// the corrector pass's solve fail on a (nearly) collapsed mesh, the step is retried with the
     /// plain semi-implicit scheme, whose clamped system is strictly diagonally dominant.
     pub fn step(&mut self) -> Result<&McfStepReport, MeshMcfError> {
+        let before = self.mesh.positions().to_vec();
         let mobility = self.mobility.as_deref();
         let report = match mcf_step_with(&mut self.mesh, &self.settings, mobility, true) {
             Err(FlowError::Solve(_)) if self.settings.corrector_passes > 0 => {
@@ -340,8 +355,17 @@ impl MeshFlow {
             time: self.time(),
             source,
         })?;
-        self.step += 1;
-        self.area = self.mesh.surface_area();
+        let (_, max_abs_h) = self.abs_h();
+        let sharpest = max_abs_h * report.covolume_mean.sqrt();
+        if sharpest > MESH_LESSON_COLLAPSE {
+            // The step collapsed a thin part: the lesson ends on the mesh before it (whose
+            // co-volumes the report gives), not on needles.
+            self.mesh.positions_mut().copy_from_slice(&before);
+            self.pinched = Some(sharpest);
+        } else {
+            self.step += 1;
+            self.area = self.mesh.surface_area();
+        }
         Ok(self.last.insert(report))
     }
 
@@ -351,12 +375,54 @@ impl MeshFlow {
     }
 
     /// Steps the lesson still takes: to the horizon t = [`MESH_LESSON_HORIZON`]·D², and none once
-    /// the area has fallen below [`MESH_LESSON_STOP_AREA`] of the initial area.
+    /// it stopped early ([`MeshFlow::stopped_early`]).
     pub fn steps_left(&self) -> u32 {
-        if self.area < MESH_LESSON_STOP_AREA * self.area0 {
+        if self.stopped_early().is_some() {
             return 0;
         }
         mesh_lesson_steps(self.tau_relative).saturating_sub(self.step)
+    }
+
+    /// Why the lesson ends before its horizon: the area fell below [`MESH_LESSON_STOP_AREA`] of
+    /// the start's, or the next step would have collapsed a thin part (|H| past
+    /// [`MESH_LESSON_COLLAPSE`] over the mesh's spacing).
+    pub fn stopped_early(&self) -> Option<String> {
+        let at = format!(
+            "at t = {:.3e}·D² (step {})",
+            self.relative_time(),
+            self.step
+        );
+        if self.area < MESH_LESSON_STOP_AREA * self.area0 {
+            return Some(format!(
+                "Stopped {at}: the mesh has nearly collapsed (area {:.1} % of the start).",
+                100.0 * self.area / self.area0
+            ));
+        }
+        self.pinched.map(|sharpest| {
+            format!(
+                "Stopped {at}: the next step collapsed triangles to needles (|H| {sharpest:.0} \
+                 times what the mesh's spacing resolves). A mesh of fixed connectivity cannot \
+                 flow on from there: thin parts pinch and triangles degenerate."
+            )
+        })
+    }
+
+    /// Mean and largest |H| over the moving (interior) vertices.
+    fn abs_h(&self) -> (f64, f64) {
+        let h = super::mcf::mean_curvature(&self.mesh);
+        let moving: Vec<f64> = h
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| self.mobility.as_ref().is_none_or(|m| m[*i] > 0.0))
+            .map(|(_, x)| x.abs())
+            .collect();
+        let (_, mean, max) = stats(&moving);
+        (mean, max)
+    }
+
+    /// t/D².
+    fn relative_time(&self) -> f64 {
+        self.time() / (self.diagonal * self.diagonal)
     }
 
     /// What this lesson's τ/D² means for it.
@@ -371,14 +437,7 @@ impl MeshFlow {
 
     /// The current statistics (O(mesh size): computes H).
     pub fn stats(&self) -> MeshFlowStats {
-        let h = super::mcf::mean_curvature(&self.mesh);
-        let moving: Vec<f64> = h
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| self.mobility.as_ref().is_none_or(|m| m[*i] > 0.0))
-            .map(|(_, x)| x.abs())
-            .collect();
-        let (_, mean_abs_h, max_abs_h) = stats(&moving);
+        let (mean_abs_h, max_abs_h) = self.abs_h();
         let volume = self.volume0.map(|_| self.mesh.signed_volume());
         let (covolume_min, covolume_mean, covolume_max, solver_iterations, solver_residual) =
             self.last.as_ref().map_or((0.0, 0.0, 0.0, 0, 0.0), |r| {
@@ -394,7 +453,7 @@ impl MeshFlow {
         MeshFlowStats {
             step: self.step,
             time,
-            relative_time: time / (self.diagonal * self.diagonal),
+            relative_time: self.relative_time(),
             tau: self.settings.tau,
             diagonal: self.diagonal,
             area: self.area,
@@ -412,6 +471,7 @@ impl MeshFlow {
             faces: self.mesh.n_faces(),
             boundary_vertices: self.boundary_vertices,
             closed: self.volume0.is_some(),
+            stopped_early: self.stopped_early(),
         }
     }
 }
@@ -546,6 +606,39 @@ mod tests {
         assert!(s.max_abs_h < 0.25 * h0, "max |H| {} from {h0}", s.max_abs_h);
         assert!(s.max_abs_h < 1.2 * s.mean_abs_h, "{s:?}");
         assert!((s.relative_time - MESH_LESSON_HORIZON).abs() < 1e-12);
+        assert_eq!(s.stopped_early, None);
+    }
+
+    /// A dumbbell's neck (radius 0.06) pinches long before the lesson's horizon, at about the
+    /// time a cylinder of its radius vanishes (r² = r0² − 2t: t = r0²/2): the lesson stops
+    /// there and says why, every position finite.
+    #[test]
+    fn a_pinching_neck_stops_the_lesson_and_says_why() {
+        let (p, t) = crate::demo::shapes::dumbbell(0.35, 0.06, 0.6);
+        let mut flow = MeshFlow::new(p, &t, MESH_LESSON_TAU).unwrap();
+        let all = flow.steps_left();
+        while flow.steps_left() > 0 {
+            flow.step().unwrap();
+        }
+        let s = flow.stats();
+        let why = s
+            .stopped_early
+            .clone()
+            .expect("the lesson ran to its horizon");
+        println!("{why} ({} of {all} steps, t = {})", s.step, s.time);
+        assert!(why.contains("collapsed triangles"), "{why}");
+        // The lesson ends on the mesh before the collapse, not on the needles.
+        assert!(
+            s.max_abs_h * s.covolume_mean.sqrt() < MESH_LESSON_COLLAPSE,
+            "{s:?}"
+        );
+        let pinch = 0.5 * 0.06 * 0.06;
+        assert!(
+            (0.5 * pinch..3.0 * pinch).contains(&s.time),
+            "t = {}",
+            s.time
+        );
+        assert!(flow.mesh().positions().iter().all(|p| p.is_finite()));
     }
 
     #[test]

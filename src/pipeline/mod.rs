@@ -127,11 +127,22 @@ impl WrapRun {
     }
 
     /// Colour map `map` on the current surface: its distances are `result`'s exact ones where
-    /// the surface is the one `result` certified, the field's while the wrap runs.
+    /// the surface is the one `result` certified, the field's while the wrap runs; its flagged
+    /// vertices those of `result`'s certificate.
     pub fn colour(&self, map: ColourMap, result: Option<&WrapResult>) -> Vec<f64> {
         let n = self.evolver.mesh().n_vertices();
         match result {
             Some(r) if map == ColourMap::Distance && r.distances.len() == n => r.distances.clone(),
+            Some(r) if map == ColourMap::Flagged => {
+                let mut v = vec![0.0; n];
+                let flagged = r.certificate.faithfulness.as_ref();
+                for &i in flagged.map_or(&[][..], |f| &f.flagged_vertices[..]) {
+                    if let Some(x) = v.get_mut(i as usize) {
+                        *x = 1.0;
+                    }
+                }
+                v
+            }
             _ => map.values(&self.evolver),
         }
     }

@@ -50,6 +50,7 @@ export class FieldControls {
   /** Hides the control and clears what it drew (the lesson has no target). */
   hide(): void {
     byId('field-box').hidden = true;
+    byId('field-legend').hidden = true;
     this.draw({ type: 'field' });
     this.shown = { ...NOTHING };
   }
@@ -62,5 +63,8 @@ export class FieldControls {
     this.shown = { view: msg.view, label: msg.label, width: msg.slice?.width ?? 0, height: msg.slice?.height ?? 0, triangles: (msg.iso?.indices.length ?? 0) / 3 };
     this.draw({ type: 'field', slice: msg.slice, iso: msg.iso }, transfer);
     byId('field-label').textContent = msg.label;
+    byId('field-legend').hidden = !msg.slice;
+    byId('field-min').textContent = msg.range[0].toPrecision(3);
+    byId('field-max').textContent = msg.range[1].toPrecision(3);
   }
 }

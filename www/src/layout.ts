@@ -10,6 +10,14 @@ export function bindLayout(): void {
     document.body.dataset.side = hidden ? 'hidden' : '';
     toggle.setAttribute('aria-expanded', String(!hidden));
   };
+  // A finished wrap's phase times: a line of their own below the header, closed by default.
+  const phases = byId('phases-toggle');
+  phases.onclick = () => {
+    const line = byId('phase-times');
+    line.hidden = !line.hidden;
+    phases.setAttribute('aria-expanded', String(!line.hidden));
+    phases.textContent = line.hidden ? 'phases ▸' : 'phases ▾';
+  };
 }
 
 /** Scrolls the 3-D view into sight when most of it is off screen or under the sticky header (one

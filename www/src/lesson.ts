@@ -179,9 +179,11 @@ export class Lesson {
       let where = '';
       if (s?.lesson === 'sphere') where = ` at t = ${s.time.toPrecision(3)}: mean radius ${s.meanRadius.toFixed(3)}, exact ${s.exactRadius.toFixed(3)}`;
       else if (s) where = ` at t = ${s.relativeTime.toPrecision(3)}·D² (step ${s.step}): area ${pct(s.areaRatio)} of the start${s.volumeRatio === null ? '' : `, volume ${pct(s.volumeRatio)}`}`;
-      this.d.status.set('done', `Done${where}`);
+      // The core says why a mesh lesson ended before its horizon (a pinch, a collapse).
+      if (s?.lesson === 'mesh' && s.stoppedEarly) this.d.status.set('invalid', s.stoppedEarly);
+      else this.d.status.set('done', `Done${where}`);
     } else if (reason === 'cancelled') this.reset();
-    else this.d.status.set('idle', 'Paused');
+    else this.d.status.set('paused', 'Paused');
   }
 
   /** A frame's statistics: the plot and the numbers beside it (a frame of the other lesson, still in flight, is dropped). */

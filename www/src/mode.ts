@@ -16,7 +16,9 @@ export class ModeSwitch {
   /** Switches and shows the matching controls and plots (the page starts in the lesson's layout). */
   set(m: Mode): void {
     this.mode = m;
+    // A lesson's frames carry no certificate: the badge and the hash describe wraps only.
     byId('hash').hidden = m === 'mcf';
+    byId('health').hidden = m === 'mcf';
     byId('mcf-box').hidden = m !== 'mcf';
     byId('mcf-plots').hidden = m !== 'mcf';
     byId('wrap-plots').hidden = m !== 'wrap';

@@ -3,6 +3,7 @@
 // sheet sizes (#plots: one row that shares the view's width, scrolling sideways when narrow).
 import uPlot from 'uplot';
 import 'uplot/dist/uPlot.min.css';
+import { tickLabel } from './ticks';
 
 /** Redraws waiting for a frame, at most one per plot (the latest wins). One runs per animation
  * frame, and DRAW_GAP_MS apart: several uPlot redraws and the page's layout in one frame made
@@ -130,6 +131,8 @@ export class RadiusPlot {
 
 const AXIS = { stroke: '#9aa3b2', grid: { stroke: '#2c303a' }, ticks: { stroke: '#2c303a' } };
 
+const tickLabels = (_u: uPlot, ticks: (number | null)[]): string[] => ticks.map(tickLabel);
+
 /** A small line plot over a shared x (step) axis; data arrive one row at a time. */
 export class LinePlot {
   private readonly cols: number[][];
@@ -145,8 +148,8 @@ export class LinePlot {
         height: opts.height ?? 170,
         title,
         scales: { x: { time: false }, y: opts.log ? { distr: 3 } : {} },
-        // Three significant digits on x: uPlot's default rounds ticks 0.0005 apart to 0.001, 0.001, …
-        axes: [{ ...AXIS, label: opts.xLabel ?? 'step', values: (_u: uPlot, ticks: number[]) => ticks.map((t) => String(Number(t.toPrecision(3)))) }, { ...AXIS, size: 56 }],
+        // Three significant digits: uPlot's default rounds ticks 0.0005 apart to 0.001, 0.001, …
+        axes: [{ ...AXIS, label: opts.xLabel ?? 'step', values: tickLabels }, { ...AXIS, size: 56, values: tickLabels }],
         series: [{ label: opts.xLabel ?? 'step' }, ...labels.map((label, i) => ({ label, stroke: colours[i], width: 1.5 }))],
         legend: { live: false },
       },

@@ -4,7 +4,7 @@ import { byId } from './dom';
 import type { UiError } from './protocol';
 
 /** The page's run state, as data-state on the status line (the e2e tests wait on it). */
-export type RunState = 'idle' | 'loading' | 'running' | 'done' | 'invalid' | 'error';
+export type RunState = 'idle' | 'loading' | 'running' | 'paused' | 'done' | 'invalid' | 'error';
 
 export class StatusLine {
   private readonly line = byId('status');
@@ -32,6 +32,8 @@ export class StatusLine {
     line.textContent = '';
     line.title = '';
     delete line.dataset.phases;
+    byId('phases-toggle').hidden = true;
+    byId('phase-times').hidden = true;
     const stats = byId('stats');
     stats.textContent = '';
     delete stats.dataset.step;
@@ -44,7 +46,8 @@ export class StatusLine {
     const running = state === 'running';
     byId<HTMLButtonElement>('play').disabled = running || state === 'loading';
     byId<HTMLButtonElement>('pause').disabled = !running;
-    byId<HTMLButtonElement>('cancel').disabled = !(running || state === 'loading');
+    // A paused run is still under way: Cancel ends it, Play resumes it.
+    byId<HTMLButtonElement>('cancel').disabled = !(running || state === 'loading' || state === 'paused');
   }
 
   /** A long phase of the core is `fraction` done: "distance field: near band 45 %" on the status

@@ -37,6 +37,9 @@ export class ViewControls {
   /** The colour menu offered now (it depends on the mode). */
   private menu: [string, string][] = [];
 
+  /** The user ticked or cleared Show target: their choice stands over a run's. */
+  private targetChosen = false;
+
   /** `send` gets the colour map (the computation worker colours the vertices); `changed` runs after every change of the view. */
   constructor(private readonly draw: Draw, private readonly send: Send, private readonly changed: () => void) {
     byId('fit').onclick = () => draw({ type: 'fit' });
@@ -54,11 +57,22 @@ export class ViewControls {
       draw({ type: 'smooth', on: this.view.smooth });
       changed();
     };
-    byId<HTMLInputElement>('show-target').onchange = (e) => draw({ type: 'show-target', on: (e.target as HTMLInputElement).checked });
+    byId<HTMLInputElement>('show-target').onchange = (e) => {
+      this.targetChosen = true;
+      draw({ type: 'show-target', on: (e.target as HTMLInputElement).checked });
+    };
     this.cmap.onchange = () => {
       this.wanted = this.cmap.value;
       this.show(this.cmap.value);
     };
+  }
+
+  /** The target overlay as a run wants it (on while wrapping, off once done, where it would
+   * cover the result), unless the user chose it with the checkbox. */
+  targetOverlay(on: boolean): void {
+    if (this.targetChosen) return;
+    byId<HTMLInputElement>('show-target').checked = on;
+    this.draw({ type: 'show-target', on });
   }
 
   /** The render worker moved the camera. */

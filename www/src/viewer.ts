@@ -23,6 +23,17 @@ export function isSoftwareRenderer(gl: WebGL2RenderingContext | WebGLRenderingCo
   return /swiftshader|llvmpipe|software|softpipe/i.test(name);
 }
 
+/** At most this many target points are drawn. */
+const MAX_TARGET_POINTS = 50_000;
+
+/** Every `k`-th point of `positions` (x, y, z triples). */
+function everyKth(positions: Float32Array, k: number): Float32Array {
+  const n = Math.ceil(positions.length / 3 / k);
+  const out = new Float32Array(3 * n);
+  for (let i = 0; i < n; i++) out.set(positions.subarray(3 * i * k, 3 * i * k + 3), 3 * i);
+  return out;
+}
+
 /** An orbiting camera: yaw/pitch about a target at a distance (no DOM needed). */
 export class Orbit {
   target = new THREE.Vector3();
@@ -154,6 +165,9 @@ export class Viewer {
       g.computeVertexNormals();
       this.target = new THREE.Mesh(g, new THREE.MeshBasicMaterial({ color: 0xffc266, transparent: true, opacity: 0.22, depthWrite: false, side: THREE.DoubleSide }));
     } else {
+      // A dense cloud is drawn thinned (every k-th point): what is drawn, not what is computed.
+      const k = Math.ceil(positions.length / 3 / MAX_TARGET_POINTS);
+      if (k > 1) g.setAttribute('position', new THREE.BufferAttribute(everyKth(positions, k), 3));
       this.target = new THREE.Points(g, new THREE.PointsMaterial({ color: 0xffc266, size: Math.max(1e-6, r * 0.0035), sizeAttenuation: true }));
     }
     this.target.visible = this.targetVisible;

@@ -3,7 +3,7 @@
 // of the chosen settings, which the worker computes whenever the settings change.
 import { byId } from './dom';
 import { HistogramPlot, LinePlot } from './plots';
-import type { ControlCurves, Frame } from './protocol';
+import type { Certificate, ControlCurves, Frame } from './protocol';
 import { describePhases } from './stopwatch';
 import { TopologyTimeline, type TimelineState } from './topology';
 
@@ -112,20 +112,35 @@ export class WrapReadout {
     if (r) {
       byId('stats').textContent =
         `step ${r.step}   τ = ${r.tau.toPrecision(3)}${r.retries ? ` (${r.retries} retries)` : ''}\n` +
-        `distance mean ${r.distance_mean.toExponential(2)}  max ${r.distance_max.toExponential(2)}\n` +
+        `field distance mean ${r.distance_mean.toExponential(2)}  max ${r.distance_max.toExponential(2)}\n` +
         `settled ${(100 * r.settled_fraction).toFixed(1)} %   ${r.vertices} vertices, ${r.faces} faces\n` +
         `ms: assembly ${r.times.assembly.toFixed(0)}  solve ${r.times.solve.toFixed(0)}  remesh ${r.times.remesh.toFixed(0)}  total ${r.times.total.toFixed(0)}`;
     }
   }
 
-  /** The run completed in `ms` of work: the progress line says where the time went (every
-   * phase, in the order they ran, in its tooltip). */
+  /** The run completed in `ms` of work: the progress line gives the total, and a line that
+   * opens below the header says where the time went (every phase in the tooltip). */
   timed(ms: number, phases: [string, number][]): void {
     const line = byId('progress-text');
     const summary = describePhases(phases);
-    line.textContent = `${this.where} · ${(ms / 1000).toFixed(1)} s${summary ? ` (${summary})` : ''}`;
+    line.textContent = `${this.where} · ${(ms / 1000).toFixed(1)} s`;
     line.title = phases.map(([p, ms]) => `${p}: ${Math.round(ms)} ms`).join('\n');
     line.dataset.phases = JSON.stringify(phases.map(([p, ms]) => [p, Math.round(ms)]));
+    byId('phase-times').textContent = summary ? `where the time went: ${summary}` : '';
+    byId('progress').hidden = true; // full: the line says it all
+    byId('phases-toggle').hidden = !summary;
+  }
+
+  /** The result's own distance to the target (the certificate's exact measure) in place of the
+   * field's, which the steps read. */
+  exact(c: Certificate): void {
+    const stats = byId('stats');
+    const lines = (stats.textContent ?? '').split('\n');
+    if (lines.length < 2 || c.distance_max === undefined || c.distance_max === null) return;
+    const f = c.faithfulness;
+    const spacings = f ? `  (${f.distance_max_spacings.toFixed(1)} local spacings; p99 ${f.distance_p99_spacings.toFixed(2)})` : '';
+    lines[1] = `distance to the target max ${c.distance_max.toExponential(2)}${spacings}`;
+    stats.textContent = lines.join('\n');
   }
 
   curves(c: ControlCurves): void {

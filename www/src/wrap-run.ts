@@ -43,6 +43,8 @@ export interface WrapRunDeps {
   cancel: () => Promise<void>;
   /** Rewrites the share link. */
   share: () => void;
+  /** Shows or hides the target overlay (see `ViewControls.targetOverlay`). */
+  targetOverlay: (on: boolean) => void;
 }
 
 export class WrapRun {
@@ -279,6 +281,7 @@ export class WrapRun {
     this.live = true;
     this.target = { positions: msg.positions.slice(), indices: msg.indices.slice() };
     this.d.draw({ type: 'target', positions: msg.positions, indices: msg.indices.length ? msg.indices : null }, [msg.positions.buffer, msg.indices.buffer]);
+    this.d.targetOverlay(true);
     const i: TargetInfo = msg.info;
     this.d.field.reveal();
     byId('target-info').textContent = `${msg.name}: ${i.format}, ${i.kind === 'points' ? `${i.points} points` : `${i.points} vertices, ${i.triangles} triangles`}, diagonal ${i.diagonal.toPrecision(4)}${repairsNote(i.repairs)}${leftOutNote(i.leftOut)}`;
@@ -310,6 +313,7 @@ export class WrapRun {
   result(msg: Extract<FromWorker, { type: 'result' }>): void {
     if (!this.isCurrent(msg.run)) return;
     this.d.kept.keep(msg, this.target);
+    this.d.targetOverlay(false);
     this.keptShown = true;
     this.settingsBefore = null;
     if (this.input) this.committed = { input: this.input, dataset: this.dataset, name: this.name, stamp: this.stamp, volumeIso: this.volumeIso };
@@ -317,6 +321,7 @@ export class WrapRun {
     this.workMs = msg.elapsedMs;
     this.phases = msg.phases;
     this.d.readout.timed(msg.elapsedMs, msg.phases);
+    this.d.readout.exact(msg.certificate);
     this.d.readout.topology.result(msg.startedOver);
     this.lastDoneMs = performance.now() - this.startedAt;
     byId('hash').dataset.ms = String(Math.round(this.lastDoneMs));
@@ -338,6 +343,6 @@ export class WrapRun {
       status.set('idle', `Cancelled — Play wraps ${this.name} again`);
       kept.restore();
     } else if (reason === 'ready') status.set('idle', `Ready — ${this.name} is loaded: Play wraps it`);
-    else status.set('idle', 'Paused');
+    else status.set('paused', `Paused — Play goes on, Cancel ends the wrap of ${this.name}`);
   }
 }

@@ -166,7 +166,8 @@ test('pauses do not count in the elapsed time; cancel in the MCF lesson returns 
   await page.click('[data-demo=noisy-sphere]');
   await page.waitForFunction(() => Number(document.querySelector('#stats').dataset.step) >= 2, null, { timeout: 60000 });
   await page.click('[data-testid=pause]');
-  await waitState(page, ['idle'], 10000);
+  await waitState(page, ['paused'], 10000);
+  assert(!(await page.isDisabled('[data-testid=cancel]')), 'Cancel is disabled while the wrap is paused');
   await page.waitForTimeout(2500);
   await page.click('[data-testid=play]');
   await waitState(page, ['done'], 120000);

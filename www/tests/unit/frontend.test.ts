@@ -2,6 +2,7 @@ import { describe, expect, it } from 'vitest';
 import { colorize, robustRange, turbo } from '../../src/colormap';
 import { repairsNote, toUiError } from '../../src/protocol';
 import { batchSize } from '../../src/schedule';
+import { tickLabel } from '../../src/ticks';
 
 describe('colour map', () => {
   it('maps the ends and clamps outside [0, 1]', () => {
@@ -61,5 +62,13 @@ describe('repairs note', () => {
     expect(repairsNote({ merged_vertices: 12, dropped_faces: 0, flipped_faces: 3, split_vertices: 0, filled_holes: 2 })).toBe(
       ' (mended: 12 coincident vertices merged, 3 faces turned to agree, 2 small holes closed)',
     );
+  });
+});
+
+describe('axis ticks', () => {
+  it('keep three significant digits, in powers of ten below 0.0001', () => {
+    expect([0, 0.0005, 0.001, 0.25, 12.5].map(tickLabel)).toEqual(['0', '0.0005', '0.001', '0.25', '12.5']);
+    expect([1e-4, 2.5e-5, 3e-7, 2e5].map(tickLabel)).toEqual(['0.0001', '2.5e-5', '3e-7', '2e+5']);
+    expect([null, NaN].map(tickLabel)).toEqual(['', '']);
   });
 });
