@@ -45,6 +45,7 @@ fn a_wrap_returns_its_certificate_verdict_and_steps_and_repeats_exactly() {
         Verdict::of(c, None, r.started_over.as_ref(), r.left_out)
     );
     assert_eq!(r.verdict.state, VerdictState::Valid);
+    assert_eq!(c.faithfulness.as_ref().map(|f| f.membranes), Some(0));
     assert!(r.verdict.certified && r.stop_reason.is_none());
     assert_eq!(heard.steps, (1..=r.steps).collect::<Vec<_>>());
     assert!(
@@ -78,6 +79,31 @@ fn a_closed_mesh_wrapped_with_another_genus_is_a_warning() {
     assert_eq!(r.verdict.state, VerdictState::Warning);
     assert!(r.verdict.certified);
     assert_eq!(r.verdict.headline, "Done, but not the target's topology");
+}
+
+/// A torus cloud whose hole is kept closed (Close gaps up to: all) is spanned by a membrane
+/// tens of spacings from the data: certified and genus 0, but not faithful, and the badge says
+/// how much spans empty space.
+#[wasm_bindgen_test(unsupported = test)]
+fn a_membrane_across_a_hole_kept_closed_is_unfaithful() {
+    let t = target("torus-g1-cloud");
+    let mut settings = coarse();
+    settings.surgery.close_gaps = 1.0;
+    let r = wrap(&t, settings, &mut ()).unwrap();
+    let f = r.certificate.faithfulness.as_ref().unwrap();
+    assert_eq!(r.certificate.genus, Some(0));
+    assert!(f.membranes >= 1 && f.membrane_share > 0.02, "{f:?}");
+    assert!(f.distance_max_spacings > 20.0, "{f:?}");
+    assert_eq!(r.verdict.state, VerdictState::Unfaithful);
+    assert!(r.verdict.certified);
+    assert!(
+        r.verdict
+            .badge
+            .iter()
+            .any(|b| b.contains("spans empty space")),
+        "{:?}",
+        r.verdict.badge
+    );
 }
 
 /// The "flagged" colour map marks exactly the certificate's flagged vertices of a finished

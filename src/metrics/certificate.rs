@@ -131,7 +131,8 @@ pub struct CertificateTarget {
 
 enum Near {
     Points(PointGrid),
-    Triangles(TriangleBvh),
+    /// With each vertex's flag: on a boundary edge or next to one.
+    Triangles(TriangleBvh, Vec<bool>),
 }
 
 impl CertificateTarget {
@@ -146,9 +147,10 @@ impl CertificateTarget {
                 let cell = (t.bbox.diagonal() / CLOUD_GRID_DIVISIONS).max(sampled);
                 Near::Points(PointGrid::new(points, cell))
             }
-            Surface::Triangles { points, triangles } => {
-                Near::Triangles(TriangleBvh::new(points, triangles))
-            }
+            Surface::Triangles { points, triangles } => Near::Triangles(
+                TriangleBvh::new(points, triangles),
+                boundary_band(points.len(), triangles),
+            ),
         };
         CertificateTarget {
             near,
@@ -162,9 +164,60 @@ impl CertificateTarget {
     fn distance(&self, p: DVec3) -> f64 {
         match &self.near {
             Near::Points(grid) => grid.nearest(p).map_or(f64::INFINITY, |n| n.d2.sqrt()),
-            Near::Triangles(bvh) => bvh.distance(p),
+            Near::Triangles(bvh, _) => bvh.distance(p),
         }
     }
+}
+
+/// Each of `n` vertices: whether it lies on an edge of one face of `triangles` or next to one.
+fn boundary_band(n: usize, triangles: &[[u32; 3]]) -> Vec<bool> {
+    let mut edges: Vec<(u32, u32)> = triangles
+        .iter()
+        .flat_map(|t| (0..3).map(move |k| (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]))))
+        .collect();
+    edges.sort_unstable();
+    let mut on = vec![false; n];
+    for run in edges.chunk_by(|a, b| a == b).filter(|run| run.len() == 1) {
+        on[run[0].0 as usize] = true;
+        on[run[0].1 as usize] = true;
+    }
+    let mut band = on.clone();
+    for t in triangles
+        .iter()
+        .filter(|t| t.iter().any(|&v| on[v as usize]))
+    {
+        for &v in t {
+            band[v as usize] = true;
+        }
+    }
+    band
+}
+
+/// Points round a cloud's point whose directions tell whether the data goes on all round it.
+const EDGE_POINTS: usize = 16;
+
+/// A cloud's point lies at an edge of the data when its neighbours, seen along its normal, leave
+/// a gap of directions wider than this (radians): a random sampling leaves far narrower ones.
+const EDGE_GAP: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
+
+/// Whether the widest gap between the directions from `q` to its neighbours `patch`, in the
+/// plane across `normal`, exceeds [`EDGE_GAP`].
+fn gap_round(q: DVec3, normal: DVec3, patch: &[DVec3]) -> bool {
+    let u = normal.any_orthonormal_vector();
+    let w = normal.cross(u);
+    let mut angles: Vec<f64> = patch
+        .iter()
+        .map(|&p| p - q)
+        .filter(|d| d.length_squared() > 0.0)
+        .map(|d| crate::fmath::atan2(d.dot(w), d.dot(u)))
+        .collect();
+    if angles.len() < 3 {
+        return true;
+    }
+    angles.sort_by(f64::total_cmp);
+    let wrap = angles[0] + std::f64::consts::TAU - angles[angles.len() - 1];
+    let widest = angles.windows(2).map(|a| a[1] - a[0]).fold(wrap, f64::max);
+    widest > EDGE_GAP
 }
 
 /// Median spacings within which a place lies on a cloud's data (see [`DataNear`]): the gaps of a
@@ -182,7 +235,7 @@ impl DataNear for CertificateTarget {
     fn spacings(&self, points: &[DVec3], distances: &[f64]) -> Vec<Option<f64>> {
         let grid = match &self.near {
             Near::Points(grid) => grid,
-            Near::Triangles(bvh) => {
+            Near::Triangles(bvh, _) => {
                 return crate::parallel::map(points.len(), |i| {
                     let [a, b, c] = closest_triangle(bvh, points[i])?;
                     Some(((b - a).length() + (c - b).length() + (a - c).length()) / 3.0)
@@ -219,6 +272,26 @@ impl DataNear for CertificateTarget {
             .collect()
     }
 
+    fn at_edge(&self, p: DVec3) -> bool {
+        match &self.near {
+            Near::Points(grid) => {
+                let Some(q) = grid.nearest(p) else {
+                    return false;
+                };
+                let mut patch = Vec::new();
+                grid.nearest_within(q.point, grid.diagonal(), EDGE_POINTS + 1, &mut patch);
+                let points: Vec<DVec3> = patch.iter().map(|n| n.point).collect();
+                crate::geometry::cloud_creases::plane_fit(points.iter().copied())
+                    .is_some_and(|(normal, _)| gap_round(q.point, normal, &points))
+            }
+            Near::Triangles(bvh, band) => bvh.closest_point(p).is_some_and(|hit| {
+                bvh.triangles()[hit.triangle as usize]
+                    .iter()
+                    .any(|&v| band[v as usize])
+            }),
+        }
+    }
+
     fn turns_between(&self, a: DVec3, b: DVec3) -> bool {
         use crate::geometry::cloud_creases::{plane_fit, CANDIDATE_VARIATION};
         match &self.near {
@@ -228,7 +301,7 @@ impl DataNear for CertificateTarget {
                 plane_fit(patch.iter().map(|n| n.point))
                     .is_none_or(|(_, variation)| variation > CANDIDATE_VARIATION)
             }
-            Near::Triangles(bvh) => {
+            Near::Triangles(bvh, _) => {
                 let normal = |p| {
                     closest_triangle(bvh, p)
                         .map(|[a, b, c]| (b - a).cross(c - a).normalize_or_zero())

@@ -19,6 +19,13 @@ pub const FOLD_TURN: f64 = std::f64::consts::FRAC_PI_2;
 /// Faces with κ(J_Δ) at most this are well shaped (the remesher's quality band).
 pub const GOOD_KAPPA: f64 = 1.5;
 
+/// A far region of fewer vertices is a sampling's gap, not a surface spanning something.
+pub const REGION_VERTICES: usize = 8;
+
+/// A far region that is no opening is a membrane in empty space when it reaches this many local
+/// spacings from the data: the inner sheet of a wrap round an open shell stays within a few.
+pub const MEMBRANE_SPACINGS: f64 = 8.0;
+
 /// What the data says near a place: its local spacing, and whether it has a crease there.
 pub trait DataNear {
     /// The spacing of the data near each of `points`, which lie `distances` from it (the
@@ -27,6 +34,9 @@ pub trait DataNear {
     /// Whether the data itself turns sharply between the places nearest to `a` and `b` (a crease
     /// or corner the wrap should follow).
     fn turns_between(&self, a: DVec3, b: DVec3) -> bool;
+    /// Whether the data ends near `p`: the data nearest to it lies at an edge of the sampled
+    /// surface (a mesh's boundary; a cloud's point with no neighbours on one side).
+    fn at_edge(&self, p: DVec3) -> bool;
 }
 
 /// The faithfulness measurements of a wrap.
@@ -53,6 +63,20 @@ pub struct Faithfulness {
     /// The far vertices and the vertices of folded edges, ascending (for highlighting).
     #[serde(default)]
     pub flagged_vertices: Vec<u32>,
+    /// Connected far regions of [`REGION_VERTICES`] or more whose nearest data mostly lies
+    /// where it ends: openings of the data that the closed wrap spans (a scan's hole), and their
+    /// vertices.
+    #[serde(default)]
+    pub openings: usize,
+    #[serde(default)]
+    pub opening_vertices: usize,
+    /// The other far regions of [`REGION_VERTICES`] or more: membranes left in empty space
+    /// between parts of the data that go on, and their share of the wrap's area (a flat
+    /// membrane holds few vertices).
+    #[serde(default)]
+    pub membranes: usize,
+    #[serde(default)]
+    pub membrane_share: f64,
 }
 
 /// Measures the wrap `(positions, triangles)` whose vertices lie `distances` from the data.
@@ -63,7 +87,7 @@ pub fn faithfulness(
     data: &(impl DataNear + Sync),
 ) -> Faithfulness {
     // The distances' part and the faces' part are independent: natively one beside the other.
-    let ((sorted, mut flagged), (folds, interior, fold_ends, min_angle_rad, good)) =
+    let ((sorted, mut flagged, ratios), (folds, interior, fold_ends, min_angle_rad, good)) =
         crate::parallel::beside(
             || far_from_data(positions, distances, data),
             || {
@@ -74,6 +98,15 @@ pub fn faithfulness(
             },
         );
     let far_vertices = flagged.len();
+    let regions = far_regions(
+        triangles,
+        &flagged,
+        |v| ratios[v as usize],
+        |v| data.at_edge(positions[v as usize]),
+    );
+    let (openings, opening_vertices, membranes, membrane_vertices) = regions;
+    let area = vertex_areas(positions, triangles);
+    let membrane_area: f64 = membrane_vertices.iter().map(|&v| area[v as usize]).sum();
     flagged.extend(fold_ends);
     flagged.sort_unstable();
     flagged.dedup();
@@ -91,16 +124,74 @@ pub fn faithfulness(
         },
         kappa_good_share: good as f64 / triangles.len().max(1) as f64,
         flagged_vertices: flagged,
+        openings,
+        opening_vertices,
+        membranes,
+        membrane_share: membrane_area / area.iter().sum::<f64>().max(f64::MIN_POSITIVE),
     }
 }
 
-/// Every vertex's distance in local spacings, ascending, and the vertices [`FAR_SPACINGS`] or
-/// more off.
+/// The connected regions of the `far` vertices (ascending), split by where the data nearest to
+/// them lies: where it ends (`at_edge`) for half of a region's vertices or more, the region
+/// spans an opening of the data; else, where it reaches [`MEMBRANE_SPACINGS`] (`spacings` of a
+/// vertex), it is a membrane between parts of the data that go on. Returns (openings, their
+/// vertices, membranes, their vertices); other regions, and those under [`REGION_VERTICES`],
+/// count as neither. (The membranes' vertices are returned, their count of the others.)
+fn far_regions(
+    triangles: &[[u32; 3]],
+    far: &[u32],
+    spacings: impl Fn(u32) -> f64,
+    at_edge: impl Fn(u32) -> bool + Sync,
+) -> (usize, usize, usize, Vec<u32>) {
+    let is_far = |v: u32| far.binary_search(&v).is_ok();
+    let n = far.last().map_or(0, |&v| v as usize + 1);
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn root(parent: &mut [u32], mut v: u32) -> u32 {
+        while parent[v as usize] != v {
+            parent[v as usize] = parent[parent[v as usize] as usize];
+            v = parent[v as usize];
+        }
+        v
+    }
+    let edges = triangles
+        .iter()
+        .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])));
+    for (a, b) in edges.filter(|&(a, b)| is_far(a) && is_far(b)) {
+        let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+        parent[ra.max(rb) as usize] = ra.min(rb);
+    }
+    let mut regions: Vec<(u32, u32)> = far.iter().map(|&v| (root(&mut parent, v), v)).collect();
+    regions.sort_unstable();
+    let big: Vec<&[(u32, u32)]> = regions
+        .chunk_by(|a, b| a.0 == b.0)
+        .filter(|r| r.len() >= REGION_VERTICES)
+        .collect();
+    let members: Vec<u32> = big.iter().flat_map(|r| r.iter().map(|m| m.1)).collect();
+    let ends = crate::parallel::map(members.len(), |k| at_edge(members[k]));
+    let mut out = (0, 0, 0, Vec::new());
+    let mut at = 0;
+    for r in big {
+        let edge = ends[at..at + r.len()].iter().filter(|&&e| e).count();
+        at += r.len();
+        let deepest = r.iter().map(|m| spacings(m.1)).fold(0.0, f64::max);
+        if 2 * edge >= r.len() {
+            out.0 += 1;
+            out.1 += r.len();
+        } else if deepest >= MEMBRANE_SPACINGS {
+            out.2 += 1;
+            out.3.extend(r.iter().map(|m| m.1));
+        }
+    }
+    out
+}
+
+/// Every vertex's distance in local spacings, ascending, the vertices [`FAR_SPACINGS`] or more
+/// off, and the distances in vertex order.
 fn far_from_data(
     positions: &[DVec3],
     distances: &[f64],
     data: &impl DataNear,
-) -> (Vec<f64>, Vec<u32>) {
+) -> (Vec<f64>, Vec<u32>, Vec<f64>) {
     let spacings = data.spacings(positions, distances);
     let ratios: Vec<f64> = spacings
         .iter()
@@ -110,9 +201,22 @@ fn far_from_data(
     let far = (0..positions.len() as u32)
         .filter(|&v| ratios[v as usize] >= FAR_SPACINGS)
         .collect();
-    let mut sorted = ratios;
+    let mut sorted = ratios.clone();
     sorted.sort_by(f64::total_cmp);
-    (sorted, far)
+    (sorted, far, ratios)
+}
+
+/// Each vertex's share of the area: a third of its faces'.
+fn vertex_areas(positions: &[DVec3], triangles: &[[u32; 3]]) -> Vec<f64> {
+    let mut area = vec![0.0; positions.len()];
+    for t in triangles {
+        let [a, b, c] = t.map(|v| positions[v as usize]);
+        let third = (b - a).cross(c - a).length() / 6.0;
+        for &v in t {
+            area[v as usize] += third;
+        }
+    }
+    area
 }
 
 /// The smallest angle of any face (radians) and how many faces are well shaped.
@@ -187,6 +291,9 @@ mod tests {
         fn turns_between(&self, _: DVec3, _: DVec3) -> bool {
             false
         }
+        fn at_edge(&self, _: DVec3) -> bool {
+            false
+        }
     }
 
     /// A flat square of two triangles, or with its second triangle folded back over the first.
@@ -235,7 +342,36 @@ mod tests {
             fn turns_between(&self, a: DVec3, b: DVec3) -> bool {
                 (a.z > 1e-3) != (b.z > 1e-3)
             }
+            fn at_edge(&self, _: DVec3) -> bool {
+                false
+            }
         }
         assert_eq!(faithfulness(&p, &t, &[0.0; 4], &Creased).folds, 0);
+    }
+
+    /// A 12 × 12 vertex grid with two far blocks of 3 × 3: the one whose data ends nearby is an
+    /// opening, the other a membrane; a lone far vertex is neither.
+    #[test]
+    fn far_regions_are_openings_or_membranes_by_their_rim() {
+        let n = 12u32;
+        let id = |i: u32, j: u32| i + n * j;
+        let mut t = Vec::new();
+        for j in 0..n - 1 {
+            for i in 0..n - 1 {
+                t.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                t.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        let block = |i0: u32, j0: u32| (0..9).map(move |k| id(i0 + k % 3, j0 + k / 3));
+        let mut far: Vec<u32> = block(1, 1).chain(block(7, 7)).chain([id(5, 1)]).collect();
+        far.sort_unstable();
+        // The data ends by the first block (i, j ≤ 4).
+        let at_edge = |v: u32| v % n <= 4 && v / n <= 4;
+        let deep = |_| MEMBRANE_SPACINGS;
+        let second: Vec<u32> = block(7, 7).collect();
+        assert_eq!(far_regions(&t, &far, deep, at_edge), (1, 9, 1, second));
+        // A far region close to the data (the inner sheet round an open shell) is no membrane.
+        let shallow = |_| MEMBRANE_SPACINGS - 1.0;
+        assert_eq!(far_regions(&t, &far, shallow, at_edge), (1, 9, 0, vec![]));
     }
 }

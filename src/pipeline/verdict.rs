@@ -15,6 +15,10 @@ pub enum VerdictState {
     /// Certified (closed, manifold, oriented, finite, no intersecting faces), the target's own
     /// topology where it has one, and no part of the target left outside.
     Valid,
+    /// Certified, with the target's topology, but not faithful to the data: a membrane of the
+    /// surface is left in empty space between parts of it (an opening of the data spanned is
+    /// not this).
+    Unfaithful,
     /// Certified, but unlike the target: another genus or part count, or a part of it outside.
     Warning,
     /// Not certified, or the run stopped before its rule said so.
@@ -65,6 +69,7 @@ impl Verdict {
         let state = match (certified, unlike) {
             (false, _) => VerdictState::Invalid,
             (true, true) => VerdictState::Warning,
+            (true, false) if membrane(c).is_some() => VerdictState::Unfaithful,
             (true, false) => VerdictState::Valid,
         };
         let headline = match state {
@@ -72,6 +77,7 @@ impl Verdict {
             VerdictState::Invalid => "Not valid",
             VerdictState::Warning if topology_differs(c) => "Done, but not the target's topology",
             VerdictState::Warning => "Done, but part of the target lies outside the wrap",
+            VerdictState::Unfaithful => "Done, but not faithful: part of it spans empty space",
             VerdictState::Valid => "Done",
         };
         let mut notes = left_out_notes(left_out);
@@ -87,6 +93,13 @@ impl Verdict {
             notes,
         }
     }
+}
+
+/// The share of the wrap's area in membranes left in empty space, where it is
+/// [`MEMBRANE_SHARE`] or more.
+fn membrane(c: &Certificate) -> Option<f64> {
+    let f = c.faithfulness.as_ref()?;
+    (f.membrane_share >= MEMBRANE_SHARE).then_some(f.membrane_share)
 }
 
 /// Whether the wrap's genus or part count differs from that of a closed one-part target.
@@ -117,6 +130,9 @@ fn badge(c: &Certificate, certified: bool) -> Vec<String> {
             num_or(c.target_points_outside)
         ));
     }
+    if let Some(share) = membrane(c) {
+        parts.push(format!("⚠ {:.1} % spans empty space", 100.0 * share));
+    }
     if let Some(d) = c.distance_max {
         parts.push(format!("max dist {}", significant(d, 3)));
     }
@@ -141,6 +157,15 @@ fn explain(c: &Certificate, stop: Option<&str>, again: Option<&StartedOver>) -> 
     }
     if c.valid && c.target_part_outside {
         return format!("{VALID}, but {}", outside_sentence(c, again));
+    }
+    if let (true, Some(share)) = (c.valid, membrane(c)) {
+        return format!(
+            "{VALID}, but {:.1} % of its area lies {} or more local spacings from the data, in \
+             membranes across empty space between parts of it (colour: off the data or \
+             folded). Try Close gaps up to a smaller size, or a finer Detail.",
+            100.0 * share,
+            crate::metrics::faithful::FAR_SPACINGS
+        );
     }
     if c.valid {
         return "Closed, manifold, oriented, no intersecting faces.".into();
@@ -242,17 +267,23 @@ pub const FAR_NOTE_SHARE: f64 = 0.02;
 /// A share of folded edges above which the verdict says so.
 pub const FOLD_NOTE_SHARE: f64 = 0.001;
 
+/// A share of the wrap's area in membranes left in empty space at which a result is not faithful (see
+/// docs/decisions/0028-membranes.md).
+pub const MEMBRANE_SHARE: f64 = 0.01;
+
 /// What the faithfulness measurements show that a user should look at: regions far from the data,
 /// folds. Notes, not warnings: a far region may be an opening of the data the wrap had to span.
 fn faithfulness_notes(f: &Faithfulness) -> Vec<String> {
     let mut notes = Vec::new();
     if f.far_share >= FAR_NOTE_SHARE {
         notes.push(format!(
-            "{} vertices ({:.1} %) lie {} or more local spacings from the data: an opening of \
-             the data spanned, or a membrane left in empty space",
+            "{} vertices ({:.1} %) lie {} or more local spacings from the data: {} opening(s) of \
+             the data spanned, {} membrane(s) left in empty space",
             f.far_vertices,
             100.0 * f.far_share,
-            crate::metrics::faithful::FAR_SPACINGS
+            crate::metrics::faithful::FAR_SPACINGS,
+            f.openings,
+            f.membranes
         ));
     }
     if f.fold_share >= FOLD_NOTE_SHARE {
@@ -345,6 +376,41 @@ mod tests {
         assert!(Verdict::of(&c, None, None, LeftOut::default())
             .notes
             .is_empty());
+    }
+
+    /// Far regions that span openings of the data leave a result valid; membranes over 1 % of
+    /// the area or more make it unfaithful (amber), and the badge and sentence say so.
+    #[test]
+    fn membranes_in_empty_space_are_unfaithful_openings_are_not() {
+        let mut c = certified();
+        let far = |openings, membranes, membrane_share| Faithfulness {
+            far_vertices: 900,
+            far_share: 0.09,
+            openings,
+            membranes,
+            membrane_share,
+            ..Default::default()
+        };
+        c.faithfulness = Some(far(2, 1, 0.009));
+        let v = Verdict::of(&c, None, None, LeftOut::default());
+        assert_eq!(v.state, VerdictState::Valid);
+        assert!(v.notes[0].contains("2 opening(s)"), "{:?}", v.notes);
+        c.faithfulness = Some(far(0, 3, 0.04));
+        let v = Verdict::of(&c, None, None, LeftOut::default());
+        assert_eq!(v.state, VerdictState::Unfaithful);
+        assert!(v.certified);
+        assert!(
+            v.badge.contains(&"⚠ 4.0 % spans empty space".to_owned()),
+            "{:?}",
+            v.badge
+        );
+        assert!(v.explanation.contains("membranes"), "{}", v.explanation);
+        // Another genus is the stronger warning.
+        c.target_genus = Some(1);
+        assert_eq!(
+            Verdict::of(&c, None, None, LeftOut::default()).state,
+            VerdictState::Warning
+        );
     }
 
     fn certified() -> Certificate {

@@ -123,13 +123,15 @@ test('Close gaps up to: "all" keeps the torus handle closed (genus 0, no surgery
   const closed = await badge();
   const events = await page.getAttribute('[data-testid=surgery]', 'data-events');
   assert(closed.valid === 'true' && closed.genus === '0' && events === '0', `all: ${JSON.stringify(closed)}, ${events} events`);
+  // Kept closed, the hole is spanned by a membrane far from the data: valid, not faithful (amber).
+  assert(closed.state === 'unfaithful', `all: badge state ${closed.state}`);
   await page.selectOption('[data-testid=close-gaps]', { label: 'auto' });
   await page.click('[data-testid=reset]');
   await waitState(page, ['idle'], 60000);
   await page.click('[data-testid=play]');
   await waitState(page, ['done', 'invalid', 'error'], 300000);
   const open = await badge();
-  assert(open.valid === 'true' && open.genus === '1', `auto: ${JSON.stringify(open)}`);
+  assert(open.valid === 'true' && open.genus === '1' && open.state === 'valid', `auto: ${JSON.stringify(open)}`);
   await page.screenshot({ path: join(out, 'tour-close-gaps.png') });
   noErrors(errors);
   console.log(`   close gaps "all": genus ${closed.genus}; "auto": genus ${open.genus}`);
