@@ -1115,6 +1115,21 @@ fn a_closed_mesh_is_not_started_with_a_handle_it_lacks() {
     assert_eq!(c.genus, Some(0), "{c:?}");
 }
 
+/// The demo figure (a closed mesh of genus 0 whose knees and hands come 1 % of the diagonal
+/// close): the default start joins them (genus 2), the 1.5× grid's too, and the 2× grid is over
+/// the field's memory cap; the icosphere taken instead ended genus 2. The finest grid the cap
+/// allows keeps them apart.
+#[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
+fn a_figure_whose_knees_nearly_touch_keeps_genus_zero() {
+    let (p, t) = lsw::demo::sculpted::figure();
+    let target = Target::new(p, t).unwrap();
+    let (start, _, c) = wrap_target("figure", &target, WrapSettings::default());
+    assert_eq!(start, StartSurface::Isosurface);
+    assert_valid("figure", &c);
+    assert_eq!((c.genus, c.target_genus), (Some(0), Some(0)), "{c:?}");
+}
+
 /// Two spheres set apart, as a cloud, turned (two orientations that failed): one icosphere
 /// around both left a neck between them whose pinch never passed (its caps crossed the
 /// stumps), and the wrap stayed one part, 0.48 from the data, with under 700 vertices. Each

@@ -6,7 +6,7 @@
 //! with the target's topology.
 
 use super::EvolveError;
-use crate::field::DistanceField;
+use crate::field::{DistanceField, FieldError};
 use crate::flow::settings::{StartSurface, WrapSettings};
 use crate::flow::start::{build_start, Start};
 use crate::mesh::{HalfedgeMesh, MeshReport};
@@ -14,7 +14,8 @@ use crate::progress::Progress;
 use crate::target::Target;
 
 /// Grid refinements tried for an isosurface start that lost a closed mesh's topology (see
-/// [`finer_start`]).
+/// [`finer_start`]); one over the field's memory cap becomes the finest grid the cap allows,
+/// where that is finer than the refinement before.
 const FINER_GRIDS: [f64; 2] = [1.5, 2.0];
 
 /// `auto`'s isosurface start `resolved` with the isosurface preset's λ_min instead of its own
@@ -95,9 +96,9 @@ pub(super) fn build_start_with_fallback(
 /// start lost the target's topology or met itself (an offset of ~1 cell closes a bore under
 /// ~4 cells wide, and the icosphere then wraps over it): the isosurface start on grids
 /// [`FINER_GRIDS`] times finer, the first with the target's topology, with its field and
-/// settings. `None` when the start taken is not that fallback, or no finer grid helps (or
-/// fits the field's memory cap). (A noisy volume's iso-surface rarely matches, so there the
-/// finer fields are mostly built in vain.)
+/// settings (a grid over the field's memory cap as [`FINER_GRIDS`] says). `None` when the start
+/// taken is not that fallback, or no finer grid helps. (A noisy volume's iso-surface rarely
+/// matches, so there the finer fields are mostly built in vain.)
 ///
 /// A volume's iso-surface of one closed part whose isosurface `start` has another topology
 /// tries the first of them too, and keeps `start` when it does not match (see
@@ -129,11 +130,20 @@ pub(super) fn finer_start(
         true => &FINER_GRIDS[..],
         false => &FINER_GRIDS[..1],
     };
-    grids.iter().find_map(|&k| {
+    let n = requested.field.cells_per_min_dimension as f64;
+    let cells: Vec<u32> = grids.iter().map(|&k| (k * n).round() as u32).collect();
+    (0..cells.len()).find_map(|i| {
         let mut s = requested.clone();
-        let n = s.field.cells_per_min_dimension as f64;
-        s.field.cells_per_min_dimension = (k * n).round() as u32;
-        let field = DistanceField::new_with_progress(target, &s.field_options(), progress).ok()?;
+        s.field.cells_per_min_dimension = cells[i];
+        let below = if i == 0 { n as u32 } else { cells[i - 1] };
+        let field = match DistanceField::new_with_progress(target, &s.field_options(), progress) {
+            Err(FieldError::TooLarge { cells_that_fit, .. }) if cells_that_fit > below => {
+                s.field.cells_per_min_dimension = cells_that_fit;
+                DistanceField::new_with_progress(target, &s.field_options(), progress)
+            }
+            built => built,
+        }
+        .ok()?;
         let resolved = s.clone().resolved_for(field.is_signed());
         (resolved.start.surface == StartSurface::Isosurface).then_some(())?;
         let start = build_start(target, &field, &resolved).ok()?;
