@@ -170,9 +170,8 @@ pub fn plate_holes() -> Shape {
     implicit_surface(sdf, -ext, ext, cell)
 }
 
-/// A cartoon figure (0.32 × 0.6 × 1.74, genus 0) whose parts nearly touch in one place each:
-/// knock knees 0.016 apart (about 1 % of its diagonal) and hands 0.016 from the hips, so an
-/// offset of a few cells closes a loop (genus 1, 2, 3) where the surface itself has none.
+/// A cartoon figure (genus 0) whose parts nearly touch in one place each, knock knees and hands
+/// beside the thighs: an offset of a few cells closes a loop there that the surface lacks.
 pub fn figure() -> Shape {
     let gap = 0.016;
     let sdf = |p: DVec3| {

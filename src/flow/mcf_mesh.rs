@@ -377,7 +377,7 @@ impl MeshFlow {
     /// Steps the lesson still takes: to the horizon t = [`MESH_LESSON_HORIZON`]·D², and none once
     /// it stopped early ([`MeshFlow::stopped_early`]).
     pub fn steps_left(&self) -> u32 {
-        if self.stopped_early().is_some() {
+        if self.collapsed() || self.pinched.is_some() {
             return 0;
         }
         mesh_lesson_steps(self.tau_relative).saturating_sub(self.step)
@@ -392,7 +392,7 @@ impl MeshFlow {
             self.relative_time(),
             self.step
         );
-        if self.area < MESH_LESSON_STOP_AREA * self.area0 {
+        if self.collapsed() {
             return Some(format!(
                 "Stopped {at}: the mesh has nearly collapsed (area {:.1} % of the start).",
                 100.0 * self.area / self.area0
@@ -405,6 +405,11 @@ impl MeshFlow {
                  flow on from there: thin parts pinch and triangles degenerate."
             )
         })
+    }
+
+    /// Whether the area has fallen below [`MESH_LESSON_STOP_AREA`] of the start's.
+    fn collapsed(&self) -> bool {
+        self.area < MESH_LESSON_STOP_AREA * self.area0
     }
 
     /// Mean and largest |H| over the moving (interior) vertices.

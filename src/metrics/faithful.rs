@@ -144,23 +144,15 @@ fn far_regions(
     at_edge: impl Fn(u32) -> bool + Sync,
 ) -> (usize, usize, usize, Vec<u32>) {
     let is_far = |v: u32| far.binary_search(&v).is_ok();
-    let n = far.last().map_or(0, |&v| v as usize + 1);
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn root(parent: &mut [u32], mut v: u32) -> u32 {
-        while parent[v as usize] != v {
-            parent[v as usize] = parent[parent[v as usize] as usize];
-            v = parent[v as usize];
-        }
-        v
-    }
+    let mut sets =
+        crate::mesh::disjoint::DisjointSets::new(far.last().map_or(0, |&v| v as usize + 1));
     let edges = triangles
         .iter()
         .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])));
     for (a, b) in edges.filter(|&(a, b)| is_far(a) && is_far(b)) {
-        let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
-        parent[ra.max(rb) as usize] = ra.min(rb);
+        sets.union(a, b);
     }
-    let mut regions: Vec<(u32, u32)> = far.iter().map(|&v| (root(&mut parent, v), v)).collect();
+    let mut regions: Vec<(u32, u32)> = far.iter().map(|&v| (sets.find(v), v)).collect();
     regions.sort_unstable();
     let big: Vec<&[(u32, u32)]> = regions
         .chunk_by(|a, b| a.0 == b.0)

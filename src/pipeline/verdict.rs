@@ -378,8 +378,8 @@ mod tests {
             .is_empty());
     }
 
-    /// Far regions that span openings of the data leave a result valid; membranes over 1 % of
-    /// the area or more make it unfaithful (amber), and the badge and sentence say so.
+    /// Far regions that span openings of the data leave a result valid; membranes over
+    /// [`MEMBRANE_SHARE`] of the area make it unfaithful (amber), and the badge and sentence say so.
     #[test]
     fn membranes_in_empty_space_are_unfaithful_openings_are_not() {
         let mut c = certified();
