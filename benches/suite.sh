@@ -48,7 +48,7 @@ DATA_FILES="bunnyPts_3.ply bunny.ply spot.obj spotPts_4.ply 1Torus.obj 2Torus.ob
 expected_genus() {
     case $1 in
         torus-g[0-9]*) local g=${1#torus-g}; echo "${g%%-*}" ;;
-        torus-sparse-cloud | cube-hole | 1Torus) echo 1 ;;
+        torus-sparse-cloud | torus-curves | cube-hole | 1Torus) echo 1 ;;
         2Torus) echo 2 ;;
         3Torus) echo 3 ;;
         *) echo 0 ;;

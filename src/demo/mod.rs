@@ -9,6 +9,7 @@
 //! The test-shape suite (genus 1–5, sparse, cut, sharp, thin, touching, self-intersecting and
 //! degenerate inputs) lives in [`shapes`]; [`shape`] serves those names too.
 
+pub mod curves;
 pub mod implicit;
 pub mod sculpted;
 pub mod shapes;

@@ -92,6 +92,18 @@ pub const SHAPES: &[(&str, &str)] = &[
     ),
     ("cube-cloud", "20 000 points sampled from cube (no normals): sharp edges in a cloud"),
     (
+        "sphere-curves",
+        "2 200 points on the unit sphere along 11 circles only (6 through the poles, 5 parallels): a curve-sampled cloud, genus 0",
+    ),
+    (
+        "torus-curves",
+        "2 400 points on a torus (R 0.5, r 0.2) along 12 tube cross-sections and 4 circles round its axis: a curve-sampled cloud, genus 1",
+    ),
+    (
+        "cube-edges",
+        "720 points along the 12 edges of the unit cube only: a wireframe cloud, genus 0",
+    ),
+    (
         "cad-part-cloud",
         "20 000 points sampled from cad-part (no normals): convex, concave and 135° edges in a cloud",
     ),
@@ -117,6 +129,9 @@ pub fn generate(name: &str) -> Result<Shape, DemoError> {
         "torus-g4-cloud" => cloud(torus_chain(4), 104),
         "torus-g5-cloud" => cloud(torus_chain(5), 105),
         "torus-sparse-cloud" => Ok((torus_cloud(0.5, 0.25, 1500, 11), vec![])),
+        "sphere-curves" => Ok((super::curves::sphere_curves(), vec![])),
+        "torus-curves" => Ok((super::curves::torus_curves(), vec![])),
+        "cube-edges" => Ok((super::curves::cube_edges(), vec![])),
         "sphere-cut-cloud" => Ok((cut_sphere_cloud(10_000, 0.5, 12), vec![])),
         "sphere-cut" => Ok(cut_sphere(128, 48, 0.5)),
         "cube-hole" => Ok(cube_with_hole(0.25, 64, 16)),

@@ -2,10 +2,13 @@
 //!
 //! The evolution stops where the distance field equals d₀ (about one cell out), because a
 //! smaller d₀ would let the surface slip between the points of a cloud. Once it has settled,
-//! each vertex is moved along its normal onto the target: for a point cloud, onto the plane
-//! fitted (weighted PCA) to the points around it — a one-step moving-least-squares projection;
-//! for a mesh, by the component along the normal of the way to the closest point of the
-//! triangles (exactly onto it where it lies along the normal). Vertices without a clear local
+//! each vertex is moved onto the target: for a point cloud, along the normal of the plane fitted
+//! (weighted PCA, lifted by a quadric) to the points around it — a one-step moving-least-squares
+//! projection, whose direction is the data's and so varies smoothly from vertex to vertex where
+//! the wrap's own normals do not (over a sparse or curve-like sampling the settled surface is
+//! dimpled, and moves along its normals longer than its edges fold it); for a mesh, along the
+//! vertex normal by the component on it of the way to the closest point of the triangles
+//! (exactly onto it where it lies along the normal). Vertices without a clear local
 //! surface (too few points, plane nearly parallel to the normal, a move longer than the limit —
 //! e.g. where the surface bridges a hole in a scan) take their neighbours' mean move when most
 //! of those have one, and otherwise stay where they are.
@@ -30,6 +33,8 @@ pub struct SnapParams {
     /// Most points a plane is fitted to: the nearest within `radius`. Bounds the fit's cost on
     /// dense scans (thousands of points within the radius) without changing it on sparse ones.
     pub max_points: usize,
+    /// A cloud's moves follow the fitted plane's normal, not the vertex normal.
+    pub along_data_normal: bool,
 }
 
 /// What the target looks like to the fit.
@@ -84,20 +89,20 @@ pub fn snap_to_target(
         PROGRESS_CHUNK,
         |i| {
             let (p, n) = (positions[i], normals[i]);
-            let t = match target {
+            let step = match target {
                 SnapTarget::Points(grid) => {
                     match creases.and_then(|c| crease_plane_offset(c, p, n, params.radius)) {
-                        Some(t) => t?,
-                        None => plane_offset(grid, p, n, params)?,
+                        Some(t) => t? * n,
+                        None => plane_move(grid, p, n, params)?,
                     }
                 }
                 // Along the normal by the closest point's component on it, also where that
                 // point lies off to the side (near a crease or in a narrow valley): moving to
                 // the point itself crowds vertices there, and refusing such moves leaves the
                 // vertex farther off still.
-                SnapTarget::Triangles(bvh) => (bvh.closest_point(p)?.point - p).dot(n),
+                SnapTarget::Triangles(bvh) => (bvh.closest_point(p)?.point - p).dot(n) * n,
             };
-            (t.abs() <= params.max_move).then_some(p + t * n)
+            (step.length() <= params.max_move).then_some(p + step)
         },
         &mut |done| progress(done as f64 / n_vertices as f64),
     );
@@ -284,15 +289,17 @@ fn crease_plane_offset(creases: &Creases, p: DVec3, n: DVec3, radius: f64) -> Op
     Some((cos.abs() >= 0.5).then(|| (hit.point - p).dot(m) / cos))
 }
 
-/// Signed distance along `n` from `p` to the plane fitted to the points near `p`.
+/// The move from `p` onto the surface fitted to the points near `p`, along the fitted plane's
+/// normal (or along `n`, see [`SnapParams::along_data_normal`]); None where the plane's normal
+/// lies more than 60° from the vertex normal `n`.
 ///
 /// Only the sheet of points nearest along the normal takes part: points more than half the
 /// radius deeper than the shallowest one belong to the far side of a thin part (an ear, a
 /// fin) and would pull the fit into the middle of it.
-fn plane_offset(grid: &PointGrid, p: DVec3, n: DVec3, params: &SnapParams) -> Option<f64> {
+fn plane_move(grid: &PointGrid, p: DVec3, n: DVec3, params: &SnapParams) -> Option<DVec3> {
     let mut nearest = Vec::with_capacity(params.max_points);
     grid.nearest_within_unordered(p, params.radius, params.max_points, &mut nearest);
-    plane_offset_of(
+    plane_move_of(
         nearest.iter().map(|&Near { point, .. }| point),
         p,
         n,
@@ -300,13 +307,13 @@ fn plane_offset(grid: &PointGrid, p: DVec3, n: DVec3, params: &SnapParams) -> Op
     )
 }
 
-/// [`plane_offset`] from the points `near` p (those within the radius).
-fn plane_offset_of(
+/// [`plane_move`] from the points `near` p (those within the radius).
+fn plane_move_of(
     points: impl Iterator<Item = DVec3>,
     p: DVec3,
     n: DVec3,
     params: &SnapParams,
-) -> Option<f64> {
+) -> Option<DVec3> {
     let h2 = (0.5 * params.radius).powi(2);
     let mut near: Vec<(DVec3, f64)> = Vec::with_capacity(params.max_points);
     let mut shallowest = f64::INFINITY;
@@ -340,15 +347,19 @@ fn plane_offset_of(
         cov += DMat3::from_cols(d * (w * d.x), d * (w * d.y), d * (w * d.z));
     }
     let m = smallest_eigenvector(cov, n)?;
-    let cos = m.dot(n);
-    if cos.abs() < 0.5 {
+    if m.dot(n).abs() < 0.5 {
         return None;
     }
     // The plane through the weighted centroid sits inside a curved patch by about h²/2R (the
     // weights' spread over twice the radius of curvature), which on thin curved parts is well
     // above the fit's noise. The height of a quadric fitted over the plane removes it.
     let lift = quadric_height(&near, c, m, p, params.min_points).unwrap_or(0.0);
-    Some((c - p).dot(m) / cos + lift / cos)
+    let height = (c - p).dot(m) + lift;
+    Some(if params.along_data_normal {
+        height * m
+    } else {
+        (height / m.dot(n)) * n
+    })
 }
 
 /// Height over the plane (centroid `c`, normal `m`) of the weighted quadric
@@ -429,6 +440,7 @@ mod tests {
             max_move: 0.5,
             min_points: 6,
             max_points: 100_000,
+            along_data_normal: true,
         };
         let grid = PointGrid::new(&pts, params.radius);
         let (mut compared, mut worst_small_k) = (0, 0.0f64);
@@ -440,11 +452,11 @@ mod tests {
                 .iter()
                 .copied()
                 .filter(|q| (*q - p).length_squared() <= params.radius * params.radius);
-            let full = plane_offset_of(within, p, n, &params);
-            let knn = plane_offset(&grid, p, n, &params);
+            let full = plane_move_of(within, p, n, &params);
+            let knn = plane_move(&grid, p, n, &params);
             match (full, knn) {
                 (Some(a), Some(b)) => {
-                    assert!((a - b).abs() < 1e-12, "{a} vs {b}");
+                    assert!((a - b).length() < 1e-12, "{a} vs {b}");
                     compared += 1;
                 }
                 (a, b) => assert_eq!(a.is_some(), b.is_some()),
@@ -453,8 +465,8 @@ mod tests {
                 max_points: 32,
                 ..params
             };
-            if let (Some(a), Some(b)) = (full, plane_offset(&grid, p, n, &small)) {
-                worst_small_k = worst_small_k.max((a - b).abs());
+            if let (Some(a), Some(b)) = (full, plane_move(&grid, p, n, &small)) {
+                worst_small_k = worst_small_k.max((a - b).length());
             }
         }
         assert!(compared > 150, "only {compared} fits");
@@ -463,7 +475,7 @@ mod tests {
             "k = 32 moves the fit by {worst_small_k}"
         );
         params.max_points = 6;
-        assert!(plane_offset(&grid, DVec3::X * 1.05, DVec3::X, &params).is_some());
+        assert!(plane_move(&grid, DVec3::X * 1.05, DVec3::X, &params).is_some());
     }
 
     /// On a patch as wide as a third of the radius of curvature the fitted plane sits inside the
@@ -477,13 +489,14 @@ mod tests {
             max_move: 0.5,
             min_points: 6,
             max_points: 100_000,
+            along_data_normal: true,
         };
         let grid = PointGrid::new(&pts, params.radius);
         let bias = (0.5 * params.radius).powi(2) / 2.0;
         let mut worst = 0.0f64;
         for p in crate::geometry::sphere::fibonacci_sphere(200) {
-            let t = plane_offset(&grid, 1.1 * p, p, &params).unwrap();
-            worst = worst.max((1.1 + t - 1.0).abs());
+            let t = plane_move(&grid, 1.1 * p, p, &params).unwrap();
+            worst = worst.max(((1.1 * p + t).length() - 1.0).abs());
         }
         assert!(
             worst < 0.05 * bias,
@@ -503,6 +516,7 @@ mod tests {
             max_move: 0.2,
             min_points: 6,
             max_points: 64,
+            along_data_normal: true,
         };
         let mut heard = Vec::new();
         let moved = snap_to_target(
@@ -550,6 +564,7 @@ mod tests {
             max_move: 0.2,
             min_points: 6,
             max_points: 64,
+            along_data_normal: true,
         };
         assert_eq!(
             snap_to_target(

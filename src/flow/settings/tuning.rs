@@ -11,7 +11,7 @@ use serde::{Deserialize, Deserializer, Serialize};
 use serde_json::Value;
 
 /// The version new settings get.
-pub const CURRENT_VERSION: u32 = 2;
+pub const CURRENT_VERSION: u32 = 3;
 
 /// The versions of the table, oldest first, each with what it changed (for `lsw info` and the
 /// panel): version 1 is the tuning of every share link made before the table (link formats 1–3).
@@ -25,6 +25,7 @@ pub const VERSIONS: &[(u32, &str)] = &[
         "regrowth, tunnels, the principal-box grid, a sphere per part, enclosed regions signed, \
          gaps covered, far bubbles deflated",
     ),
+    (3, "a cloud's fit moves along the data's fitted normal"),
 ];
 
 /// Every tuned value of a wrap, by stage, with the version of the table they come from.
@@ -150,6 +151,10 @@ pub struct FitTuning {
     /// Mesh targets: the wrap vertex nearest to a target vertex still missed moves onto it when
     /// the way is clear, so a slit narrower than a cell is lined instead of bridged.
     pub reach: bool,
+    /// Clouds: a vertex moves along the normal of the plane fitted to the points around it (a
+    /// moving-least-squares projection), not along its own normal, which folds the surface
+    /// where the moves are longer than its edges (docs/decisions/0029-surface-spacing.md).
+    pub along_data_normal: bool,
 }
 
 /// Tuning of topology surgery.
@@ -182,7 +187,7 @@ impl Tuning {
         if version == 1 {
             return Some(t);
         }
-        if version != 2 {
+        if version == 0 || version > CURRENT_VERSION {
             return None;
         }
         t.version = 2;
@@ -193,6 +198,10 @@ impl Tuning {
         t.field.enclosed_cells = 2.0;
         t.flow.cover_gaps = 1.5;
         t.flow.deflate_far = 1.0;
+        if version >= 3 {
+            t.version = 3;
+            t.fit.along_data_normal = true;
+        }
         Some(t)
     }
 
@@ -239,6 +248,7 @@ impl Tuning {
                 volume_refine_passes: 0,
                 refine_max_vertices: 80_000,
                 reach: true,
+                along_data_normal: false,
             },
             guard: GuardSettings {
                 contact: true,

@@ -7,6 +7,7 @@
 //! not such a patch: they are the clump beside the gap, spaced closer than the patch.)
 
 use super::point_grid::{Near, PointGrid};
+use super::surface_spacing::surface_spacing_at;
 use glam::DVec3;
 
 /// Points of the patch whose nearest-point distances are taken.
@@ -26,7 +27,7 @@ pub fn spacing_at(grid: &PointGrid, q: DVec3) -> Option<f64> {
     let mut around = Vec::new();
     let mut d: Vec<f64> = patch
         .iter()
-        .filter_map(|n| grid.nearest_other_within(n.point, grid.diagonal(), &mut around))
+        .filter_map(|n| surface_spacing_at(grid, n.point, &mut around))
         .collect();
     if d.is_empty() {
         return None;

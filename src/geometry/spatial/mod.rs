@@ -9,3 +9,4 @@ pub mod parts;
 pub mod point_grid;
 pub mod radix;
 pub mod spacing;
+pub mod surface_spacing;

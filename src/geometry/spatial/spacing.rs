@@ -1,8 +1,10 @@
-//! The typical sampling spacing of a point cloud: the median distance from a point to its
-//! nearest other distinct point, over an evenly strided sample of at most 4096 points
-//! (deterministic); and, from the same sample, the spacing of its widest gaps.
+//! The typical sampling spacing of a point cloud: the median of its points' surface spacings
+//! ([`super::surface_spacing`]: the nearest other distinct point, or off a curve-like
+//! neighbourhood the nearest point off its line), over an evenly strided sample of at most 4096
+//! points (deterministic); and, from the same sample, the spacing of its widest gaps.
 
-use super::point_grid::PointGrid;
+use super::point_grid::{Near, PointGrid};
+use super::surface_spacing::surface_spacing_at;
 use glam::DVec3;
 
 /// Median distance from a point to its nearest *distinct* point (0 when there is none), over an
@@ -33,7 +35,7 @@ fn spacings(points: &[DVec3]) -> (f64, f64) {
     if let Some(d) = LAST.with(|l| l.get().filter(|(k, _)| *k == key).map(|(_, d)| d)) {
         return d;
     }
-    let d = compute(points);
+    let d = compute(points, surface_spacing_at);
     LAST.with(|l| l.set(Some((key, d))));
     d
 }
@@ -57,7 +59,11 @@ fn checksum(points: &[DVec3]) -> (usize, u64) {
     (points.len(), h)
 }
 
-fn compute(points: &[DVec3]) -> (f64, f64) {
+/// A point's spacing on the grid of the cloud it belongs to (`near`: scratch space).
+type PointSpacing = fn(&PointGrid, DVec3, &mut Vec<Near>) -> Option<f64>;
+
+/// (median, 99th percentile) of `spacing` over the strided sample of `points`.
+fn compute(points: &[DVec3], spacing: PointSpacing) -> (f64, f64) {
     // A bucket grid of about one cell per point (its memory bounded by the point count): on a
     // scanned surface a query opens a few cells of ~n^⅓ points each. Built in one counting
     // sort, against the median-split or Morton tree's sort of every point.
@@ -68,12 +74,11 @@ fn compute(points: &[DVec3]) -> (f64, f64) {
         return (0.0, 0.0); // Every point is a copy of the first.
     }
     let grid = PointGrid::with_cell(points, cell);
-    let radius = 2.0 * bbox.size().length() + cell;
     let stride = points.len().div_ceil(4096);
     let mut near = Vec::new();
     let mut d: Vec<f64> = (0..points.len())
         .step_by(stride)
-        .filter_map(|i| grid.nearest_other_within(points[i], radius, &mut near))
+        .filter_map(|i| spacing(&grid, points[i], &mut near))
         .collect();
     if d.is_empty() {
         return (0.0, 0.0);
@@ -105,8 +110,8 @@ mod tests {
         assert!((median_spacing(&pts) - 0.5).abs() < 1e-12);
     }
 
-    /// The grid search against every point, bit for bit: a noisy sphere with copies of some
-    /// points (triple ones too), a flat patch, and a line.
+    /// The grid search for each sampled point's nearest against every point, bit for bit: a
+    /// noisy sphere with copies of some points (triple ones too), a flat patch, and a line.
     #[test]
     fn agrees_with_brute_force() {
         let brute = |points: &[DVec3]| {
@@ -140,7 +145,8 @@ mod tests {
             .collect();
         let line: Vec<DVec3> = (0..3000).map(|i| DVec3::X * (i as f64).sqrt()).collect();
         for points in [sphere, flat, line] {
-            let ((m, w), (bm, bw)) = (compute(&points), brute(&points));
+            let nearest: PointSpacing = |g, p, near| g.nearest_other_within(p, g.diagonal(), near);
+            let ((m, w), (bm, bw)) = (compute(&points, nearest), brute(&points));
             assert_eq!((m.to_bits(), w.to_bits()), (bm.to_bits(), bw.to_bits()));
         }
     }
