@@ -33,8 +33,9 @@ pub struct SnapParams {
     /// Most points a plane is fitted to: the nearest within `radius`. Bounds the fit's cost on
     /// dense scans (thousands of points within the radius) without changing it on sparse ones.
     pub max_points: usize,
-    /// A cloud's moves follow the fitted plane's normal, not the vertex normal.
-    pub along_data_normal: bool,
+    /// A cloud's moves follow the fitted plane's normal, not the vertex normal, and the fold
+    /// check holds moved faces to the data's side (see [`fold_limited_shares`]).
+    pub moving_least_squares: bool,
 }
 
 /// What the target looks like to the fit.
@@ -84,28 +85,21 @@ pub fn snap_to_target(
 ) -> usize {
     let n_vertices = mesh.n_vertices();
     let positions = mesh.positions();
-    let moves: Vec<Option<DVec3>> = crate::parallel::map_chunked(
+    let fitted: Vec<(Option<DVec3>, Option<DVec3>)> = crate::parallel::map_chunked(
         n_vertices,
         PROGRESS_CHUNK,
         |i| {
-            let (p, n) = (positions[i], normals[i]);
-            let step = match target {
-                SnapTarget::Points(grid) => {
-                    match creases.and_then(|c| crease_plane_offset(c, p, n, params.radius)) {
-                        Some(t) => t? * n,
-                        None => plane_move(grid, p, n, params)?,
-                    }
+            let p = positions[i];
+            match vertex_move(target, creases, p, normals[i], params) {
+                Some((step, normal)) if step.length() <= params.max_move => {
+                    (Some(p + step), normal)
                 }
-                // Along the normal by the closest point's component on it, also where that
-                // point lies off to the side (near a crease or in a narrow valley): moving to
-                // the point itself crowds vertices there, and refusing such moves leaves the
-                // vertex farther off still.
-                SnapTarget::Triangles(bvh) => (bvh.closest_point(p)?.point - p).dot(n) * n,
-            };
-            (step.length() <= params.max_move).then_some(p + step)
+                _ => (None, None),
+            }
         },
         &mut |done| progress(done as f64 / n_vertices as f64),
     );
+    let (moves, data_normals): (Vec<_>, Vec<_>) = fitted.into_iter().unzip();
     // (A cloud's vertices with points around them only: one bridging a hole in the scan has
     // none and stays where the evolution left it.)
     let moves = match target {
@@ -117,7 +111,8 @@ pub fn snap_to_target(
         SnapTarget::Triangles(_) => moves,
     };
     let old = mesh.positions().to_vec();
-    let share = fold_limited_shares(mesh, &old, &moves);
+    let reference = params.moving_least_squares.then_some(&data_normals[..]);
+    let share = fold_limited_shares(mesh, &old, &moves, reference);
     let mut moved = 0;
     for (i, q) in mesh.positions_mut().iter_mut().enumerate() {
         if share[i] > 0.0 {
@@ -126,6 +121,32 @@ pub fn snap_to_target(
         }
     }
     moved
+}
+
+/// The fit's step for the vertex at `p` (normal `n`) and, for a plane fitted to a cloud, the
+/// plane's normal turned to `n`'s side; None without a step.
+fn vertex_move(
+    target: &SnapTarget,
+    creases: Option<&Creases>,
+    p: DVec3,
+    n: DVec3,
+    params: &SnapParams,
+) -> Option<(DVec3, Option<DVec3>)> {
+    match target {
+        SnapTarget::Points(grid) => {
+            match creases.and_then(|c| crease_plane_offset(c, p, n, params.radius)) {
+                Some(t) => Some((t? * n, None)),
+                None => {
+                    let (step, m) = plane_move(grid, p, n, params)?;
+                    Some((step, Some(m)))
+                }
+            }
+        }
+        // Along the normal by the closest point's component on it, also where that point lies
+        // off to the side (near a crease or in a narrow valley): moving to the point itself
+        // crowds vertices there, and refusing such moves leaves the vertex farther off still.
+        SnapTarget::Triangles(bvh) => Some(((bvh.closest_point(p)?.point - p).dot(n) * n, None)),
+    }
 }
 
 /// Moves every vertex of `mesh` farther than `min_off` from the mesh target `bvh` onto its closest
@@ -183,7 +204,12 @@ pub fn move_onto_closest(
 /// A face whose straying vertex has no move (left) keeps its turn: at a sharp corner the right
 /// surface turns that much, and blaming another vertex there cuts the corner. The fit's
 /// intersection check after the pass is the guard of validity.
-fn fold_limited_shares(mesh: &HalfedgeMesh, old: &[DVec3], moves: &[Option<DVec3>]) -> Vec<f64> {
+fn fold_limited_shares(
+    mesh: &HalfedgeMesh,
+    old: &[DVec3],
+    moves: &[Option<DVec3>],
+    reference: Option<&[Option<DVec3>]>,
+) -> Vec<f64> {
     let mut share: Vec<f64> = moves
         .iter()
         .map(|m| if m.is_some() { 1.0 } else { 0.0 })
@@ -200,6 +226,7 @@ fn fold_limited_shares(mesh: &HalfedgeMesh, old: &[DVec3], moves: &[Option<DVec3
             let [a, b, c] = vs.map(|v| old[v as usize]);
             let [a2, b2, c2] = vs.map(|v| apply(v as usize));
             let (n0, n1) = ((b - a).cross(c - a), (b2 - a2).cross(c2 - a2));
+            let n0 = reference.map_or(n0, |r| data_side(n0, vs.map(|v| r[v as usize])));
             if n0.dot(n1) <= 0.5 * n0.length() * n1.length() {
                 // The vertex whose move strays most from the face's mean move: the one whose
                 // (noisy or far) move tilts the face.
@@ -231,6 +258,15 @@ fn fold_limited_shares(mesh: &HalfedgeMesh, old: &[DVec3], moves: &[Option<DVec3
         }
     }
     share
+}
+
+/// The direction a face should face after the fit: the mean of its vertices' fitted data
+/// normals (a corner without one counts the face's own direction `n0`). A face of a dimpled
+/// settled surface may turn by more than the fold limit onto a smooth one; what must not turn is
+/// the moved face against the data.
+fn data_side(n0: DVec3, normals: [Option<DVec3>; 3]) -> DVec3 {
+    let own = n0.normalize_or_zero();
+    normals.iter().map(|m| m.unwrap_or(own)).sum()
 }
 
 /// `share` of the way from `p` to its move (exactly the move at 1; `p` without one).
@@ -290,13 +326,13 @@ fn crease_plane_offset(creases: &Creases, p: DVec3, n: DVec3, radius: f64) -> Op
 }
 
 /// The move from `p` onto the surface fitted to the points near `p`, along the fitted plane's
-/// normal (or along `n`, see [`SnapParams::along_data_normal`]); None where the plane's normal
+/// normal (or along `n`, see [`SnapParams::moving_least_squares`]); None where the plane's normal
 /// lies more than 60° from the vertex normal `n`.
 ///
 /// Only the sheet of points nearest along the normal takes part: points more than half the
 /// radius deeper than the shallowest one belong to the far side of a thin part (an ear, a
 /// fin) and would pull the fit into the middle of it.
-fn plane_move(grid: &PointGrid, p: DVec3, n: DVec3, params: &SnapParams) -> Option<DVec3> {
+fn plane_move(grid: &PointGrid, p: DVec3, n: DVec3, params: &SnapParams) -> Option<(DVec3, DVec3)> {
     let mut nearest = Vec::with_capacity(params.max_points);
     grid.nearest_within_unordered(p, params.radius, params.max_points, &mut nearest);
     plane_move_of(
@@ -313,7 +349,7 @@ fn plane_move_of(
     p: DVec3,
     n: DVec3,
     params: &SnapParams,
-) -> Option<DVec3> {
+) -> Option<(DVec3, DVec3)> {
     let h2 = (0.5 * params.radius).powi(2);
     let mut near: Vec<(DVec3, f64)> = Vec::with_capacity(params.max_points);
     let mut shallowest = f64::INFINITY;
@@ -354,12 +390,13 @@ fn plane_move_of(
     // weights' spread over twice the radius of curvature), which on thin curved parts is well
     // above the fit's noise. The height of a quadric fitted over the plane removes it.
     let lift = quadric_height(&near, c, m, p, params.min_points).unwrap_or(0.0);
-    let height = (c - p).dot(m) + lift;
-    Some(if params.along_data_normal {
-        height * m
+    let cos = m.dot(n);
+    let step = if params.moving_least_squares {
+        ((c - p).dot(m) + lift) * m
     } else {
-        (height / m.dot(n)) * n
-    })
+        ((c - p).dot(m) / cos + lift / cos) * n
+    };
+    Some((step, if cos < 0.0 { -m } else { m }))
 }
 
 /// Height over the plane (centroid `c`, normal `m`) of the weighted quadric
@@ -440,7 +477,7 @@ mod tests {
             max_move: 0.5,
             min_points: 6,
             max_points: 100_000,
-            along_data_normal: true,
+            moving_least_squares: true,
         };
         let grid = PointGrid::new(&pts, params.radius);
         let (mut compared, mut worst_small_k) = (0, 0.0f64);
@@ -452,8 +489,8 @@ mod tests {
                 .iter()
                 .copied()
                 .filter(|q| (*q - p).length_squared() <= params.radius * params.radius);
-            let full = plane_move_of(within, p, n, &params);
-            let knn = plane_move(&grid, p, n, &params);
+            let full = plane_move_of(within, p, n, &params).map(|m| m.0);
+            let knn = plane_move(&grid, p, n, &params).map(|m| m.0);
             match (full, knn) {
                 (Some(a), Some(b)) => {
                     assert!((a - b).length() < 1e-12, "{a} vs {b}");
@@ -465,7 +502,7 @@ mod tests {
                 max_points: 32,
                 ..params
             };
-            if let (Some(a), Some(b)) = (full, plane_move(&grid, p, n, &small)) {
+            if let (Some(a), Some((b, _))) = (full, plane_move(&grid, p, n, &small)) {
                 worst_small_k = worst_small_k.max((a - b).length());
             }
         }
@@ -489,13 +526,13 @@ mod tests {
             max_move: 0.5,
             min_points: 6,
             max_points: 100_000,
-            along_data_normal: true,
+            moving_least_squares: true,
         };
         let grid = PointGrid::new(&pts, params.radius);
         let bias = (0.5 * params.radius).powi(2) / 2.0;
         let mut worst = 0.0f64;
         for p in crate::geometry::sphere::fibonacci_sphere(200) {
-            let t = plane_move(&grid, 1.1 * p, p, &params).unwrap();
+            let (t, _) = plane_move(&grid, 1.1 * p, p, &params).unwrap();
             worst = worst.max(((1.1 * p + t).length() - 1.0).abs());
         }
         assert!(
@@ -516,7 +553,7 @@ mod tests {
             max_move: 0.2,
             min_points: 6,
             max_points: 64,
-            along_data_normal: true,
+            moving_least_squares: true,
         };
         let mut heard = Vec::new();
         let moved = snap_to_target(
@@ -564,7 +601,7 @@ mod tests {
             max_move: 0.2,
             min_points: 6,
             max_points: 64,
-            along_data_normal: true,
+            moving_least_squares: true,
         };
         assert_eq!(
             snap_to_target(
@@ -599,7 +636,7 @@ mod tests {
         let centre = n * n / 2;
         let mut moves: Vec<Option<DVec3>> = pts.iter().map(|p| Some(p.with_z(0.0))).collect();
         moves[centre] = Some(pts[centre].with_z(-0.2));
-        let share = fold_limited_shares(&mesh, &pts, &moves);
+        let share = fold_limited_shares(&mesh, &pts, &moves, None);
         assert_eq!(share[centre], 0.5);
         assert!(
             (0..n * n).all(|v| v == centre || share[v] == 1.0),
@@ -608,11 +645,45 @@ mod tests {
         assert!((partial(pts[centre], moves[centre], 0.5).z + 0.05).abs() < 1e-15);
         // A move that folds even at an eighth is dropped, and only its own.
         moves[centre] = Some(pts[centre].with_z(-5.0));
-        let share = fold_limited_shares(&mesh, &pts, &moves);
+        let share = fold_limited_shares(&mesh, &pts, &moves, None);
         assert_eq!(share[centre], 0.0);
         assert!(
             (0..n * n).all(|v| v == centre || share[v] == 1.0),
             "{share:?}"
         );
+    }
+
+    /// A dimple's faces turn by more than the fold limit when the fit flattens it: checked
+    /// against the old faces the flattening is cut down; held to the data's normals it is made.
+    #[test]
+    fn a_dimple_flattened_onto_the_data_is_not_a_fold() {
+        let n = 5;
+        let centre = n * n / 2;
+        let pts: Vec<DVec3> = (0..n * n)
+            .map(|k| {
+                let z = if k == centre { 0.4 } else { 0.1 };
+                DVec3::new(0.1 * (k % n) as f64, 0.1 * (k / n) as f64, z)
+            })
+            .collect();
+        let mut faces = Vec::new();
+        for j in 0..n as u32 - 1 {
+            for i in 0..n as u32 - 1 {
+                let a = j * n as u32 + i;
+                faces.push([a, a + 1, a + n as u32 + 1]);
+                faces.push([a, a + n as u32 + 1, a + n as u32]);
+            }
+        }
+        let mesh = HalfedgeMesh::from_triangles(pts.clone(), &faces).unwrap();
+        let moves: Vec<Option<DVec3>> = pts.iter().map(|p| Some(p.with_z(0.0))).collect();
+        let against_old = fold_limited_shares(&mesh, &pts, &moves, None);
+        assert!(against_old[centre] < 1.0, "{against_old:?}");
+        let up = vec![Some(DVec3::Z); n * n];
+        let held = fold_limited_shares(&mesh, &pts, &moves, Some(&up));
+        assert!(held.iter().all(|&s| s == 1.0), "{held:?}");
+        // A move that turns a face against the data is still cut down.
+        let mut folding = moves.clone();
+        folding[centre] = Some(pts[centre].with_z(-0.3));
+        let cut = fold_limited_shares(&mesh, &pts, &folding, Some(&up));
+        assert!(cut[centre] < 1.0, "{cut:?}");
     }
 }

@@ -117,7 +117,7 @@ impl FitOptions {
                 max_move: fit.max_move_cells * cell,
                 min_points: 6,
                 max_points: tuned.max_points,
-                along_data_normal: tuned.along_data_normal,
+                moving_least_squares: tuned.moving_least_squares,
             },
             passes: fit.passes,
             refine_passes: tuned.refine_passes,

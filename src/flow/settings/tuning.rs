@@ -151,10 +151,11 @@ pub struct FitTuning {
     /// Mesh targets: the wrap vertex nearest to a target vertex still missed moves onto it when
     /// the way is clear, so a slit narrower than a cell is lined instead of bridged.
     pub reach: bool,
-    /// Clouds: a vertex moves along the normal of the plane fitted to the points around it (a
-    /// moving-least-squares projection), not along its own normal, which folds the surface
-    /// where the moves are longer than its edges (docs/decisions/0029-surface-spacing.md).
-    pub along_data_normal: bool,
+    /// Clouds: the fit is a moving-least-squares projection — along the normal of the plane
+    /// fitted to the points around the vertex (not along the vertex's own normal, which folds
+    /// the surface where the moves are longer than its edges), over a neighbourhood widened
+    /// until its points spread across a surface (docs/decisions/0029-surface-spacing.md).
+    pub moving_least_squares: bool,
 }
 
 /// Tuning of topology surgery.
@@ -200,7 +201,7 @@ impl Tuning {
         t.flow.deflate_far = 1.0;
         if version >= 3 {
             t.version = 3;
-            t.fit.along_data_normal = true;
+            t.fit.moving_least_squares = true;
         }
         Some(t)
     }
@@ -248,7 +249,7 @@ impl Tuning {
                 volume_refine_passes: 0,
                 refine_max_vertices: 80_000,
                 reach: true,
-                along_data_normal: false,
+                moving_least_squares: false,
             },
             guard: GuardSettings {
                 contact: true,
