@@ -616,13 +616,10 @@ mod tests {
         );
     }
 
-    #[test]
-    fn a_folding_move_is_cut_down_not_dropped() {
-        // A flat 5 × 5 grid of spacing 0.1 at z = 0.1; every vertex moves down to z = 0, the
-        // centre one to −0.2 (some of its faces would turn by 70°, with half the move by 35°).
-        let n = 5;
+    /// An n × n grid of spacing 0.1 in x and y, vertex k at height `z(k)`, triangulated facing +z.
+    fn sheet(n: usize, z: impl Fn(usize) -> f64) -> (Vec<DVec3>, HalfedgeMesh) {
         let pts: Vec<DVec3> = (0..n * n)
-            .map(|k| DVec3::new(0.1 * (k % n) as f64, 0.1 * (k / n) as f64, 0.1))
+            .map(|k| DVec3::new(0.1 * (k % n) as f64, 0.1 * (k / n) as f64, z(k)))
             .collect();
         let mut faces = Vec::new();
         for j in 0..n as u32 - 1 {
@@ -633,7 +630,16 @@ mod tests {
             }
         }
         let mesh = HalfedgeMesh::from_triangles(pts.clone(), &faces).unwrap();
+        (pts, mesh)
+    }
+
+    #[test]
+    fn a_folding_move_is_cut_down_not_dropped() {
+        // A flat 5 × 5 grid of spacing 0.1 at z = 0.1; every vertex moves down to z = 0, the
+        // centre one to −0.2 (some of its faces would turn by 70°, with half the move by 35°).
+        let n = 5;
         let centre = n * n / 2;
+        let (pts, mesh) = sheet(n, |_| 0.1);
         let mut moves: Vec<Option<DVec3>> = pts.iter().map(|p| Some(p.with_z(0.0))).collect();
         moves[centre] = Some(pts[centre].with_z(-0.2));
         let share = fold_limited_shares(&mesh, &pts, &moves, None);
@@ -659,21 +665,7 @@ mod tests {
     fn a_dimple_flattened_onto_the_data_is_not_a_fold() {
         let n = 5;
         let centre = n * n / 2;
-        let pts: Vec<DVec3> = (0..n * n)
-            .map(|k| {
-                let z = if k == centre { 0.4 } else { 0.1 };
-                DVec3::new(0.1 * (k % n) as f64, 0.1 * (k / n) as f64, z)
-            })
-            .collect();
-        let mut faces = Vec::new();
-        for j in 0..n as u32 - 1 {
-            for i in 0..n as u32 - 1 {
-                let a = j * n as u32 + i;
-                faces.push([a, a + 1, a + n as u32 + 1]);
-                faces.push([a, a + n as u32 + 1, a + n as u32]);
-            }
-        }
-        let mesh = HalfedgeMesh::from_triangles(pts.clone(), &faces).unwrap();
+        let (pts, mesh) = sheet(n, |k| if k == centre { 0.4 } else { 0.1 });
         let moves: Vec<Option<DVec3>> = pts.iter().map(|p| Some(p.with_z(0.0))).collect();
         let against_old = fold_limited_shares(&mesh, &pts, &moves, None);
         assert!(against_old[centre] < 1.0, "{against_old:?}");

@@ -152,9 +152,9 @@ pub struct FitTuning {
     /// the way is clear, so a slit narrower than a cell is lined instead of bridged.
     pub reach: bool,
     /// Clouds: the fit is a moving-least-squares projection — along the normal of the plane
-    /// fitted to the points around the vertex (not along the vertex's own normal, which folds
-    /// the surface where the moves are longer than its edges), over a neighbourhood widened
-    /// until its points spread across a surface (docs/decisions/0029-surface-spacing.md).
+    /// fitted to the points around the vertex, not along the vertex's own normal, which folds
+    /// the surface where the moves are longer than its edges — and its fold check holds a moved
+    /// face to its vertices' fitted normals (docs/decisions/0029-surface-spacing.md).
     pub moving_least_squares: bool,
 }
 

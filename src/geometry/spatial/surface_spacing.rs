@@ -28,8 +28,12 @@ const MOST_POINTS: usize = 1024;
 /// curve-like neighbourhood the nearest point's off the curve's line (see the module note);
 /// None when `q` has no distinct neighbour. `near` is scratch space.
 pub fn surface_spacing_at(grid: &PointGrid, q: DVec3, near: &mut Vec<Near>) -> Option<f64> {
-    let nearest = grid.nearest_other_within(q, grid.diagonal(), near)?;
     grid.nearest_within(q, grid.diagonal(), LINE_POINTS, near);
+    // (The nearest distinct point is among these unless q has that many copies.)
+    let nearest = match near.iter().find(|n| n.d2 > 0.0) {
+        Some(n) => n.d2.sqrt(),
+        None => grid.nearest_other_within(q, grid.diagonal(), &mut Vec::new())?,
+    };
     let Some(axis) = line_axis(near.iter().map(|n| n.point)) else {
         return Some(nearest);
     };
