@@ -5,11 +5,12 @@
 use super::{mcf::mean_curvature, Evolver};
 use crate::geometry::operators::CotanLaplacian;
 use crate::mesh::HalfedgeMesh;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// A per-vertex scalar of the surface being wrapped.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
 pub enum ColourMap {
     /// Distance to the target at each vertex, in target units: the exact one once the wrap is
     /// certified, the field's |d| while it runs.
@@ -118,6 +119,31 @@ impl ColourMap {
         }
     }
 
+    /// The range the legend and the colours span for `values` of this map: an indicator map's
+    /// is [0, 1]; another's is robust — its 2nd and 98th percentiles (a few outliers do not
+    /// flatten the rest into one colour), widened by ±5 % where they agree to 1e-4 (a uniform
+    /// field such as a sphere's curvature: its rounding noise is not coloured as a pattern).
+    /// Non-finite values are left out; [0, 1] when none is finite.
+    pub fn display_range(self, values: &[f64]) -> [f64; 2] {
+        if matches!(self, ColourMap::Features | ColourMap::Flagged) {
+            return [0.0, 1.0];
+        }
+        let mut finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+        if finite.is_empty() {
+            return [0.0, 1.0];
+        }
+        finite.sort_unstable_by(f64::total_cmp);
+        let last = (finite.len() - 1) as f64;
+        let mut lo = finite[(0.02 * last).floor() as usize];
+        let mut hi = finite[(0.98 * last).ceil() as usize];
+        if hi - lo <= 1e-4 * lo.abs().max(hi.abs()) {
+            let pad = (0.05 * hi.abs()).max(1e-6);
+            lo -= pad;
+            hi += pad;
+        }
+        [lo, hi]
+    }
+
     /// Every colour map, in menu order.
     pub fn all() -> impl Iterator<Item = ColourMap> {
         COLOUR_MAPS.iter().map(|i| i.map)
@@ -183,6 +209,32 @@ mod tests {
     use crate::geometry::icosphere::icosphere;
     use crate::target::Target;
     use glam::DVec3;
+
+    #[test]
+    fn the_display_range_leaves_outliers_and_noise_out() {
+        let mut v: Vec<f64> = (0..100).map(f64::from).collect();
+        v.extend([1e9, f64::NAN, f64::INFINITY]);
+        let [lo, hi] = ColourMap::Curvature.display_range(&v);
+        assert!(
+            (0.0..=3.0).contains(&lo) && (90.0..1000.0).contains(&hi),
+            "{lo} {hi}"
+        );
+        // A uniform field is widened by ±5 %, not coloured by its rounding noise.
+        let noisy: Vec<f64> = (0..50).map(|i| 1.0 + 1e-6 * f64::from(i % 7)).collect();
+        let [lo, hi] = ColourMap::Kappa.display_range(&noisy);
+        assert!(
+            (lo - 0.95).abs() < 1e-4 && (hi - 1.05).abs() < 1e-4,
+            "{lo} {hi}"
+        );
+        assert_eq!(
+            ColourMap::Distance.display_range(&[0.0, 0.0]),
+            [-1e-6, 1e-6]
+        );
+        assert_eq!(ColourMap::Distance.display_range(&[f64::NAN]), [0.0, 1.0]);
+        // Indicator maps span 0–1 whatever they hold.
+        assert_eq!(ColourMap::Flagged.display_range(&[0.0; 9]), [0.0, 1.0]);
+        assert_eq!(ColourMap::Features.display_range(&[1.0; 3]), [0.0, 1.0]);
+    }
 
     #[test]
     fn lesson_maps_are_the_mesh_only_ones() {

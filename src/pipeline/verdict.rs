@@ -2,7 +2,7 @@
 //! to try, decided here from the certificate and what the run reported. The CLI prints it and the
 //! page shows it; neither decides anything of its own.
 
-use crate::flow::StartedOver;
+use crate::flow::{ColourMap, StartedOver};
 use crate::metrics::certificate::Certificate;
 use crate::metrics::faithful::Faithfulness;
 use serde::{Deserialize, Serialize};
@@ -44,6 +44,10 @@ pub struct Verdict {
     pub warnings: Vec<String>,
     /// What the run left out or did again, in words ("3 stray points left out", …).
     pub notes: Vec<String>,
+    /// The colour map that shows where the result is off, for the page to switch to: the
+    /// flagged vertices of an unfaithful one; `None` where there is nothing to point at.
+    #[serde(default)]
+    pub highlight: Option<ColourMap>,
 }
 
 /// What a run left out of the target before wrapping it.
@@ -91,6 +95,7 @@ impl Verdict {
             explanation: explain(c, stop, again),
             warnings: c.warnings(),
             notes,
+            highlight: (state == VerdictState::Unfaithful).then_some(ColourMap::Flagged),
         }
     }
 }
@@ -394,10 +399,12 @@ mod tests {
         c.faithfulness = Some(far(2, 1, 0.009));
         let v = Verdict::of(&c, None, None, LeftOut::default());
         assert_eq!(v.state, VerdictState::Valid);
+        assert_eq!(v.highlight, None);
         assert!(v.notes[0].contains("2 opening(s)"), "{:?}", v.notes);
         c.faithfulness = Some(far(0, 3, 0.04));
         let v = Verdict::of(&c, None, None, LeftOut::default());
         assert_eq!(v.state, VerdictState::Unfaithful);
+        assert_eq!(v.highlight, Some(ColourMap::Flagged));
         assert!(v.certified);
         assert!(
             v.badge.contains(&"⚠ 4.0 % spans empty space".to_owned()),

@@ -38,3 +38,16 @@ pub fn preset_settings(name: &str) -> Result<String, JsValue> {
         .ok_or_else(|| UiError::unknown("unknown preset", name, &Preset::ALL.map(Preset::name)))?;
     Ok(serde_json::to_string(&p.settings()).unwrap_or_default())
 }
+
+/// The legend's range `[lo, hi]` for `values` of the colour map called `name` (see
+/// [`crate::flow::ColourMap::display_range`]): the page colours by it and shows it, and decides
+/// nothing about it.
+#[wasm_bindgen(js_name = colourRange)]
+pub fn colour_range(name: &str, values: &[f32]) -> Result<Vec<f64>, JsValue> {
+    let map = crate::flow::ColourMap::from_name(name).ok_or_else(|| {
+        let names: Vec<&str> = crate::flow::ColourMap::all().map(|m| m.name()).collect();
+        UiError::unknown("unknown colour map", name, &names)
+    })?;
+    let values: Vec<f64> = values.iter().map(|&v| f64::from(v)).collect();
+    Ok(map.display_range(&values).to_vec())
+}

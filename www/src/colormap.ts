@@ -1,4 +1,5 @@
-// Colour maps for per-vertex scalars (display only; values come from the Rust core).
+// Colour maps for per-vertex scalars (display only; the values and their range come from the Rust
+// core).
 
 // Turbo colour map (Google), 7 control points, linearly interpolated.
 const TURBO: [number, number, number][] = [
@@ -14,21 +15,6 @@ export function turbo(t: number): [number, number, number] {
   const f = x - i;
   const a = TURBO[i], b = TURBO[i + 1];
   return [a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), a[2] + f * (b[2] - a[2])];
-}
-
-/** Robust range: the 2nd and 98th percentiles, widened by ±5 % when they agree to 1e-4 (a uniform
- * field such as the curvature of a sphere: its rounding noise is not coloured as if it meant something). */
-export function robustRange(values: ArrayLike<number>): [number, number] {
-  const finite = Float64Array.from(values).filter(Number.isFinite).sort();
-  if (finite.length === 0) return [0, 1];
-  let lo = finite[Math.floor(0.02 * (finite.length - 1))];
-  let hi = finite[Math.ceil(0.98 * (finite.length - 1))];
-  if (hi - lo <= 1e-4 * Math.max(Math.abs(lo), Math.abs(hi))) {
-    const pad = Math.max(1e-6, Math.abs(hi) * 0.05);
-    lo -= pad;
-    hi += pad;
-  }
-  return [lo, hi];
 }
 
 /** Fills `out` (RGB per vertex) from `values` mapped through [lo, hi]. */

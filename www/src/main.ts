@@ -67,7 +67,7 @@ const settings = new RunSettings(byId('preset'), byId('gui'), send, updateShare)
 const readout = new WrapReadout();
 const kept = new KeptResult(draw, health);
 const lesson = new Lesson({ mode, status, field, draw, send, share: updateShare });
-const run = new WrapRun({ mode, status, settings, kept, readout, field, health, draw, send, cancel: () => compute.cancel(), share: updateShare, targetOverlay: (on) => view.targetOverlay(on) });
+const run = new WrapRun({ mode, status, settings, kept, readout, field, health, draw, send, cancel: () => compute.cancel(), share: updateShare, view });
 const exporter = new Exporter(send, kept, () => run.name);
 const sphereLesson = () => mode.current === 'mcf' && lesson.kind === 'sphere'; // its link names the lesson and its parameters
 const share = new ShareLink(

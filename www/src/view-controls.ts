@@ -94,6 +94,15 @@ export class ViewControls {
     if (v !== this.view.cmap) this.show(v);
   }
 
+  /** Shows the map a result's verdict points at (null: the map last chosen again), without
+   * making it the user's choice. */
+  highlight(map: string | null): void {
+    const v = map ?? this.wanted;
+    if (v === this.view.cmap || !this.menu.some(([x]) => x === v)) return;
+    this.cmap.value = v;
+    this.show(v);
+  }
+
   private show(map: string): void {
     this.view.cmap = map;
     this.sendColour();

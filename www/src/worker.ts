@@ -3,12 +3,12 @@
 // when a single step (or the field construction) runs too long to answer a cancel in time.
 import init, {
   McfSession, WrapSession, presetSettings, settingsDocs, settingsEnums, settingAliases, catalog, demoShape, demoMesh, controlCurves, exportMesh,
-  VolumeView, phantomVolume,
+  VolumeView, phantomVolume, colourRange,
 } from '../pkg/lsw.js';
 import type { Catalog, ColourMap, CreaseReply, CreaseRequest, FieldView, FromWorker, Histogram, McfStats, MeshTauAdvice, Outcome, Source, StartedOver, StepReport, TargetInfo, TauAdvice, ToWorker, VolumeInfo } from './protocol';
 import { failureError } from './protocol';
 import { batchSize } from './schedule';
-import { colorize, robustRange } from './colormap';
+import { colorize } from './colormap';
 import { Stopwatch } from './stopwatch';
 
 const ready = init();
@@ -45,10 +45,12 @@ function fail(e: unknown): void {
   post({ type: 'error', error: failureError(e, wasmMemory?.buffer.byteLength ?? 0, clock.currentPhase) });
 }
 
-/** Colours for a scalar, or null for plain shading. */
-function colours(values: Float32Array | null, fixed?: [number, number]): { colors: Float32Array | null; range: [number, number] } {
+/** Colours for a scalar of the map `map`, or null for plain shading; the range is the core's
+ * (`fixed`: one kept from an earlier frame). */
+function colours(map: string, values: Float32Array | null, fixed?: [number, number]): { colors: Float32Array | null; range: [number, number] } {
   if (!values) return { colors: null, range: [0, 1] };
-  const range = fixed ?? robustRange(values);
+  const [lo, hi] = fixed ?? colourRange(map, values);
+  const range: [number, number] = [lo, hi];
   const colors = new Float32Array(values.length * 3);
   colorize(values, range[0], range[1], colors);
   return { colors, range };
@@ -71,7 +73,7 @@ function sendMcfFrame(): void {
   // A wrap's map the lesson does not have (distance, …) shows its first one.
   const map = colour === 'none' || lessonMaps.includes(colour) ? colour : lessonMaps[0];
   const values = map === 'none' ? null : mcf.scalar(map);
-  const { colors, range } = colours(values, mcf.lesson() === 'mesh' ? lessonRanges.get(map) : undefined);
+  const { colors, range } = colours(map, values, mcf.lesson() === 'mesh' ? lessonRanges.get(map) : undefined);
   if (values && mcf.lesson() === 'mesh' && !lessonRanges.has(map)) lessonRanges.set(map, range);
   const transfer: Transferable[] = [positions.buffer, normals.buffer];
   if (colors) transfer.push(colors.buffer);
@@ -258,7 +260,7 @@ function sendWrapFrame(session: WrapSession): void {
   const normals = session.normals();
   const indices = session.indices();
   const values = scalarOf(session);
-  const { colors, range } = colours(values, colour === 'features' ? [0, 1] : undefined);
+  const { colors, range } = colours(colour, values);
   const report = session.report() as StepReport | undefined;
   const histogram = session.kappaHistogram(40, 2.0) as Histogram;
   const transfer: Transferable[] = [positions.buffer, normals.buffer, indices.buffer];

@@ -13,6 +13,7 @@ import { leftOutNote, repairsNote } from './protocol';
 import { describeFile, sameFile, validDataset, type FileStamp } from './share';
 import { stampFile } from './share-link';
 import type { StatusLine } from './status';
+import type { ViewControls } from './view-controls';
 import { VolumePanel } from './volume';
 import type { WrapReadout } from './wrap-readout';
 
@@ -43,8 +44,8 @@ export interface WrapRunDeps {
   cancel: () => Promise<void>;
   /** Rewrites the share link. */
   share: () => void;
-  /** Shows or hides the target overlay (see `ViewControls.targetOverlay`). */
-  targetOverlay: (on: boolean) => void;
+  /** The view's target overlay and colour map, as a run and its verdict want them. */
+  view: Pick<ViewControls, 'targetOverlay' | 'highlight'>;
 }
 
 export class WrapRun {
@@ -281,7 +282,8 @@ export class WrapRun {
     this.live = true;
     this.target = { positions: msg.positions.slice(), indices: msg.indices.slice() };
     this.d.draw({ type: 'target', positions: msg.positions, indices: msg.indices.length ? msg.indices : null }, [msg.positions.buffer, msg.indices.buffer]);
-    this.d.targetOverlay(true);
+    this.d.view.targetOverlay(true);
+    this.d.view.highlight(null);
     const i: TargetInfo = msg.info;
     this.d.field.reveal();
     byId('target-info').textContent = `${msg.name}: ${i.format}, ${i.kind === 'points' ? `${i.points} points` : `${i.points} vertices, ${i.triangles} triangles`}, diagonal ${i.diagonal.toPrecision(4)}${repairsNote(i.repairs)}${leftOutNote(i.leftOut)}`;
@@ -313,7 +315,8 @@ export class WrapRun {
   result(msg: Extract<FromWorker, { type: 'result' }>): void {
     if (!this.isCurrent(msg.run)) return;
     this.d.kept.keep(msg, this.target);
-    this.d.targetOverlay(false);
+    this.d.view.targetOverlay(false);
+    this.d.view.highlight(msg.verdict.highlight ?? null);
     this.keptShown = true;
     this.settingsBefore = null;
     if (this.input) this.committed = { input: this.input, dataset: this.dataset, name: this.name, stamp: this.stamp, volumeIso: this.volumeIso };

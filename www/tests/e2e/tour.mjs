@@ -125,6 +125,10 @@ test('Close gaps up to: "all" keeps the torus handle closed (genus 0, no surgery
   assert(closed.valid === 'true' && closed.genus === '0' && events === '0', `all: ${JSON.stringify(closed)}, ${events} events`);
   // Kept closed, the hole is spanned by a membrane far from the data: valid, not faithful (amber).
   assert(closed.state === 'unfaithful', `all: badge state ${closed.state}`);
+  // The view shows where: the core's verdict points at the flagged map, and the page switches to it.
+  const cmapClosed = await page.inputValue('#cmap');
+  assert(cmapClosed === 'flagged', `all: colour map ${cmapClosed}`);
+  await page.screenshot({ path: join(out, 'tour-unfaithful.png') });
   await page.selectOption('[data-testid=close-gaps]', { label: 'auto' });
   await page.click('[data-testid=reset]');
   await waitState(page, ['idle'], 60000);
@@ -132,6 +136,8 @@ test('Close gaps up to: "all" keeps the torus handle closed (genus 0, no surgery
   await waitState(page, ['done', 'invalid', 'error'], 300000);
   const open = await badge();
   assert(open.valid === 'true' && open.genus === '1' && open.state === 'valid', `auto: ${JSON.stringify(open)}`);
+  const cmapOpen = await page.inputValue('#cmap');
+  assert(cmapOpen === 'distance', `auto: the colour map chosen before comes back, not ${cmapOpen}`);
   await page.screenshot({ path: join(out, 'tour-close-gaps.png') });
   noErrors(errors);
   console.log(`   close gaps "all": genus ${closed.genus}; "auto": genus ${open.genus}`);

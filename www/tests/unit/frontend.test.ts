@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { colorize, robustRange, turbo } from '../../src/colormap';
+import { colorize, turbo } from '../../src/colormap';
 import { repairsNote, toUiError } from '../../src/protocol';
 import { batchSize } from '../../src/schedule';
 import { tickLabel } from '../../src/ticks';
@@ -10,24 +10,6 @@ describe('colour map', () => {
     expect(turbo(1)).toEqual(turbo(7));
     expect(turbo(0)).not.toEqual(turbo(1));
     expect(turbo(NaN)).toEqual([0.5, 0.5, 0.5]);
-  });
-  it('robust range ignores outliers and non-finite values', () => {
-    const v = Array.from({ length: 100 }, (_, i) => i);
-    v.push(1e9, NaN, Infinity);
-    const [lo, hi] = robustRange(v);
-    expect(lo).toBeGreaterThanOrEqual(0);
-    expect(hi).toBeLessThan(1000);
-    expect(hi).toBeGreaterThan(90);
-  });
-  it('robust range widens a constant field', () => {
-    const [lo, hi] = robustRange([2, 2, 2]);
-    expect(lo).toBeLessThan(2);
-    expect(hi).toBeGreaterThan(2);
-    // Rounding noise around a uniform value (a sphere's curvature): ±5 %, not the noise's width.
-    const [l, h] = robustRange(Array.from({ length: 50 }, (_, i) => 1 + 1e-6 * Math.sin(i)));
-    expect(l).toBeCloseTo(0.95, 4);
-    expect(h).toBeCloseTo(1.05, 4);
-    expect(robustRange([0, 0])).toEqual([-1e-6, 1e-6]);
   });
   it('colorize writes RGB per value', () => {
     const out = new Float32Array(6);
