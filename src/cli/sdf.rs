@@ -54,6 +54,7 @@ pub fn run(a: &SdfArgs) -> Result<String, String> {
     let settings = FieldSettings {
         cells_per_min_dimension: a.cells,
         expansion: a.expand,
+        margin_cells: None,
         band_cells: a.band,
         truncation: a.truncate,
         sign: if a.unsigned {

@@ -54,7 +54,7 @@ impl Grid {
             return Err(FieldError::DegenerateTarget);
         }
         let cell = beta / settings.cells_per_min_dimension as f64;
-        let margin = settings.expansion * beta;
+        let margin = settings.margin(beta);
         let grid = Self::covering(bbox.expanded(margin), cell);
         let bytes = grid.node_count_u64().saturating_mul(BYTES_PER_NODE);
         if bytes > settings.memory_cap_bytes {
@@ -196,8 +196,11 @@ pub const MIN_REFERENCE_RATIO: f64 = 0.16;
 /// The largest cells-per-minimum-dimension whose grid fits under the memory cap (at least 1).
 fn cells_that_fit(bbox: &Aabb, beta: f64, settings: &FieldSettings) -> u32 {
     let nodes_for = |n: u32| {
-        let c = beta / n as f64;
-        Grid::covering(bbox.expanded(settings.expansion * beta), c).node_count_u64()
+        let at_n = FieldSettings {
+            cells_per_min_dimension: n,
+            ..settings.clone()
+        };
+        Grid::covering(bbox.expanded(at_n.margin(beta)), beta / n as f64).node_count_u64()
     };
     let (mut lo, mut hi) = (1u32, settings.cells_per_min_dimension);
     // Invariant: answer in [lo, hi); nodes_for is monotone in n.
@@ -239,6 +242,42 @@ mod tests {
             got >= aligned * (1.0 - 1e-9) && got <= TURNED_SLACK * aligned * (1.0 + 1e-9),
             "{got} vs {aligned}"
         );
+    }
+
+    /// The box grows by ζ·β_min, or where `margin_cells` is given by that trimmed in steps of
+    /// 3 cells down to no less (40 − 11·3 = 7 cells for 5); the cap's largest grid is found
+    /// with the same margin.
+    #[test]
+    fn the_margin_is_beta_or_the_cells_given() {
+        let b = Aabb {
+            min: DVec3::ZERO,
+            max: DVec3::new(4.0, 1.0, 2.0),
+        };
+        let wide = Grid::for_box(&b, 1.0, &FieldSettings::default()).unwrap();
+        assert_eq!(wide.dims, [241, 121, 161]);
+        let tight = FieldSettings {
+            margin_cells: Some(5.0),
+            ..FieldSettings::default()
+        };
+        let grid = Grid::for_box(&b, 1.0, &tight).unwrap();
+        assert_eq!(grid.dims, [175, 55, 95]);
+        assert!((grid.origin - DVec3::splat(-7.0 / 40.0)).length() < 1e-12);
+        // The trimmed lattice's nodes are the wide one's.
+        let shift = (grid.origin - wide.origin) / wide.cell;
+        assert!((shift - shift.round()).length() < 1e-9 && shift.x == shift.y);
+        let capped = FieldSettings {
+            memory_cap_bytes: 100_000 * BYTES_PER_NODE,
+            ..tight
+        };
+        let fit = cells_that_fit(&b, 1.0, &capped);
+        let at = |n: u32| {
+            let s = FieldSettings {
+                cells_per_min_dimension: n,
+                ..capped.clone()
+            };
+            Grid::for_box(&b, 1.0, &s)
+        };
+        assert!(at(fit).is_ok() && at(fit + 1).is_err(), "{fit}");
     }
 
     #[test]

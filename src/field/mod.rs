@@ -58,6 +58,11 @@ pub struct FieldSettings {
     /// Volume expansion factor ζ: the box is grown by `ζ·β_min` on every side. Unit: β_min.
     /// Range 0–10; default 1.0.
     pub expansion: f64,
+    /// The room in cells the surface needs, where that is less than `ζ·β_min` (an isosurface
+    /// start lies a level and a band off the target, where an icosphere needs the room round the
+    /// box): the `ζ·β_min` margin is trimmed by whole steps of [`TRIM_CELLS`] while this much
+    /// is left. Range 1–64; default `None` (ζ·β_min).
+    pub margin_cells: Option<f64>,
     /// Width k of the exact near band, in cells: every node within `k·c` of the target gets its
     /// exact distance and is frozen for sweeping. Range 1–16; default 3.
     pub band_cells: f64,
@@ -111,6 +116,7 @@ impl Default for FieldSettings {
         Self {
             cells_per_min_dimension: 40,
             expansion: 1.0,
+            margin_cells: None,
             band_cells: 3.0,
             truncation: None,
             sign: SignMode::Auto,
@@ -125,7 +131,24 @@ impl Default for FieldSettings {
     }
 }
 
+/// The step by which a margin is trimmed (see [`FieldSettings::margin_cells`]), in cells: a
+/// multiple of the cell and of the isosurface start's 1.5-cell resampling, so both lattices keep
+/// their nodes where the untrimmed box has them and the start is the one that box gives.
+pub const TRIM_CELLS: f64 = 3.0;
+
 impl FieldSettings {
+    /// How far the box is grown on every side, for reference length `beta` (see
+    /// [`Self::margin_cells`]).
+    pub fn margin(&self, beta: f64) -> f64 {
+        let wide = self.expansion * beta;
+        let Some(room) = self.margin_cells else {
+            return wide;
+        };
+        let c = beta / self.cells_per_min_dimension as f64;
+        let steps = ((wide / c - room) / TRIM_CELLS).floor().max(0.0);
+        wide - steps * TRIM_CELLS * c
+    }
+
     /// Checks every field's range.
     pub fn check(&self) -> Result<(), FieldError> {
         let bad = |name: &'static str, value: f64, range: &'static str| {
@@ -140,6 +163,9 @@ impl FieldSettings {
         }
         if !(0.0..=10.0).contains(&self.expansion) {
             return bad("expansion", self.expansion, "0–10");
+        }
+        if let Some(k) = self.margin_cells.filter(|k| !(1.0..=64.0).contains(k)) {
+            return bad("margin_cells", k, "1–64");
         }
         if !(1.0..=16.0).contains(&self.band_cells) {
             return bad("band_cells", self.band_cells, "1–16");

@@ -7,7 +7,7 @@ use super::{second_pass, start_choice, surgery, Checkpoint, EvolveError, Evolver
 use super::{CREASE_PHASE, START_PHASE, STRAY_PHASE};
 use crate::field::DistanceField;
 use crate::flow::guard::DivergenceLimits;
-use crate::flow::settings::WrapSettings;
+use crate::flow::settings::{StartSurface, WrapSettings};
 use crate::flow::snap::SnapTarget;
 use crate::flow::start::{start_scale, Start};
 use crate::geometry::creases::Creases;
@@ -190,19 +190,23 @@ fn field_and_start(
     settings: &WrapSettings,
     progress: &mut Progress,
 ) -> (Prebuilt, Result<FieldAndStart, EvolveError>) {
-    let plan = DistanceField::plan(target, &settings.field_options());
+    // (A field is signed where the target has an inside and is closed, the usual case.)
+    let inside = target.oracle().has_inside();
+    let guess = settings.clone().resolved_for(inside);
+    let options = match (inside, guess.start.surface) {
+        (true, StartSurface::Isosurface) => guess.isosurface_field_options(),
+        _ => settings.field_options(),
+    };
+    let plan = DistanceField::plan(target, &options);
     let planned = plan.as_ref().ok().map(|p| {
         let cell = p.cell_size();
-        // (A field is signed where the target has an inside and is closed, the usual case.)
-        let guess = settings.clone().resolved_for(target.oracle().has_inside());
         FitKey::new(&guess, target, cell, start_scale(target, cell, &guess))
     });
     let center = target.bbox.center();
     crate::parallel::beside(
         || planned.map(|k| (k, k.build(target, center))),
         || -> Result<_, EvolveError> {
-            let field =
-                DistanceField::new_planned(target, &settings.field_options(), plan?, progress)?;
+            let field = DistanceField::new_planned(target, &options, plan?, progress)?;
             let mut resolved = settings.clone().resolved_for(field.is_signed());
             progress.report(START_PHASE, 0.0);
             // The target's topology where it is closed: for the start's checks and surgery's
@@ -223,10 +227,15 @@ fn field_and_start(
                 &start,
                 progress,
             );
-            match finer {
-                Some(finer) => Ok((finer, closed)),
-                None => Ok(((field, start, resolved), closed)),
-            }
+            // An icosphere (the fallback) lies round the box, in room an isosurface's field lacks.
+            let field = match (finer, options.margin_cells, resolved.start.surface) {
+                (Some(finer), ..) => return Ok((finer, closed)),
+                (None, Some(_), StartSurface::Icosphere) => {
+                    DistanceField::new_with_progress(target, &settings.field_options(), progress)?
+                }
+                (None, ..) => field,
+            };
+            Ok(((field, start, resolved), closed))
         },
     )
 }

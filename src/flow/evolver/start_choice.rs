@@ -136,10 +136,11 @@ pub(super) fn finer_start(
         let mut s = requested.clone();
         s.field.cells_per_min_dimension = cells[i];
         let below = if i == 0 { n as u32 } else { cells[i - 1] };
-        let field = match DistanceField::new_with_progress(target, &s.field_options(), progress) {
+        let options = |s: &WrapSettings| s.isosurface_field_options();
+        let field = match DistanceField::new_with_progress(target, &options(&s), progress) {
             Err(FieldError::TooLarge { cells_that_fit, .. }) if cells_that_fit > below => {
                 s.field.cells_per_min_dimension = cells_that_fit;
-                DistanceField::new_with_progress(target, &s.field_options(), progress)
+                DistanceField::new_with_progress(target, &options(&s), progress)
             }
             built => built,
         }

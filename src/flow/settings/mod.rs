@@ -307,6 +307,7 @@ impl WrapSettings {
         FieldSettings {
             cells_per_min_dimension: p.cells_per_min_dimension,
             expansion: p.expansion,
+            margin_cells: None,
             band_cells: p.band_cells,
             truncation: t.truncation,
             sign: p.sign,
@@ -317,6 +318,23 @@ impl WrapSettings {
             outlier_spacings: t.outlier_spacings,
             principal_slack: t.principal_slack,
             enclosed_cells: t.enclosed_cells,
+        }
+    }
+
+    /// [`Self::field_options`] for a wrap that starts from an isosurface of a target with an
+    /// inside: with `tuning.field.isosurface_margin`, the box keeps of the ζ·β_min an icosphere
+    /// needs only the room that start needs — its level or the band, whichever is wider, and 2
+    /// cells for the exterior's flood and the gradient (see [`FieldSettings::margin_cells`]).
+    pub fn isosurface_field_options(&self) -> FieldSettings {
+        let d0_cells = self.flow.iso_level_factor * 0.5 * 3f64.sqrt();
+        let level = self.start.isosurface_level_cells.max(1.1 * d0_cells);
+        FieldSettings {
+            margin_cells: self
+                .tuning
+                .field
+                .isosurface_margin
+                .then(|| (level.max(self.field.band_cells) + 2.0).min(64.0)),
+            ..self.field_options()
         }
     }
 
@@ -371,6 +389,25 @@ impl WrapSettings {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An isosurface start's field grows by the start's room (the band's 3 cells, wider than
+    /// the 1.5-cell level, and 2 more) from tuning version 4 on; before, and for the icosphere's
+    /// options, by ζ·β_min.
+    #[test]
+    fn an_isosurface_start_gets_the_room_it_needs() {
+        let s = WrapSettings::default();
+        assert_eq!(s.isosurface_field_options().margin_cells, Some(5.0));
+        assert_eq!(s.field_options().margin_cells, None);
+        let mut wide_level = s.clone();
+        wide_level.start.isosurface_level_cells = 6.0;
+        assert_eq!(
+            wide_level.isosurface_field_options().margin_cells,
+            Some(8.0)
+        );
+        let mut old = s.clone();
+        old.tuning = Tuning::at(3).unwrap();
+        assert_eq!(old.isosurface_field_options().margin_cells, None);
+    }
 
     /// A wrap's icosphere start finer than level 3 is refused by name (its vertex count would
     /// run away); flow without a target and an isosurface start take any level of the table.

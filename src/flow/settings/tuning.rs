@@ -11,7 +11,7 @@ use serde::{Deserialize, Deserializer, Serialize};
 use serde_json::Value;
 
 /// The version new settings get.
-pub const CURRENT_VERSION: u32 = 3;
+pub const CURRENT_VERSION: u32 = 4;
 
 /// The versions of the table, oldest first, each with what it changed (for `lsw info` and the
 /// panel): version 1 is the tuning of every share link made before the table (link formats 1–3).
@@ -26,6 +26,10 @@ pub const VERSIONS: &[(u32, &str)] = &[
          gaps covered, far bubbles deflated",
     ),
     (3, "a cloud's fit moves along the data's fitted normal"),
+    (
+        4,
+        "an isosurface start's field grows its box by the start's room, not by β_min",
+    ),
 ];
 
 /// Every tuned value of a wrap, by stage, with the version of the table they come from.
@@ -87,6 +91,10 @@ pub struct FieldTuning {
     /// negative distance, so a vertex that slips into a solid is held and regrown. 0: unsigned.
     /// Range 0 or 1–16.
     pub enclosed_cells: f64,
+    /// A wrap from an isosurface start grows the field's box by the room that start needs (its
+    /// level and the band), not by the ζ·β_min an icosphere needs; one that falls back to the
+    /// icosphere gets the ζ·β_min box (docs/decisions/0030-field-margin.md).
+    pub isosurface_margin: bool,
 }
 
 /// Tuning of the evolution.
@@ -203,6 +211,10 @@ impl Tuning {
             t.version = 3;
             t.fit.moving_least_squares = true;
         }
+        if version >= 4 {
+            t.version = 4;
+            t.field.isosurface_margin = true;
+        }
         Some(t)
     }
 
@@ -219,6 +231,7 @@ impl Tuning {
                 outlier_spacings: 6.0,
                 principal_slack: 0.0,
                 enclosed_cells: 0.0,
+                isosurface_margin: false,
             },
             flow: FlowTuning {
                 cover_gaps: 1.0,
