@@ -1187,3 +1187,28 @@ fn a_curve_sampled_sphere_wraps_onto_the_sphere() {
         "99 % of the vertices within {p99} of the sphere"
     );
 }
+
+/// After a roll-back the contact guard checks each step until a stretch of them makes no
+/// contact (`tuning.guard.guarded_until_clear`): a genus-4 cloud whose membranes keep pressing
+/// together rolls back once instead of each time the checks are spaced out again, and since a
+/// checked step computes what its redo would, the mesh is the same.
+#[test]
+#[ignore = "corpus tier (whole wraps): cargo test -- --ignored"]
+fn staying_guarded_changes_the_work_not_the_mesh() {
+    let t = target("torus-g4-cloud");
+    let run = |until_clear: bool| {
+        let mut settings = WrapSettings::default();
+        settings.tuning.guard.guarded_until_clear = until_clear;
+        let mut ev = Evolver::new(&t, settings).unwrap();
+        let mut redos = 0;
+        ev.run(|r| redos += usize::from(r.times.redone > 0.0))
+            .unwrap();
+        (ev.positions(), ev.triangles(), redos)
+    };
+    let (p0, t0, spaced) = run(false);
+    let (p1, t1, guarded) = run(true);
+    println!("roll-backs: {spaced} spaced out again, {guarded} guarded until clear");
+    assert!(spaced >= 2, "the case no longer rolls back twice: {spaced}");
+    assert!(guarded < spaced, "{guarded} vs {spaced}");
+    assert!(p0 == p1 && t0 == t1, "the meshes differ");
+}

@@ -38,6 +38,11 @@ pub struct GuardSettings {
     /// checking each. 1 checks every step. Range ≥ 1; default 16 (one check costs about as
     /// much as two steps, and contact is rare).
     pub check_every: u32,
+    /// After a roll-back the steps are checked one by one until `2·check_every` of them in a
+    /// row made no contact (a surface still pressing on itself would otherwise roll back again
+    /// as soon as the checks are spaced out, and redo its steps each time). False: for
+    /// `2·check_every` steps whatever they meet. Default true.
+    pub guarded_until_clear: bool,
     /// Rounds of selective reverts before the whole move is reverted. Range 1–100; default 8.
     pub max_rounds: u32,
     /// Divergence: a vertex farther than this many bounding-box diagonals (of the target) outside
@@ -56,6 +61,7 @@ impl Default for GuardSettings {
             contact: true,
             hold_steps: 3,
             check_every: 16,
+            guarded_until_clear: true,
             max_rounds: 8,
             escape_diagonals: 0.5,
             max_area_growth: 1000.0,

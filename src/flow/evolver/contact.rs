@@ -1,5 +1,6 @@
 //! Phase 5 of a step, *contact guard*: every `tuning.guard.check_every` steps (each step after a
-//! roll-back, and always before the final fit) the surface is checked for intersecting faces.
+//! roll-back until a stretch of them makes no contact, and always before the final fit) the
+//! surface is checked for intersecting faces.
 //! With the pre-move surface at hand, the move is redone putting back the vertices of the
 //! intersecting faces; without it, the evolution goes back to the last certified state and
 //! redoes the steps from there, checking each.
@@ -38,16 +39,22 @@ impl Evolver {
         if !(g.contact && due) {
             return Ok(Contact::Checked(ContactReport::default(), false));
         }
+        let (window, until_clear) = (2 * g.check_every.max(1), g.guarded_until_clear);
         match self.contact_phase(pre, x, old, remeshed, times)? {
             Some((report, reverted)) => {
-                self.guarded_left = self.guarded_left.saturating_sub(1);
+                // A guarded step that still made contact starts the contact-free stretch anew.
+                let renew = until_clear && self.guarded_left > 0 && report.pairs > 0;
+                self.guarded_left = match renew {
+                    true => window,
+                    false => self.guarded_left.saturating_sub(1),
+                };
                 self.save_checkpoint();
                 Ok(Contact::Checked(report, reverted))
             }
             None => {
                 let from = self.step;
                 self.restore_checkpoint();
-                self.guarded_left = 2 * self.settings.tuning.guard.check_every.max(1);
+                self.guarded_left = window;
                 Ok(Contact::RolledBack { from })
             }
         }

@@ -28,7 +28,8 @@ pub const VERSIONS: &[(u32, &str)] = &[
     (3, "a cloud's fit moves along the data's fitted normal"),
     (
         4,
-        "an isosurface start's field grows its box by the start's room, not by β_min",
+        "an isosurface start's field grows its box by the start's room, not by β_min; after a \
+         roll-back the contact guard checks each step until a stretch makes no contact",
     ),
 ];
 
@@ -214,6 +215,7 @@ impl Tuning {
         if version >= 4 {
             t.version = 4;
             t.field.isosurface_margin = true;
+            t.guard.guarded_until_clear = true;
         }
         Some(t)
     }
@@ -268,6 +270,7 @@ impl Tuning {
                 contact: true,
                 hold_steps: 3,
                 check_every: 16,
+                guarded_until_clear: false,
                 max_rounds: 8,
                 escape_diagonals: 0.5,
                 max_area_growth: 1000.0,
