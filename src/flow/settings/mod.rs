@@ -390,12 +390,14 @@ impl WrapSettings {
 mod tests {
     use super::*;
 
-    /// An isosurface start's field grows by the start's room (the band's 3 cells, wider than
-    /// the 1.5-cell level, and 2 more) from tuning version 4 on; before, and for the icosphere's
-    /// options, by ζ·β_min.
+    /// With `tuning.field.isosurface_margin`, an isosurface start's field grows by the start's
+    /// room (the band's 3 cells, wider than the 1.5-cell level, and 2 more); without it, and for
+    /// the icosphere's options, by ζ·β_min.
     #[test]
     fn an_isosurface_start_gets_the_room_it_needs() {
-        let s = WrapSettings::default();
+        let mut s = WrapSettings::default();
+        assert_eq!(s.isosurface_field_options().margin_cells, None);
+        s.tuning.field.isosurface_margin = true;
         assert_eq!(s.isosurface_field_options().margin_cells, Some(5.0));
         assert_eq!(s.field_options().margin_cells, None);
         let mut wide_level = s.clone();

@@ -28,8 +28,7 @@ pub const VERSIONS: &[(u32, &str)] = &[
     (3, "a cloud's fit moves along the data's fitted normal"),
     (
         4,
-        "an isosurface start's field grows its box by the start's room, not by β_min; after a \
-         roll-back the contact guard checks each step until a stretch makes no contact",
+        "after a roll-back the contact guard checks each step until a stretch makes no contact",
     ),
 ];
 
@@ -94,7 +93,8 @@ pub struct FieldTuning {
     pub enclosed_cells: f64,
     /// A wrap from an isosurface start grows the field's box by the room that start needs (its
     /// level and the band), not by the ζ·β_min an icosphere needs; one that falls back to the
-    /// icosphere gets the ζ·β_min box (docs/decisions/0030-field-margin.md).
+    /// icosphere gets the ζ·β_min box (docs/decisions/0030-field-margin.md). Off in every
+    /// version so far: it moves the start of axis-aligned CAD shapes.
     pub isosurface_margin: bool,
 }
 
@@ -214,7 +214,6 @@ impl Tuning {
         }
         if version >= 4 {
             t.version = 4;
-            t.field.isosurface_margin = true;
             t.guard.guarded_until_clear = true;
         }
         Some(t)
