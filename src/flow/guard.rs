@@ -41,7 +41,8 @@ pub struct GuardSettings {
     /// After a roll-back the steps are checked one by one until `2·check_every` of them in a
     /// row made no contact (a surface still pressing on itself would otherwise roll back again
     /// as soon as the checks are spaced out, and redo its steps each time). False: for
-    /// `2·check_every` steps whatever they meet. Default true.
+    /// `2·check_every` steps whatever they meet. Default false: it changes the result where a
+    /// contact heals between spaced-out checks (a cube-frame cloud kept a membrane).
     pub guarded_until_clear: bool,
     /// Rounds of selective reverts before the whole move is reverted. Range 1–100; default 8.
     pub max_rounds: u32,
@@ -61,7 +62,7 @@ impl Default for GuardSettings {
             contact: true,
             hold_steps: 3,
             check_every: 16,
-            guarded_until_clear: true,
+            guarded_until_clear: false,
             max_rounds: 8,
             escape_diagonals: 0.5,
             max_area_growth: 1000.0,

@@ -407,7 +407,7 @@ mod tests {
             Some(8.0)
         );
         let mut old = s.clone();
-        old.tuning = Tuning::at(3).unwrap();
+        old.tuning = Tuning::at(1).unwrap();
         assert_eq!(old.isosurface_field_options().margin_cells, None);
     }
 

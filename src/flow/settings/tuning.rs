@@ -11,7 +11,7 @@ use serde::{Deserialize, Deserializer, Serialize};
 use serde_json::Value;
 
 /// The version new settings get.
-pub const CURRENT_VERSION: u32 = 4;
+pub const CURRENT_VERSION: u32 = 3;
 
 /// The versions of the table, oldest first, each with what it changed (for `lsw info` and the
 /// panel): version 1 is the tuning of every share link made before the table (link formats 1–3).
@@ -26,10 +26,6 @@ pub const VERSIONS: &[(u32, &str)] = &[
          gaps covered, far bubbles deflated",
     ),
     (3, "a cloud's fit moves along the data's fitted normal"),
-    (
-        4,
-        "after a roll-back the contact guard checks each step until a stretch makes no contact",
-    ),
 ];
 
 /// Every tuned value of a wrap, by stage, with the version of the table they come from.
@@ -211,10 +207,6 @@ impl Tuning {
         if version >= 3 {
             t.version = 3;
             t.fit.moving_least_squares = true;
-        }
-        if version >= 4 {
-            t.version = 4;
-            t.guard.guarded_until_clear = true;
         }
         Some(t)
     }
