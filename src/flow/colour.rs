@@ -120,9 +120,9 @@ impl ColourMap {
     }
 
     /// The range the legend and the colours span for `values` of this map: an indicator map's
-    /// is [0, 1]; another's is robust — its 2nd and 98th percentiles (a few outliers do not
-    /// flatten the rest into one colour), widened by ±5 % where they agree to 1e-4 (a uniform
-    /// field such as a sphere's curvature: its rounding noise is not coloured as a pattern).
+    /// is [0, 1]; another's is robust — its 2nd and 98th percentiles, so a few outliers do not
+    /// flatten the rest into one colour, widened where they nearly agree, so a uniform field's
+    /// rounding noise is not coloured as a pattern.
     /// Non-finite values are left out; [0, 1] when none is finite.
     pub fn display_range(self, values: &[f64]) -> [f64; 2] {
         if matches!(self, ColourMap::Features | ColourMap::Flagged) {

@@ -41,8 +41,9 @@ pub struct GuardSettings {
     /// After a roll-back the steps are checked one by one until `2·check_every` of them in a
     /// row made no contact (a surface still pressing on itself would otherwise roll back again
     /// as soon as the checks are spaced out, and redo its steps each time). False: for
-    /// `2·check_every` steps whatever they meet. Default false: it changes the result where a
-    /// contact heals between spaced-out checks (a cube-frame cloud kept a membrane).
+    /// `2·check_every` steps whatever they meet. Default false: a contact that would heal
+    /// between spaced-out checks is resolved instead, which changes some results
+    /// (docs/decisions/0021-contact-guard.md).
     pub guarded_until_clear: bool,
     /// Rounds of selective reverts before the whole move is reverted. Range 1–100; default 8.
     pub max_rounds: u32,

@@ -89,8 +89,8 @@ pub struct FieldTuning {
     pub enclosed_cells: f64,
     /// A wrap from an isosurface start grows the field's box by the room that start needs (its
     /// level and the band), not by the ζ·β_min an icosphere needs; one that falls back to the
-    /// icosphere gets the ζ·β_min box (docs/decisions/0030-field-margin.md). Off in every
-    /// version so far: it moves the start of axis-aligned CAD shapes.
+    /// icosphere gets the ζ·β_min box (docs/decisions/0030-field-margin.md). Off: the trimmed
+    /// lattice matches the full one only up to rounding.
     pub isosurface_margin: bool,
 }
 
