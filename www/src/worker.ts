@@ -7,7 +7,7 @@ import init, {
 } from '../pkg/lsw.js';
 import type { Catalog, ColourMap, CreaseReply, CreaseRequest, FieldView, FromWorker, Histogram, McfStats, MeshTauAdvice, Outcome, Source, StartedOver, StepReport, TargetInfo, TauAdvice, ToWorker, VolumeInfo } from './protocol';
 import { failureError } from './protocol';
-import { batchSize } from './schedule';
+import { lessonBatch } from './schedule';
 import { colorize } from './colormap';
 import { Stopwatch } from './stopwatch';
 
@@ -17,6 +17,8 @@ let wasmMemory: WebAssembly.Memory | null = null;
 void ready.then((exports) => (wasmMemory = exports.memory));
 let mode: 'mcf' | 'wrap' = 'mcf';
 let mcf: McfSession | null = null;
+/** Steps of the lesson's whole run, from its start (for the frames' spacing). */
+let lessonSteps = 0;
 /** A copy of the loaded mesh for the mesh lesson (null while a point cloud or a volume is loaded). */
 let lessonMesh: { positions: Float32Array; indices: Uint32Array } | null = null;
 let wrap: WrapSession | null = null;
@@ -114,6 +116,7 @@ function startLesson(make: () => McfSession): void {
   const next = make();
   mcf?.free();
   mcf = next;
+  lessonSteps = next.stepsLeft();
   sentIndices = false;
   lessonRanges.clear();
   post({ type: 'mcf-advice', advice: next.tauAdvice() as TauAdvice | MeshTauAdvice });
@@ -130,7 +133,7 @@ function lessonMeshWhy(indices: Uint32Array): string {
 function mcfLoop(): void {
   if (!playing || !mcf || mode !== 'mcf') return;
   try {
-    const over = mcfSteps(mcf, batchSize(msPerStep));
+    const over = mcfSteps(mcf, lessonBatch(msPerStep, lessonSteps));
     if (over) playing = false;
     sendMcfFrame();
     if (over) post({ type: 'stopped', reason: 'finished' });

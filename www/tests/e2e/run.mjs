@@ -787,7 +787,10 @@ test('MCF on the loaded mesh: off for a point cloud, on for a mesh; the area fal
   assert(last < 0.95, `the area barely fell (${last})`);
   // Before the lesson's horizon, t = MESH_LESSON_HORIZON·D² (src/flow/mcf_mesh.rs), 0.004.
   assert(s.t[s.t.length - 1] < 0.004, `the lesson ran to t/D² = ${s.t[s.t.length - 1]}`);
-  const scrub = await page.evaluate(() => ({ disabled: document.querySelector('[data-testid=scrubber]').disabled, max: Number(document.querySelector('[data-testid=scrubber]').max) }));
+  // The recorded frames reach the page through the render worker, after the stop's status.
+  const readScrub = () => page.evaluate(() => ({ disabled: document.querySelector('[data-testid=scrubber]').disabled, max: Number(document.querySelector('[data-testid=scrubber]').max) }));
+  await page.waitForFunction(() => Number(document.querySelector('[data-testid=scrubber]').max) >= 2, null, { timeout: 5000 }).catch(() => {});
+  const scrub = await readScrub();
   assert(!scrub.disabled && scrub.max >= 2, `scrubber after the mesh lesson: ${JSON.stringify(scrub)}`);
   const frac = await meshPixelFraction(page);
   assert(frac > 0.01, `canvas shows almost no mesh pixels (${(100 * frac).toFixed(2)} %)`);

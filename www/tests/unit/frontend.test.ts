@@ -1,7 +1,7 @@
 import { describe, expect, it } from 'vitest';
 import { colorize, turbo } from '../../src/colormap';
 import { repairsNote, toUiError } from '../../src/protocol';
-import { batchSize } from '../../src/schedule';
+import { batchSize, lessonBatch, LESSON_FRAMES } from '../../src/schedule';
 import { tickLabel } from '../../src/ticks';
 
 describe('colour map', () => {
@@ -26,6 +26,14 @@ describe('worker batch size', () => {
     expect(batchSize(0.01, 30, 50)).toBe(50);
     expect(batchSize(NaN)).toBe(1);
     expect(batchSize(0)).toBe(1);
+  });
+  it('gives a lesson its frames whatever a step costs', () => {
+    for (const ms of [0.001, 0.1, 1, 10]) {
+      const batch = lessonBatch(ms, 800);
+      expect(Math.ceil(800 / batch)).toBeGreaterThanOrEqual(LESSON_FRAMES);
+    }
+    expect(lessonBatch(0.001, 10)).toBe(1);
+    expect(lessonBatch(100, 800)).toBe(1);
   });
 });
 
